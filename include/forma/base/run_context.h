@@ -1,0 +1,86 @@
+#ifndef forma_base_run_context_h
+#define forma_base_run_context_h
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/mpi.h>
+
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <memory>
+#include <string>
+
+namespace forma
+{
+  /**
+   * What one application run writes and where. Results are staged in a
+   * hidden directory inside the output directory and moved into place only
+   * when the run succeeds, so a failing run never leaves half a result over
+   * an earlier good one; the failed run's files (with summary.json saying
+   * "status": "failed") are kept in `<output directory>/failed-run/`.
+   *
+   * Progress lines go to stdout (rank 0) and to the log file; the log file
+   * may also receive timings, which stdout never does (tests compare stdout).
+   */
+  class RunContext
+  {
+  public:
+    RunContext(const MPI_Comm comm, const std::string &output_directory);
+    ~RunContext();
+
+    /// Directory to write into during the run (the staging directory).
+    const std::string &
+    directory() const
+    {
+      return staging_directory;
+    }
+
+    /// Path of a result file inside the staging directory.
+    std::string
+    path(const std::string &file_name) const;
+
+    /// One line to stdout and the log.
+    void
+    print(const std::string &line) const;
+
+    /// One line to the log only (timings, solver details).
+    void
+    log(const std::string &line) const;
+
+    MPI_Comm
+    communicator() const
+    {
+      return comm;
+    }
+
+    bool
+    is_root() const
+    {
+      return dealii::Utilities::MPI::this_mpi_process(comm) == 0;
+    }
+
+    /// The run summary; written as summary.json by commit() or fail().
+    nlohmann::json summary;
+
+    /// Write summary.json with status "ok" and move all results into place.
+    void
+    commit();
+
+    /// Write summary.json with status "failed" and the error; keep the
+    /// earlier results of the output directory untouched.
+    void
+    fail(const std::string &error);
+
+  private:
+    void
+    write_summary() const;
+
+    MPI_Comm                       comm;
+    std::string                    output_directory;
+    std::string                    staging_directory;
+    mutable std::unique_ptr<std::ofstream> log_file;
+    bool                           finished = false;
+  };
+} // namespace forma
+
+#endif

@@ -1,0 +1,74 @@
+#ifndef forma_elasticity_parameters_h
+#define forma_elasticity_parameters_h
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <forma/mesh/mesh.h>
+#include <forma/physics/material.h>
+#include <forma/solvers/linear_solver.h>
+
+#include <map>
+#include <string>
+
+namespace forma
+{
+  /**
+   * Everything the elasticity simulator reads from a `.prm` file. Entries are
+   * dimension-independent strings where they hold vectors or expressions;
+   * the simulator checks them against the dimension.
+   */
+  struct ElasticityParameters
+  {
+    unsigned int dim = 2;
+    MeshParameters mesh;
+
+    // Finite element
+    unsigned int degree = 1;
+    std::string  adaptivity = "none"; ///< none | h | hp
+    unsigned int max_degree = 4;
+    unsigned int adaptive_cycles = 0;
+    double       refine_fraction = 0.3;
+    double       coarsen_fraction = 0.0;
+
+    // Material
+    ConstitutiveModel model        = ConstitutiveModel::linear_elastic;
+    bool              plane_stress = false;
+    std::string       bodies;
+
+    // Boundary conditions and loads
+    std::string dirichlet;
+    std::string traction;
+    std::string pressure;
+    std::string gravity;
+    std::string body_force;
+    std::string constants;
+
+    // Time
+    std::string  problem = "static"; ///< static | transient
+    double       end_time  = 1;
+    double       time_step = 0.1;
+    unsigned int bdf_order = 2;
+    unsigned int load_steps = 1;
+    std::string  initial_displacement;
+    std::string  initial_velocity;
+
+    // Solvers
+    LinearSolver::Parameters linear_solver;
+    double       newton_relative_tolerance = 1e-9;
+    double       newton_absolute_tolerance = 1e-12;
+    unsigned int max_newton_iterations     = 30;
+    unsigned int max_line_search_halvings  = 12;
+
+    // Output
+    bool         write_vtu    = true;
+    unsigned int output_every = 1;
+    std::string  points;
+
+    static void
+    declare(dealii::ParameterHandler &prm);
+    void
+    parse(dealii::ParameterHandler &prm, const std::string &prm_directory);
+  };
+} // namespace forma
+
+#endif

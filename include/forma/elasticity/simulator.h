@@ -1,0 +1,105 @@
+#ifndef forma_elasticity_simulator_h
+#define forma_elasticity_simulator_h
+
+#include <deal.II/base/function.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+
+#include <forma/elasticity/parameters.h>
+
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <memory>
+#include <vector>
+
+namespace forma
+{
+  class RunContext;
+
+  /**
+   * Forward elasticity without contact (thesis ch. 3.6-3.7.2): linear or
+   * Neo-Hookean bodies, Dirichlet/traction/pressure/gravity/body-force loads,
+   * static Newton solves with load stepping, BDF1-6 transient solves with
+   * strain-rate damping, h/hp adaptivity, distributed over MPI ranks (p4est
+   * and Trilinos) with threaded assembly.
+   *
+   * The residual of a step is
+   *   R(u) = M (u + w) / (beta dt)^2 + f_int(u) + f_damp(u, u^{i-1}) - f_ext(t)
+   * with w the BDF history (thesis eq. 3.12 solved for u^i); static problems
+   * drop the inertia and damping terms.
+   *
+   * Heavy deal.II/Trilinos types stay behind a pointer to keep this header
+   * cheap for applications and tests.
+   */
+  template <int dim>
+  class ElasticitySimulator
+  {
+  public:
+    struct StepRecord
+    {
+      unsigned int step;
+      double       time;
+      unsigned int newton_iterations;
+      unsigned int linear_iterations;
+      double       residual;
+      double       kinetic_energy;
+      double       elastic_energy;
+      double       gravity_potential; ///< -int rho g . u
+      dealii::Tensor<1, dim> mean_displacement; ///< mass-weighted
+      std::vector<dealii::Tensor<1, dim>> point_displacements;
+    };
+
+    struct CycleRecord
+    {
+      unsigned int cycle;
+      unsigned int n_cells;
+      unsigned long long n_dofs;
+      double       estimated_error;
+    };
+
+    ElasticitySimulator(const ElasticityParameters &parameters,
+                        const MPI_Comm              comm);
+    ~ElasticitySimulator();
+
+    /// Run the whole job; writes VTU/PVD and fills the summary of `context`
+    /// when one is given (tests may pass none).
+    void
+    run(RunContext *context = nullptr);
+
+    /// Called after each solved adaptive cycle (static) with its index.
+    void
+    set_cycle_callback(const std::function<void(unsigned int)> &callback);
+
+    dealii::Tensor<1, dim>
+    point_displacement(const dealii::Point<dim> &p) const;
+
+    /// Force exerted by the supports on the body through boundary `id`.
+    dealii::Tensor<1, dim>
+    reaction(const unsigned int boundary_id) const;
+
+    /// L2 norm (or H1 seminorm) of u_h - exact over the domain.
+    double
+    error_norm(const dealii::Function<dim> &exact, const bool h1_seminorm) const;
+
+    unsigned long long
+    n_dofs() const;
+
+    const std::vector<StepRecord> &
+    steps() const;
+
+    const std::vector<CycleRecord> &
+    cycles() const;
+
+    /// The run's key results as JSON (what summary.json holds).
+    nlohmann::json
+    summary() const;
+
+  private:
+    class Impl;
+    std::unique_ptr<Impl> impl;
+  };
+} // namespace forma
+
+#endif

@@ -1,0 +1,102 @@
+#ifndef forma_physics_material_h
+#define forma_physics_material_h
+
+#include <deal.II/base/tensor.h>
+
+#include <map>
+#include <string>
+
+namespace forma
+{
+  enum class ConstitutiveModel
+  {
+    linear_elastic, ///< small strain, sigma = C : eps(grad u)
+    neo_hookean     ///< compressible, thesis ch. 3.7.2 (after eq. 3.25)
+  };
+
+  ConstitutiveModel
+  constitutive_model_from_string(const std::string &name);
+
+  /// Per-body constants; (E, nu) and (lambda, mu) are both always filled.
+  struct MaterialProperties
+  {
+    double youngs_modulus = 0;
+    double poisson_ratio  = 0;
+    double lambda         = 0;
+    double mu             = 0;
+    double density        = 1;
+    double damping_shear  = 0; ///< alpha of Brown et al. damping (Pa s)
+    double damping_bulk   = 0; ///< beta of Brown et al. damping (Pa s)
+
+    /**
+     * From `E=..., nu=...` or `lambda=..., mu=...` plus optional `density`,
+     * `damping shear`, `damping bulk`. Checks admissibility for `model` and
+     * names `where` (e.g. "Material/Bodies, material id 1") in errors.
+     */
+    static MaterialProperties
+    from_key_values(const std::map<std::string, double> &values,
+                    const ConstitutiveModel              model,
+                    const unsigned int                   dim,
+                    const std::string &                  where);
+  };
+
+  /**
+   * Stress laws in the form used by every forma force (thesis eq. 3.23):
+   * stress(grad u) is the first Piola-Kirchhoff stress (equal to the Cauchy
+   * stress for linear elasticity), tangent() its derivative with respect to
+   * grad u (nabla_1 f in eq. 3.25). In 2D, linear elasticity is plane strain
+   * or plane stress (the latter through the reduced lambda); Neo-Hookean is
+   * plane strain.
+   */
+  template <int dim>
+  class Material
+  {
+  public:
+    Material(const ConstitutiveModel   model,
+             const MaterialProperties &properties,
+             const bool                plane_stress = false);
+
+    dealii::Tensor<2, dim>
+    stress(const dealii::Tensor<2, dim> &grad_u) const;
+
+    dealii::Tensor<4, dim>
+    tangent(const dealii::Tensor<2, dim> &grad_u) const;
+
+    double
+    energy_density(const dealii::Tensor<2, dim> &grad_u) const;
+
+    /// Cauchy stress (true stress in the deformed configuration).
+    dealii::Tensor<2, dim>
+    cauchy_stress(const dealii::Tensor<2, dim> &grad_u) const;
+
+    /// False where the deformation inverts the material (det F <= 0).
+    bool
+    admissible(const dealii::Tensor<2, dim> &grad_u) const;
+
+    ConstitutiveModel
+    model() const
+    {
+      return law;
+    }
+
+    const MaterialProperties &
+    properties() const
+    {
+      return props;
+    }
+
+  private:
+    ConstitutiveModel  law;
+    MaterialProperties props;
+    double             lambda; ///< effective (plane stress reduces it)
+    double             mu;
+  };
+
+  /// von Mises equivalent of a stress tensor (plane problems: the in-plane
+  /// tensor, out-of-plane components taken as zero).
+  template <int dim>
+  double
+  von_mises(const dealii::Tensor<2, dim> &sigma);
+} // namespace forma
+
+#endif

@@ -1,0 +1,54 @@
+#ifndef forma_solvers_linear_solver_h
+#define forma_solvers_linear_solver_h
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/trilinos_vector.h>
+
+#include <string>
+#include <vector>
+
+namespace forma
+{
+  /**
+   * The linear solvers every forma app offers, chosen in the `Linear solver`
+   * section: a sparse direct solver (Amesos KLU, any number of ranks) for
+   * small or stiff problems, and CG or GMRES preconditioned by ML algebraic
+   * multigrid with the rigid-body null space for large ones.
+   */
+  class LinearSolver
+  {
+  public:
+    struct Parameters
+    {
+      std::string  type = "direct"; ///< direct | cg-amg | gmres-amg
+      double       relative_tolerance = 1e-10;
+      unsigned int max_iterations     = 2000;
+
+      static void
+      declare(dealii::ParameterHandler &prm);
+      void
+      parse(dealii::ParameterHandler &prm);
+    };
+
+    explicit LinearSolver(const Parameters &parameters);
+
+    /// Rigid-body modes (owned entries of each mode) for the AMG null space.
+    void
+    set_null_space(std::vector<std::vector<double>> modes);
+
+    /// Solve A x = b; returns the iteration count (1 for direct).
+    unsigned int
+    solve(const dealii::TrilinosWrappers::SparseMatrix &A,
+          dealii::TrilinosWrappers::MPI::Vector &       x,
+          const dealii::TrilinosWrappers::MPI::Vector & b,
+          const bool                                    higher_order) const;
+
+  private:
+    Parameters          parameters;
+    std::vector<double> null_space; ///< column-major, n_owned x n_modes
+    unsigned int        n_modes = 0;
+  };
+} // namespace forma
+
+#endif

@@ -1,0 +1,162 @@
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/utilities.h>
+
+#include <forma/base/application.h>
+
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+namespace forma
+{
+  std::string
+  error_message(const std::exception &exc)
+  {
+    std::string text;
+    if (const auto *deal_exc = dynamic_cast<const dealii::ExceptionBase *>(&exc))
+      {
+        std::ostringstream out;
+        deal_exc->print_info(out);
+        text = out.str();
+      }
+    else
+      text = exc.what();
+    // Trim and fold deal.II's indented multi-line messages into one block.
+    while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back())))
+      text.pop_back();
+    const auto first = text.find_first_not_of(" \t\n");
+    return first == std::string::npos ? std::string("unknown error") :
+                                        text.substr(first);
+  }
+
+
+
+  namespace
+  {
+    void
+    declare_common(dealii::ParameterHandler &prm, const ApplicationDescription &app)
+    {
+      prm.declare_entry("Dimension",
+                        "2",
+                        dealii::Patterns::Integer(2, 3),
+                        "Space dimension of the problem (2 or 3).");
+      prm.declare_entry("Output directory",
+                        "output",
+                        dealii::Patterns::DirectoryName(),
+                        "Where results go (relative to the working directory). "
+                        "Results are written only when the run succeeds; a "
+                        "failed run leaves its files in <Output directory>/failed-run.");
+      std::string selection;
+      for (const auto &m : app.modes)
+        selection += (selection.empty() ? "" : "|") + m;
+      prm.declare_entry("Mode",
+                        app.modes.front(),
+                        dealii::Patterns::Selection(selection),
+                        "The job to run.");
+      app.declare_parameters(prm);
+    }
+
+
+
+    void
+    print_usage(const ApplicationDescription &app)
+    {
+      std::cout << "Usage: " << app.name << " FILE.prm\n"
+                << "       " << app.name << " --print-parameters\n"
+                << "       " << app.name << " --help\n\n"
+                << app.description << "\n\n"
+                << "FILE.prm is a deal.II parameter file; it may 'include' other "
+                   "files, and a later 'set' overrides an earlier one.\n"
+                << "--print-parameters lists every parameter with its "
+                   "documentation and default value.\n";
+    }
+  } // namespace
+
+
+
+  int
+  run_application(int argc, char **argv, const ApplicationDescription &app)
+  {
+    dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+    const MPI_Comm comm = MPI_COMM_WORLD;
+    const bool     root = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
+
+    auto report = [&](const std::string &msg) {
+      if (root)
+        std::cerr << app.name << ": error: " << msg << std::endl;
+    };
+
+    dealii::ParameterHandler prm;
+    declare_common(prm, app);
+
+    if (argc != 2)
+      {
+        if (root)
+          print_usage(app);
+        return 1;
+      }
+    const std::string arg = argv[1];
+    if (arg == "--help" || arg == "-h")
+      {
+        if (root)
+          print_usage(app);
+        return 0;
+      }
+    if (arg == "--print-parameters")
+      {
+        if (root)
+          prm.print_parameters(std::cout,
+                               dealii::ParameterHandler::KeepDeclarationOrder |
+                                 dealii::ParameterHandler::PRM);
+        return 0;
+      }
+
+    if (!std::filesystem::exists(arg))
+      {
+        report("parameter file '" + arg + "' does not exist.");
+        return 1;
+      }
+    try
+      {
+        prm.parse_input(arg, "", /*skip_undefined=*/false, /*assert_mandatory=*/true);
+      }
+    catch (const std::exception &exc)
+      {
+        report("in parameter file '" + arg + "': " + error_message(exc));
+        return 1;
+      }
+
+    std::unique_ptr<RunContext> context;
+    try
+      {
+        context = std::make_unique<RunContext>(comm, prm.get("Output directory"));
+      }
+    catch (const std::exception &exc)
+      {
+        report(error_message(exc));
+        return 1;
+      }
+
+    std::ostringstream echoed;
+    prm.print_parameters(echoed, dealii::ParameterHandler::JSON);
+    context->summary["parameters"] = nlohmann::json::parse(echoed.str());
+    context->summary["application"] = app.name;
+
+    try
+      {
+        const std::string dir =
+          std::filesystem::path(arg).parent_path().string();
+        app.run(prm, dir.empty() ? std::string(".") : dir, *context);
+        context->commit();
+        return 0;
+      }
+    catch (const std::exception &exc)
+      {
+        const std::string msg = error_message(exc);
+        report(msg);
+        context->fail(msg);
+        return 1;
+      }
+  }
+} // namespace forma

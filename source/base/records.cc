@@ -1,0 +1,191 @@
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/utilities.h>
+#include <deal.II/lac/vector.h>
+
+#include <forma/base/application.h>
+#include <forma/base/records.h>
+
+namespace forma
+{
+  using dealii::ExcMessage;
+
+  std::vector<std::string>
+  split_top_level(const std::string &text, const char separator)
+  {
+    std::vector<std::string> parts(1);
+    int                      depth = 0;
+    for (const char c : text)
+      {
+        if (c == '(')
+          ++depth;
+        else if (c == ')')
+          --depth;
+        if (c == separator && depth == 0)
+          parts.emplace_back();
+        else
+          parts.back() += c;
+      }
+    for (auto &p : parts)
+      p = dealii::Utilities::trim(p);
+    return parts;
+  }
+
+
+
+  std::vector<Record>
+  parse_records(const std::string &text,
+                const unsigned int n_fields,
+                const std::string &entry)
+  {
+    std::vector<Record> records;
+    for (const auto &item : split_top_level(text, ';'))
+      {
+        if (item.empty())
+          continue;
+        const auto fields = split_top_level(item, ':');
+        AssertThrow(fields.size() == n_fields + 1,
+                    ExcMessage("'" + entry + "': the record '" + item +
+                               "' should have " + std::to_string(n_fields + 1) +
+                               " fields separated by ':'."));
+        Record r;
+        if (fields[0] == "*")
+          {
+            r.id = any_id;
+            r.fields.assign(fields.begin() + 1, fields.end());
+            records.push_back(r);
+            continue;
+          }
+        try
+          {
+            const int id = dealii::Utilities::string_to_int(fields[0]);
+            AssertThrow(id >= 0, ExcMessage("negative"));
+            r.id = id;
+          }
+        catch (...)
+          {
+            AssertThrow(false,
+                        ExcMessage("'" + entry + "': '" + fields[0] +
+                                   "' is not a valid id (a non-negative integer)."));
+          }
+        r.fields.assign(fields.begin() + 1, fields.end());
+        records.push_back(r);
+      }
+    return records;
+  }
+
+
+
+  std::map<std::string, double>
+  parse_key_values(const std::string &text, const std::string &entry)
+  {
+    std::map<std::string, double> values;
+    for (const auto &item : split_top_level(text, ','))
+      {
+        if (item.empty())
+          continue;
+        const auto eq = item.find('=');
+        AssertThrow(eq != std::string::npos,
+                    ExcMessage("'" + entry + "': expected 'name = value', got '" +
+                               item + "'."));
+        const std::string key = dealii::Utilities::trim(item.substr(0, eq));
+        const std::string val = dealii::Utilities::trim(item.substr(eq + 1));
+        try
+          {
+            values[key] = dealii::Utilities::string_to_double(val);
+          }
+        catch (...)
+          {
+            AssertThrow(false,
+                        ExcMessage("'" + entry + "': the value '" + val +
+                                   "' of '" + key + "' is not a number."));
+          }
+      }
+    return values;
+  }
+
+
+
+  std::vector<bool>
+  parse_components(const std::string &text,
+                   const unsigned int dim,
+                   const std::string &entry)
+  {
+    std::vector<bool> mask(dim, false);
+    const std::string letters = "xyz";
+    for (const char c : text)
+      {
+        if (std::isspace(static_cast<unsigned char>(c)) || c == ',')
+          continue;
+        const auto d = letters.find(c);
+        AssertThrow(d != std::string::npos && d < dim,
+                    ExcMessage("'" + entry + "': '" + text +
+                               "' is not a component list; use letters from '" +
+                               letters.substr(0, dim) + "'."));
+        mask[d] = true;
+      }
+    return mask;
+  }
+
+
+
+  namespace
+  {
+    std::string
+    join(const std::vector<std::string> &parts)
+    {
+      std::string out;
+      for (const auto &p : parts)
+        out += (out.empty() ? "" : ", ") + p;
+      return out;
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  std::unique_ptr<dealii::FunctionParser<dim>>
+  make_function(const std::vector<std::string> &       expressions,
+                const std::vector<bool> &              mask,
+                const std::map<std::string, double> &  constants,
+                const std::string &                    entry)
+  {
+    const unsigned int n_masked = std::count(mask.begin(), mask.end(), true);
+    AssertThrow(expressions.size() == n_masked,
+                ExcMessage("'" + entry + "': " + std::to_string(n_masked) +
+                           " expression(s) expected, one per component, but " +
+                           std::to_string(expressions.size()) + " given."));
+    std::vector<std::string> all(mask.size(), "0");
+    for (unsigned int c = 0, k = 0; c < mask.size(); ++c)
+      if (mask[c])
+        all[c] = expressions[k++];
+
+    const std::string variables = dim == 2 ? "x,y,t" : "x,y,z,t";
+    auto f = std::make_unique<dealii::FunctionParser<dim>>(mask.size());
+    try
+      {
+        f->initialize(variables, all, constants, /*time_dependent=*/true);
+        // muparser reports some errors only at evaluation.
+        dealii::Vector<double> v(mask.size());
+        f->vector_value(dealii::Point<dim>(), v);
+      }
+    catch (const std::exception &exc)
+      {
+        AssertThrow(false,
+                    ExcMessage("'" + entry + "': cannot use the expression(s) '" +
+                               join(expressions) +
+                               "': " + error_message(exc)));
+      }
+    return f;
+  }
+
+  template std::unique_ptr<dealii::FunctionParser<2>>
+  make_function<2>(const std::vector<std::string> &,
+                   const std::vector<bool> &,
+                   const std::map<std::string, double> &,
+                   const std::string &);
+  template std::unique_ptr<dealii::FunctionParser<3>>
+  make_function<3>(const std::vector<std::string> &,
+                   const std::vector<bool> &,
+                   const std::map<std::string, double> &,
+                   const std::string &);
+} // namespace forma

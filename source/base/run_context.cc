@@ -1,0 +1,132 @@
+#include <deal.II/base/exceptions.h>
+
+#include <forma/base/run_context.h>
+
+#include <filesystem>
+#include <iostream>
+
+namespace forma
+{
+  namespace fs = std::filesystem;
+
+  RunContext::RunContext(const MPI_Comm comm, const std::string &dir)
+    : comm(comm)
+    , output_directory(dir)
+    , staging_directory((fs::path(dir) / ".forma-staging").string())
+  {
+    std::string error;
+    if (is_root())
+      {
+        try
+          {
+            fs::create_directories(output_directory);
+            fs::remove_all(staging_directory);
+            fs::create_directories(staging_directory);
+            log_file =
+              std::make_unique<std::ofstream>(path("log.txt").c_str());
+            if (!*log_file)
+              error = "cannot write into the output directory '" + dir + "'";
+          }
+        catch (const std::exception &e)
+          {
+            error = "cannot create the output directory '" + dir +
+                    "': " + e.what();
+          }
+      }
+    error = dealii::Utilities::MPI::broadcast(comm, error, 0);
+    AssertThrow(error.empty(), dealii::ExcMessage(error));
+    summary["status"] = "running";
+  }
+
+
+
+  RunContext::~RunContext()
+  {
+    // An exception that bypassed fail() must still not touch earlier
+    // results; the staging directory is left for inspection.
+  }
+
+
+
+  std::string
+  RunContext::path(const std::string &file_name) const
+  {
+    return (fs::path(staging_directory) / file_name).string();
+  }
+
+
+
+  void
+  RunContext::print(const std::string &line) const
+  {
+    if (is_root())
+      {
+        std::cout << line << std::endl;
+        if (log_file)
+          *log_file << line << std::endl;
+      }
+  }
+
+
+
+  void
+  RunContext::log(const std::string &line) const
+  {
+    if (is_root() && log_file)
+      *log_file << line << std::endl;
+  }
+
+
+
+  void
+  RunContext::write_summary() const
+  {
+    if (is_root())
+      {
+        std::ofstream out(path("summary.json").c_str());
+        out << summary.dump(2) << std::endl;
+      }
+  }
+
+
+
+  void
+  RunContext::commit()
+  {
+    summary["status"] = "ok";
+    write_summary();
+    if (is_root())
+      {
+        log_file.reset();
+        fs::remove_all(fs::path(output_directory) / "failed-run");
+        for (const auto &entry : fs::directory_iterator(staging_directory))
+          {
+            const fs::path target =
+              fs::path(output_directory) / entry.path().filename();
+            fs::remove_all(target);
+            fs::rename(entry.path(), target);
+          }
+        fs::remove_all(staging_directory);
+      }
+    finished = true;
+    MPI_Barrier(comm);
+  }
+
+
+
+  void
+  RunContext::fail(const std::string &error)
+  {
+    summary["status"] = "failed";
+    summary["error"]  = error;
+    write_summary();
+    if (is_root())
+      {
+        log_file.reset();
+        const fs::path failed = fs::path(output_directory) / "failed-run";
+        fs::remove_all(failed);
+        fs::rename(staging_directory, failed);
+      }
+    finished = true;
+  }
+} // namespace forma

@@ -1,0 +1,1346 @@
+#include <deal.II/base/function_parser.h>
+#include <deal.II/base/quadrature.h>
+#include <deal.II/base/timer.h>
+#include <deal.II/base/work_stream.h>
+#include <deal.II/distributed/grid_refinement.h>
+#include <deal.II/distributed/tria.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_series.h>
+#include <deal.II/fe/fe_simplex_p.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/fe/mapping_fe.h>
+#include <deal.II/fe/mapping_q.h>
+#include <deal.II/grid/filtered_iterator.h>
+#include <deal.II/grid/grid_tools.h>
+#include <deal.II/hp/fe_collection.h>
+#include <deal.II/hp/fe_values.h>
+#include <deal.II/hp/mapping_collection.h>
+#include <deal.II/hp/q_collection.h>
+#include <deal.II/hp/refinement.h>
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/trilinos_sparsity_pattern.h>
+#include <deal.II/lac/trilinos_vector.h>
+#include <deal.II/numerics/data_out.h>
+#include <deal.II/numerics/error_estimator.h>
+#include <deal.II/numerics/smoothness_estimator.h>
+#include <deal.II/numerics/vector_tools.h>
+
+#include <forma/base/records.h>
+#include <forma/base/run_context.h>
+#include <forma/elasticity/simulator.h>
+#include <forma/mesh/mesh.h>
+#include <forma/physics/bdf.h>
+#include <forma/physics/damping.h>
+#include <forma/physics/material.h>
+#include <forma/solvers/linear_solver.h>
+
+#include <cmath>
+#include <deque>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+namespace forma
+{
+  using namespace dealii;
+  using Vector_t = TrilinosWrappers::MPI::Vector;
+
+  namespace
+  {
+    std::string
+    fmt(const double v, const int precision = 6)
+    {
+      std::ostringstream s;
+      s << std::setprecision(precision) << v;
+      return s.str();
+    }
+
+    template <int dim>
+    std::string
+    fmt(const Tensor<1, dim> &v, const int precision = 6)
+    {
+      std::string s = "(";
+      for (unsigned int d = 0; d < dim; ++d)
+        s += (d ? ", " : "") + fmt(v[d], precision);
+      return s + ")";
+    }
+
+    template <int dim>
+    nlohmann::json
+    to_json(const Tensor<1, dim> &v)
+    {
+      nlohmann::json j = nlohmann::json::array();
+      for (unsigned int d = 0; d < dim; ++d)
+        j.push_back(v[d]);
+      return j;
+    }
+
+    template <int dim>
+    Point<dim>
+    parse_point(const std::string &text, const std::string &entry)
+    {
+      const auto parts = split_top_level(text, ',');
+      AssertThrow(parts.size() == dim,
+                  ExcMessage("'" + entry + "': the point '" + text + "' needs " +
+                             std::to_string(dim) + " coordinates."));
+      Point<dim> p;
+      for (unsigned int d = 0; d < dim; ++d)
+        p[d] = Utilities::string_to_double(parts[d]);
+      return p;
+    }
+
+    // Per-thread assembly workspace.
+    template <int dim>
+    struct Scratch
+    {
+      Scratch(const hp::MappingCollection<dim> &mapping,
+              const hp::FECollection<dim> &     fe,
+              const hp::QCollection<dim> &      q,
+              const hp::QCollection<dim - 1> &  fq)
+        : fe_values(mapping,
+                    fe,
+                    q,
+                    update_values | update_gradients | update_JxW_values |
+                      update_quadrature_points)
+        , face_values(mapping,
+                      fe,
+                      fq,
+                      update_values | update_JxW_values |
+                        update_quadrature_points | update_normal_vectors)
+      {}
+      Scratch(const Scratch &other)
+        : fe_values(other.fe_values.get_mapping_collection(),
+                    other.fe_values.get_fe_collection(),
+                    other.fe_values.get_quadrature_collection(),
+                    other.fe_values.get_update_flags())
+        , face_values(other.face_values.get_mapping_collection(),
+                      other.face_values.get_fe_collection(),
+                      other.face_values.get_quadrature_collection(),
+                      other.face_values.get_update_flags())
+      {}
+
+      hp::FEValues<dim>          fe_values;
+      hp::FEFaceValues<dim>      face_values;
+      std::vector<Tensor<2, dim>> grad_u, grad_u_old;
+      std::vector<Tensor<1, dim>> u, w;
+      std::vector<Tensor<2, dim>> B; ///< A : grad phi_i, per shape function
+    };
+
+    struct CopyData
+    {
+      FullMatrix<double>                   matrix;
+      dealii::Vector<double>               residual;
+      std::vector<types::global_dof_index> dofs;
+      bool                                 admissible = true;
+    };
+  } // namespace
+
+
+
+  template <int dim>
+  class ElasticitySimulator<dim>::Impl
+  {
+  public:
+    Impl(const ElasticityParameters &p, const MPI_Comm comm);
+
+    void
+    run(RunContext *context);
+
+    // setup
+    void
+    build_loads();
+    void
+    setup_system();
+    void
+    make_constraints(const double time);
+    void
+    compute_null_space();
+
+    // solving
+    bool
+    assemble(const Vector_t &u_owned, const bool with_matrix, Vector_t *raw);
+    std::pair<unsigned int, unsigned int>
+    newton(const double time, const std::string &where);
+    void
+    solve_static();
+    void
+    solve_transient();
+    void
+    refine_mesh();
+
+    // postprocessing
+    void
+    record_step(const unsigned int step,
+                const double       time,
+                const unsigned int newton_its,
+                const unsigned int linear_its);
+    void
+    write_output(const unsigned int step, const double time);
+    void
+    compute_reactions();
+    Tensor<1, dim>
+    point_value(const Point<dim> &p) const;
+
+    const ElasticityParameters p;
+    const MPI_Comm             comm;
+    RunContext *               context = nullptr;
+
+    std::unique_ptr<parallel::TriangulationBase<dim>> tria;
+    bool                                            simplex = false;
+    hp::FECollection<dim>                           fe;
+    hp::QCollection<dim>                            quadrature;
+    hp::QCollection<dim - 1>                        face_quadrature;
+    hp::MappingCollection<dim>                      mapping;
+    DoFHandler<dim>                                 dof_handler;
+    IndexSet                                        owned, relevant;
+    AffineConstraints<double> constraints_zero, constraints_bc;
+    TrilinosWrappers::SparseMatrix jacobian;
+    Vector_t                       u, u_ghost, residual;
+    Vector_t                       w_ghost, u_old_ghost, v; // transient state
+    std::deque<Vector_t>           u_history, v_history;    // [0] = step i-1
+
+    std::map<types::material_id, Material<dim>> materials;
+    std::map<types::material_id, Damping<dim>>  dampings;
+    std::map<std::string, double>               constants;
+    struct Dirichlet
+    {
+      types::boundary_id                      id;
+      std::vector<bool>                       mask;
+      std::shared_ptr<FunctionParser<dim>>    function;
+    };
+    std::vector<Dirichlet> dirichlet;
+    std::vector<std::pair<types::boundary_id, std::shared_ptr<FunctionParser<dim>>>>
+      tractions, pressures;
+    std::shared_ptr<FunctionParser<dim>> body_force;
+    Tensor<1, dim>                       gravity;
+    std::vector<Point<dim>>              points;
+
+    LinearSolver linear_solver;
+
+    // State read by assemble().
+    bool   transient      = false;
+    double time           = 0;
+    double dt             = 0;
+    double inertia_factor = 0; ///< 1 / (beta dt)^2
+    double force_scale    = 0; ///< largest initial residual seen (tolerance)
+
+    std::vector<typename ElasticitySimulator<dim>::StepRecord>  steps;
+    std::vector<typename ElasticitySimulator<dim>::CycleRecord> cycles;
+    std::map<types::boundary_id, Tensor<1, dim>>                reactions;
+    double max_von_mises = 0, max_frobenius = 0;
+    std::vector<std::pair<double, std::string>> pvd_records;
+    std::function<void(unsigned int)>           cycle_callback;
+    Vector<float>                               estimated_error;
+    TimerOutput::Scope *                        unused = nullptr;
+    double assembly_seconds = 0, solver_seconds = 0;
+  };
+
+
+
+  template <int dim>
+  ElasticitySimulator<dim>::Impl::Impl(const ElasticityParameters &p,
+                                       const MPI_Comm              comm)
+    : p(p)
+    , comm(comm)
+    , linear_solver(p.linear_solver)
+  {
+    AssertThrow(p.dim == dim, ExcInternalError());
+    tria    = create_distributed_mesh<dim>(p.mesh, comm);
+    simplex = !tria->all_reference_cells_are_hyper_cube();
+    const ReferenceCell cell_type = tria->get_reference_cells()[0];
+
+    if (simplex)
+      {
+        AssertThrow(p.degree <= 2,
+                    ExcMessage("Finite element/Degree: simplices support P1 "
+                               "and P2 (got " + std::to_string(p.degree) + ")."));
+        AssertThrow(p.adaptivity == "none",
+                    ExcMessage("Finite element/Adaptivity needs a quad/hex "
+                               "mesh; simplex meshes are refined uniformly."));
+        fe.push_back(FESystem<dim>(FE_SimplexP<dim>(p.degree), dim));
+        quadrature.push_back(cell_type.template get_gauss_type_quadrature<dim>(p.degree + 1));
+        face_quadrature.push_back(
+          cell_type.face_reference_cell(0).template get_gauss_type_quadrature<dim - 1>(
+            p.degree + 1));
+        mapping.push_back(MappingFE<dim>(FE_SimplexP<dim>(1)));
+      }
+    else
+      {
+        const unsigned int top = p.adaptivity == "hp" ? p.max_degree : p.degree;
+        for (unsigned int k = 1; k <= top; ++k)
+          {
+            fe.push_back(FESystem<dim>(FE_Q<dim>(k), dim));
+            quadrature.push_back(QGauss<dim>(k + 1));
+            face_quadrature.push_back(QGauss<dim - 1>(k + 1));
+          }
+        mapping.push_back(MappingQ<dim>(1));
+      }
+    dof_handler.reinit(*tria);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        cell->set_active_fe_index(simplex ? 0 : p.degree - 1);
+
+    build_loads();
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::build_loads()
+  {
+    constants = parse_key_values(p.constants, "Boundary conditions/Constants");
+
+    // Materials: every material id of the mesh needs a record.
+    std::set<types::material_id> ids;
+    for (const auto &cell : tria->active_cell_iterators())
+      ids.insert(cell->material_id());
+    std::set<types::material_id> all_ids;
+    for (const auto id : ids)
+      all_ids.insert(id);
+    {
+      std::vector<types::material_id> local(all_ids.begin(), all_ids.end());
+      const auto gathered = Utilities::MPI::all_gather(comm, local);
+      for (const auto &g : gathered)
+        all_ids.insert(g.begin(), g.end());
+    }
+    std::map<unsigned int, std::map<std::string, double>> records;
+    for (const auto &r : parse_records(p.bodies, 1, "Material/Bodies"))
+      records[r.id] = parse_key_values(r.fields[0], "Material/Bodies");
+    for (const auto id : all_ids)
+      {
+        const bool specific = records.count(id) > 0;
+        AssertThrow(specific || records.count(any_id),
+                    ExcMessage("Material/Bodies has no record for material id " +
+                               std::to_string(id) +
+                               ", which the mesh uses (a record '* : ...' "
+                               "covers all ids not listed)."));
+        const std::string where =
+          "Material/Bodies, material id " + std::to_string(id);
+        const auto props = MaterialProperties::from_key_values(
+          records.at(specific ? id : any_id), p.model, dim, where);
+        materials.emplace(id, Material<dim>(p.model, props, p.plane_stress));
+        dampings.emplace(id, Damping<dim>(props.damping_shear, props.damping_bulk));
+      }
+
+    std::set<types::boundary_id> boundary_ids;
+    for (const auto b : tria->get_boundary_ids())
+      boundary_ids.insert(b);
+    auto check_boundary = [&](const unsigned int id, const std::string &entry) {
+      AssertThrow(id != any_id,
+                  ExcMessage("'" + entry + "': give explicit boundary ids."));
+      AssertThrow(boundary_ids.count(id),
+                  ExcMessage("'" + entry + "': the mesh has no boundary id " +
+                             std::to_string(id) + "."));
+    };
+
+    const std::string dir_entry = "Boundary conditions/Dirichlet";
+    for (const auto &r : parse_records(p.dirichlet, 2, dir_entry))
+      {
+        check_boundary(r.id, dir_entry);
+        const auto mask = parse_components(r.fields[0], dim, dir_entry);
+        dirichlet.push_back(
+          {static_cast<types::boundary_id>(r.id),
+           mask,
+           make_function<dim>(split_top_level(r.fields[1], ','), mask, constants, dir_entry)});
+      }
+    const std::vector<bool> all(dim, true);
+    const std::string       tr_entry = "Boundary conditions/Traction";
+    for (const auto &r : parse_records(p.traction, 1, tr_entry))
+      {
+        check_boundary(r.id, tr_entry);
+        tractions.emplace_back(r.id,
+                               make_function<dim>(split_top_level(r.fields[0], ','),
+                                                  all, constants, tr_entry));
+      }
+    const std::string pr_entry = "Boundary conditions/Pressure";
+    for (const auto &r : parse_records(p.pressure, 1, pr_entry))
+      {
+        check_boundary(r.id, pr_entry);
+        std::vector<bool> first(dim, false);
+        first[0] = true;
+        pressures.emplace_back(r.id,
+                               make_function<dim>({r.fields[0]}, first, constants,
+                                                  pr_entry));
+      }
+    if (!p.body_force.empty())
+      body_force = make_function<dim>(split_top_level(p.body_force, ','), all,
+                                      constants, "Loads/Body force");
+    if (!p.gravity.empty())
+      {
+        const auto g = parse_point<dim>(p.gravity, "Loads/Gravity");
+        for (unsigned int d = 0; d < dim; ++d)
+          gravity[d] = g[d];
+      }
+    for (const auto &text : split_top_level(p.points, ';'))
+      if (!text.empty())
+        points.push_back(parse_point<dim>(text, "Output/Points"));
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::setup_system()
+  {
+    dof_handler.distribute_dofs(fe);
+    owned = dof_handler.locally_owned_dofs();
+    DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
+
+    make_constraints(time);
+
+    TrilinosWrappers::SparsityPattern sp(owned, owned, relevant, comm);
+    DoFTools::make_sparsity_pattern(dof_handler, sp, constraints_zero, false,
+                                    Utilities::MPI::this_mpi_process(comm));
+    sp.compress();
+    jacobian.reinit(sp);
+
+    u.reinit(owned, comm);
+    residual.reinit(owned, comm);
+    u_ghost.reinit(owned, relevant, comm);
+    w_ghost.reinit(owned, relevant, comm);
+    u_old_ghost.reinit(owned, relevant, comm);
+    v.reinit(owned, comm);
+    if (p.linear_solver.type != "direct")
+      compute_null_space();
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::make_constraints(const double t)
+  {
+    for (auto *c : {&constraints_zero, &constraints_bc})
+      {
+        c->clear();
+        c->reinit(relevant);
+        DoFTools::make_hanging_node_constraints(dof_handler, *c);
+      }
+    for (const auto &d : dirichlet)
+      {
+        d.function->set_time(t);
+        VectorTools::interpolate_boundary_values(mapping, dof_handler, d.id,
+                                                 *d.function, constraints_bc,
+                                                 ComponentMask(d.mask));
+        VectorTools::interpolate_boundary_values(
+          mapping, dof_handler, d.id, Functions::ZeroFunction<dim>(dim),
+          constraints_zero, ComponentMask(d.mask));
+      }
+    for (auto *c : {&constraints_zero, &constraints_bc})
+      {
+        c->make_consistent_in_parallel(owned, relevant, comm);
+        c->close();
+      }
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::compute_null_space()
+  {
+    std::map<types::global_dof_index, Point<dim>> support;
+    DoFTools::map_dofs_to_support_points(mapping, dof_handler, support);
+    std::vector<unsigned int> component(owned.n_elements());
+    for (unsigned int c = 0; c < dim; ++c)
+      {
+        std::vector<bool> m(dim, false);
+        m[c] = true;
+        const IndexSet dofs = DoFTools::extract_dofs(dof_handler, ComponentMask(m));
+        for (const auto i : dofs)
+          if (owned.is_element(i))
+            component[owned.index_within_set(i)] = c;
+      }
+    const unsigned int n_rot = dim == 2 ? 1 : 3;
+    std::vector<std::vector<double>> modes(dim + n_rot,
+                                           std::vector<double>(owned.n_elements()));
+    for (const auto i : owned)
+      {
+        const unsigned int k = owned.index_within_set(i);
+        const unsigned int c = component[k];
+        const Point<dim>   x = support.at(i);
+        modes[c][k]          = 1.;
+        if (dim == 2)
+          modes[2][k] = (c == 0 ? -x[1] : x[0]);
+        else
+          {
+            // rotations about z, x, y
+            const double r_z[3] = {-x[1], x[0], 0};
+            const double r_x[3] = {0, -x[dim - 1], x[1]};
+            const double r_y[3] = {x[dim - 1], 0, -x[0]};
+            modes[dim][k]     = r_z[c];
+            modes[dim + 1][k] = r_x[c];
+            modes[dim + 2][k] = r_y[c];
+          }
+      }
+    linear_solver.set_null_space(modes);
+  }
+
+
+
+  template <int dim>
+  bool
+  ElasticitySimulator<dim>::Impl::assemble(const Vector_t &u_owned,
+                                           const bool      with_matrix,
+                                           Vector_t *      raw)
+  {
+    Timer timer;
+    u_ghost = u_owned;
+    if (with_matrix)
+      jacobian = 0;
+    residual = 0;
+    if (raw)
+      *raw = 0;
+
+    const FEValuesExtractors::Vector disp(0);
+    const bool                       dynamic = transient;
+
+    std::set<types::boundary_id> loaded;
+    for (const auto &t : tractions)
+      loaded.insert(t.first);
+    for (const auto &t : pressures)
+      loaded.insert(t.first);
+
+    auto worker = [&](const typename DoFHandler<dim>::active_cell_iterator &cell,
+                      Scratch<dim> &                                        s,
+                      CopyData &                                            c) {
+      s.fe_values.reinit(cell);
+      const FEValues<dim> &fv    = s.fe_values.get_present_fe_values();
+      const auto &         cfe   = fv.get_fe();
+      const unsigned int   n     = cfe.n_dofs_per_cell();
+      const unsigned int   nq    = fv.n_quadrature_points;
+      c.dofs.resize(n);
+      cell->get_dof_indices(c.dofs);
+      c.residual.reinit(n);
+      if (with_matrix)
+        c.matrix.reinit(n, n);
+      c.admissible = true;
+
+      const Material<dim> &mat  = materials.at(cell->material_id());
+      const Damping<dim> & damp = dampings.at(cell->material_id());
+      const double         rho  = mat.properties().density;
+      const bool           damped = dynamic && damp.active();
+
+      s.grad_u.resize(nq);
+      fv[disp].get_function_gradients(u_ghost, s.grad_u);
+      if (damped)
+        {
+          s.grad_u_old.resize(nq);
+          fv[disp].get_function_gradients(u_old_ghost, s.grad_u_old);
+        }
+      if (dynamic)
+        {
+          s.u.resize(nq);
+          s.w.resize(nq);
+          fv[disp].get_function_values(u_ghost, s.u);
+          fv[disp].get_function_values(w_ghost, s.w);
+        }
+      s.B.resize(n);
+
+      Vector<double> bf(dim);
+      for (unsigned int q = 0; q < nq; ++q)
+        {
+          if (!mat.admissible(s.grad_u[q]))
+            {
+              c.admissible = false;
+              return;
+            }
+          Tensor<2, dim> P = mat.stress(s.grad_u[q]);
+          Tensor<4, dim> A;
+          if (with_matrix)
+            A = mat.tangent(s.grad_u[q]);
+          if (damped)
+            {
+              P += damp.stress(s.grad_u[q], s.grad_u_old[q], dt);
+              if (with_matrix)
+                A += damp.tangent(s.grad_u[q], s.grad_u_old[q], dt);
+            }
+          // Force density per unit reference volume (inertia minus loads).
+          Tensor<1, dim> f = -rho * gravity;
+          if (body_force)
+            {
+              body_force->vector_value(fv.quadrature_point(q), bf);
+              for (unsigned int d = 0; d < dim; ++d)
+                f[d] -= bf[d];
+            }
+          if (dynamic)
+            f += rho * inertia_factor * (s.u[q] + s.w[q]);
+
+          const double JxW = fv.JxW(q);
+          for (unsigned int i = 0; i < n; ++i)
+            {
+              const unsigned int    ci = cfe.system_to_component_index(i).first;
+              const Tensor<1, dim> &gi = fv.shape_grad(i, q);
+              const double          vi = fv.shape_value(i, q);
+              c.residual(i) += (P[ci] * gi + f[ci] * vi) * JxW;
+              if (with_matrix)
+                for (unsigned int k = 0; k < dim; ++k)
+                  for (unsigned int l = 0; l < dim; ++l)
+                    {
+                      double b = 0;
+                      for (unsigned int J = 0; J < dim; ++J)
+                        b += A[ci][J][k][l] * gi[J];
+                      s.B[i][k][l] = b;
+                    }
+            }
+          if (with_matrix)
+            {
+              const double mass = dynamic ? rho * inertia_factor : 0.;
+              for (unsigned int i = 0; i < n; ++i)
+                {
+                  const unsigned int ci = cfe.system_to_component_index(i).first;
+                  const double       vi = fv.shape_value(i, q);
+                  for (unsigned int j = 0; j < n; ++j)
+                    {
+                      const unsigned int cj =
+                        cfe.system_to_component_index(j).first;
+                      double kij = s.B[i][cj] * fv.shape_grad(j, q);
+                      if (ci == cj)
+                        kij += mass * vi * fv.shape_value(j, q);
+                      c.matrix(i, j) += kij * JxW;
+                    }
+                }
+            }
+        }
+
+      if (!loaded.empty() && cell->at_boundary())
+        for (const auto face : cell->face_indices())
+          if (cell->face(face)->at_boundary() &&
+              loaded.count(cell->face(face)->boundary_id()))
+            {
+              s.face_values.reinit(cell, face);
+              const FEFaceValues<dim> &ff = s.face_values.get_present_fe_values();
+              const types::boundary_id  id = cell->face(face)->boundary_id();
+              Vector<double>            val(dim);
+              for (unsigned int q = 0; q < ff.n_quadrature_points; ++q)
+                {
+                  Tensor<1, dim> t;
+                  for (const auto &tr : tractions)
+                    if (tr.first == id)
+                      {
+                        tr.second->vector_value(ff.quadrature_point(q), val);
+                        for (unsigned int d = 0; d < dim; ++d)
+                          t[d] += val[d];
+                      }
+                  for (const auto &pr : pressures)
+                    if (pr.first == id)
+                      t -= pr.second->value(ff.quadrature_point(q), 0) *
+                           ff.normal_vector(q);
+                  for (unsigned int i = 0; i < n; ++i)
+                    {
+                      const unsigned int ci = cfe.system_to_component_index(i).first;
+                      c.residual(i) -= t[ci] * ff.shape_value(i, q) * ff.JxW(q);
+                    }
+                }
+            }
+    };
+
+    bool admissible = true;
+    auto copier     = [&](const CopyData &c) {
+      if (!c.admissible)
+        {
+          admissible = false;
+          return;
+        }
+      if (with_matrix)
+        constraints_zero.distribute_local_to_global(c.matrix, c.residual, c.dofs,
+                                                    jacobian, residual);
+      else
+        constraints_zero.distribute_local_to_global(c.residual, c.dofs, residual);
+      if (raw)
+        for (unsigned int i = 0; i < c.dofs.size(); ++i)
+          (*raw)(c.dofs[i]) += c.residual(i);
+    };
+
+    for (auto &tr : tractions)
+      tr.second->set_time(time);
+    for (auto &pr : pressures)
+      pr.second->set_time(time);
+    if (body_force)
+      body_force->set_time(time);
+
+    using Iterator = typename DoFHandler<dim>::active_cell_iterator;
+    WorkStream::run(FilteredIterator<Iterator>(IteratorFilters::LocallyOwnedCell(),
+                                               dof_handler.begin_active()),
+                    FilteredIterator<Iterator>(IteratorFilters::LocallyOwnedCell(),
+                                               dof_handler.end()),
+                    worker,
+                    copier,
+                    Scratch<dim>(mapping, fe, quadrature, face_quadrature),
+                    CopyData());
+
+    admissible = Utilities::MPI::min(admissible ? 1 : 0, comm) == 1;
+    if (admissible)
+      {
+        if (with_matrix)
+          jacobian.compress(VectorOperation::add);
+        residual.compress(VectorOperation::add);
+        if (raw)
+          raw->compress(VectorOperation::add);
+      }
+    else
+      {
+        // Leave the containers in a consistent state for the next call.
+        if (with_matrix)
+          jacobian.compress(VectorOperation::add);
+        residual.compress(VectorOperation::add);
+        if (raw)
+          raw->compress(VectorOperation::add);
+      }
+    assembly_seconds += timer.wall_time();
+    return admissible;
+  }
+
+
+
+  template <int dim>
+  std::pair<unsigned int, unsigned int>
+  ElasticitySimulator<dim>::Impl::newton(const double t, const std::string &where)
+  {
+    time = t;
+    make_constraints(t);
+    constraints_bc.distribute(u);
+
+    AssertThrow(assemble(u, true, nullptr),
+                ExcMessage(where + " (t = " + fmt(t) + "): the initial guess "
+                           "inverts an element (det F <= 0); use more load "
+                           "steps or a smaller time step."));
+    double norm = residual.l2_norm();
+    force_scale = std::max(force_scale, norm);
+    const double tolerance =
+      std::max(p.newton_absolute_tolerance, p.newton_relative_tolerance * force_scale);
+
+    unsigned int linear_its = 0;
+    Vector_t     du(owned, comm), trial(owned, comm);
+    for (unsigned int it = 0; it < p.max_newton_iterations; ++it)
+      {
+        if (norm <= tolerance)
+          return {it, linear_its};
+        Vector_t rhs = residual;
+        rhs *= -1.;
+        du = 0;
+        Timer timer;
+        linear_its += linear_solver.solve(jacobian, du, rhs, fe.max_degree() > 1);
+        solver_seconds += timer.wall_time();
+        constraints_zero.distribute(du);
+
+        double       step     = 1.;
+        bool         accepted = false;
+        for (unsigned int h = 0; h <= p.max_line_search_halvings; ++h, step *= 0.5)
+          {
+            trial = u;
+            trial.add(step, du);
+            if (!assemble(trial, true, nullptr))
+              continue; // inverted: shorter step
+            const double trial_norm = residual.l2_norm();
+            if (trial_norm <= tolerance || trial_norm < (1. - 1e-4 * step) * norm)
+              {
+                u        = trial;
+                norm     = trial_norm;
+                accepted = true;
+                break;
+              }
+          }
+        AssertThrow(accepted,
+                    ExcMessage(where + " (t = " + fmt(t) + "): the Newton line "
+                               "search found no step that reduces the residual "
+                               "(norm " + fmt(norm, 3) + ") without inverting an "
+                               "element; use more load steps or a smaller time "
+                               "step."));
+        if (context)
+          context->log("    Newton " + std::to_string(it + 1) + ": residual " +
+                       fmt(norm, 3) + ", step " + fmt(step, 3));
+      }
+    AssertThrow(norm <= tolerance,
+                ExcMessage(where + " (t = " + fmt(t) + "): Newton's method did "
+                           "not converge in " + std::to_string(p.max_newton_iterations) +
+                           " iterations: residual norm " + fmt(norm, 3) +
+                           ", tolerance " + fmt(tolerance, 3) +
+                           ". Use more load steps, a smaller time step or raise "
+                           "'Max Newton iterations'."));
+    return {p.max_newton_iterations, linear_its};
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::record_step(const unsigned int step,
+                                              const double       t,
+                                              const unsigned int newton_its,
+                                              const unsigned int linear_its)
+  {
+    u_ghost = u;
+    Vector_t v_ghost(owned, relevant, comm);
+    if (transient)
+      v_ghost = v;
+
+    const FEValuesExtractors::Vector disp(0);
+    hp::FEValues<dim> hp_fv(mapping, fe, quadrature,
+                            update_values | update_gradients | update_JxW_values);
+    double kinetic = 0, elastic = 0, potential = 0, mass = 0;
+    Tensor<1, dim> first_moment;
+    std::vector<Tensor<2, dim>> grads;
+    std::vector<Tensor<1, dim>> vals, vels;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          hp_fv.reinit(cell);
+          const auto &fv = hp_fv.get_present_fe_values();
+          const auto &mat = materials.at(cell->material_id());
+          const double rho = mat.properties().density;
+          const unsigned int nq = fv.n_quadrature_points;
+          grads.resize(nq);
+          vals.resize(nq);
+          vels.resize(nq);
+          fv[disp].get_function_gradients(u_ghost, grads);
+          fv[disp].get_function_values(u_ghost, vals);
+          if (transient)
+            fv[disp].get_function_values(v_ghost, vels);
+          for (unsigned int q = 0; q < nq; ++q)
+            {
+              const double JxW = fv.JxW(q);
+              elastic += mat.energy_density(grads[q]) * JxW;
+              if (transient)
+                kinetic += 0.5 * rho * vels[q].norm_square() * JxW;
+              potential -= rho * (gravity * vals[q]) * JxW;
+              mass += rho * JxW;
+              first_moment += rho * vals[q] * JxW;
+              const Tensor<2, dim> sigma = mat.cauchy_stress(grads[q]);
+              max_von_mises = std::max(max_von_mises, von_mises(sigma));
+              max_frobenius = std::max(max_frobenius, sigma.norm());
+            }
+        }
+    typename ElasticitySimulator<dim>::StepRecord r;
+    r.step              = step;
+    r.time              = t;
+    r.newton_iterations = newton_its;
+    r.linear_iterations = linear_its;
+    r.residual          = residual.l2_norm();
+    r.kinetic_energy    = Utilities::MPI::sum(kinetic, comm);
+    r.elastic_energy    = Utilities::MPI::sum(elastic, comm);
+    r.gravity_potential = Utilities::MPI::sum(potential, comm);
+    r.mean_displacement =
+      Utilities::MPI::sum(first_moment, comm) / Utilities::MPI::sum(mass, comm);
+    max_von_mises = Utilities::MPI::max(max_von_mises, comm);
+    max_frobenius = Utilities::MPI::max(max_frobenius, comm);
+    for (const auto &x : points)
+      r.point_displacements.push_back(point_value(x));
+    steps.push_back(r);
+  }
+
+
+
+  template <int dim>
+  Tensor<1, dim>
+  ElasticitySimulator<dim>::Impl::point_value(const Point<dim> &x) const
+  {
+    // The owner with the lowest rank evaluates; everyone gets its value.
+    const unsigned int rank  = Utilities::MPI::this_mpi_process(comm);
+    unsigned int       owner = numbers::invalid_unsigned_int;
+    Tensor<1, dim>     value;
+    try
+      {
+        const auto found = GridTools::find_active_cell_around_point(
+          mapping, dof_handler, x);
+        if (found.first.state() == IteratorState::valid &&
+            found.first->is_locally_owned())
+          {
+            owner = rank;
+            const auto &cell = found.first;
+            const Point<dim> ref = found.second;
+            FEValues<dim> fv(mapping[0], fe[cell->active_fe_index()],
+                             Quadrature<dim>(ref), update_values);
+            fv.reinit(cell);
+            std::vector<Tensor<1, dim>> vals(1);
+            fv[FEValuesExtractors::Vector(0)].get_function_values(u_ghost, vals);
+            value = vals[0];
+          }
+      }
+    catch (...)
+      {}
+    const unsigned int first = Utilities::MPI::min(owner, comm);
+    AssertThrow(first != numbers::invalid_unsigned_int,
+                ExcMessage("Output/Points: the point (" + fmt(Tensor<1, dim>(x)) +
+                           ") is outside the mesh."));
+    return Utilities::MPI::sum(rank == first ? value : Tensor<1, dim>(), comm);
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::compute_reactions()
+  {
+    Vector_t raw(owned, comm);
+    assemble(u, false, &raw);
+    reactions.clear();
+    std::vector<IndexSet> component_dofs;
+    for (unsigned int c = 0; c < dim; ++c)
+      {
+        std::vector<bool> m(dim, false);
+        m[c] = true;
+        component_dofs.push_back(DoFTools::extract_dofs(dof_handler, ComponentMask(m)));
+      }
+    // Supports are the Dirichlet boundaries; a DoF on two of them (a corner)
+    // counts in both.
+    std::set<types::boundary_id> supports;
+    for (const auto &d : dirichlet)
+      supports.insert(d.id);
+    for (const auto id : supports)
+      {
+        const IndexSet on_boundary =
+          DoFTools::extract_boundary_dofs(dof_handler, ComponentMask(), {id});
+        Tensor<1, dim> f;
+        for (const auto i : on_boundary)
+          if (owned.is_element(i))
+            for (unsigned int c = 0; c < dim; ++c)
+              if (component_dofs[c].is_element(i))
+                f[c] += raw(i);
+        reactions[id] = Utilities::MPI::sum(f, comm);
+      }
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::write_output(const unsigned int step,
+                                               const double       t)
+  {
+    if (!context || !p.write_vtu)
+      return;
+    u_ghost = u;
+    Vector<float> vm(tria->n_active_cells()), fro(tria->n_active_cells()),
+      material(tria->n_active_cells()), partition(tria->n_active_cells()),
+      degree(tria->n_active_cells());
+    const FEValuesExtractors::Vector disp(0);
+    hp::FEValues<dim> hp_fv(mapping, fe, quadrature,
+                            update_gradients | update_JxW_values);
+    std::vector<Tensor<2, dim>> grads;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          hp_fv.reinit(cell);
+          const auto &fv  = hp_fv.get_present_fe_values();
+          const auto &mat = materials.at(cell->material_id());
+          grads.resize(fv.n_quadrature_points);
+          fv[disp].get_function_gradients(u_ghost, grads);
+          double a = 0, b = 0, vol = 0;
+          for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
+            {
+              const Tensor<2, dim> s = mat.cauchy_stress(grads[q]);
+              a += von_mises(s) * fv.JxW(q);
+              b += s.norm() * fv.JxW(q);
+              vol += fv.JxW(q);
+            }
+          const unsigned int k = cell->active_cell_index();
+          vm[k]                = a / vol;
+          fro[k]               = b / vol;
+          material[k]          = cell->material_id();
+          partition[k]         = cell->subdomain_id();
+          degree[k]            = cell->get_fe().degree;
+        }
+
+    DataOut<dim> out;
+    out.attach_dof_handler(dof_handler);
+    std::vector<DataComponentInterpretation::DataComponentInterpretation> vec(
+      dim, DataComponentInterpretation::component_is_part_of_vector);
+    out.add_data_vector(u_ghost,
+                        std::vector<std::string>(dim, "displacement"),
+                        DataOut<dim>::type_dof_data,
+                        vec);
+    if (transient)
+      {
+        Vector_t v_ghost(owned, relevant, comm);
+        v_ghost = v;
+        out.add_data_vector(v_ghost,
+                            std::vector<std::string>(dim, "velocity"),
+                            DataOut<dim>::type_dof_data,
+                            vec);
+        out.build_patches(mapping, simplex ? 1 : fe.max_degree());
+      }
+    out.add_data_vector(vm, "von_mises");
+    out.add_data_vector(fro, "stress_frobenius");
+    out.add_data_vector(material, "material_id");
+    out.add_data_vector(partition, "partition");
+    out.add_data_vector(degree, "fe_degree");
+    out.build_patches(mapping, simplex ? 1 : fe.max_degree());
+    const std::string name =
+      out.write_vtu_with_pvtu_record(context->directory() + "/", "solution", step,
+                                     comm, 4);
+    pvd_records.emplace_back(t, name);
+    if (context->is_root())
+      {
+        std::ofstream pvd(context->path("solution.pvd"));
+        DataOutBase::write_pvd_record(pvd, pvd_records);
+      }
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::solve_static()
+  {
+    bool has_dirichlet = !dirichlet.empty();
+    AssertThrow(has_dirichlet,
+                ExcMessage("a static problem needs Dirichlet conditions "
+                           "(Boundary conditions/Dirichlet) to remove rigid-body "
+                           "motions."));
+    transient = false;
+    u         = 0;
+    for (unsigned int k = 1; k <= p.load_steps; ++k)
+      {
+        const double t = p.end_time * k / p.load_steps;
+        const std::string where =
+          "load step " + std::to_string(k) + "/" + std::to_string(p.load_steps);
+        const auto its = newton(t, where);
+        record_step(k, t, its.first, its.second);
+        if (context)
+          {
+            std::string line = "[" + where + "] t = " + fmt(t) +
+                               ", Newton iterations: " + std::to_string(its.first) +
+                               ", elastic energy: " + fmt(steps.back().elastic_energy);
+            for (unsigned int i = 0; i < points.size(); ++i)
+              line += ", u" + fmt(Tensor<1, dim>(points[i])) + " = " +
+                      fmt(steps.back().point_displacements[i]);
+            context->print(line);
+          }
+      }
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::solve_transient()
+  {
+    transient              = true;
+    const unsigned int n   = std::max(1, static_cast<int>(std::round(p.end_time / p.time_step)));
+    dt                     = p.end_time / n;
+    const std::vector<bool> all(dim, true);
+
+    // Initial state.
+    u = 0;
+    v = 0;
+    if (!p.initial_displacement.empty())
+      VectorTools::interpolate(mapping, dof_handler,
+                               *make_function<dim>(split_top_level(p.initial_displacement, ','),
+                                                   all, constants,
+                                                   "Initial conditions/Displacement"),
+                               u);
+    if (!p.initial_velocity.empty())
+      VectorTools::interpolate(mapping, dof_handler,
+                               *make_function<dim>(split_top_level(p.initial_velocity, ','),
+                                                   all, constants,
+                                                   "Initial conditions/Velocity"),
+                               v);
+    make_constraints(0.);
+    constraints_zero.distribute(u); // hanging nodes only matter here
+    time = 0;
+    record_step(0, 0., 0, 0);
+    write_output(0, 0.);
+    if (context)
+      context->print("[step 0/" + std::to_string(n) + "] t = 0, kinetic energy: " +
+                     fmt(steps.back().kinetic_energy) + ", elastic energy: " +
+                     fmt(steps.back().elastic_energy));
+
+    u_history.clear();
+    v_history.clear();
+    u_history.push_front(u);
+    v_history.push_front(v);
+    const Vector_t u0 = u;
+    for (unsigned int i = 1; i <= n; ++i)
+      {
+        const double t   = i * dt;
+        const auto   bdf = bdf_coefficients_at_step(p.bdf_order, i);
+        const double bdt = bdf.beta * dt;
+        Vector_t     w(owned, comm);
+        for (unsigned int j = 0; j < bdf.alpha.size(); ++j)
+          {
+            w.add(bdf.alpha[j], u_history[j]);
+            w.add(bdf.alpha[j] * bdt, v_history[j]);
+          }
+        w_ghost        = w;
+        u_old_ghost    = u_history[0];
+        inertia_factor = 1. / (bdt * bdt);
+
+        // Predictor: the previous displacement advanced by its velocity.
+        u = u_history[0];
+        u.add(dt, v_history[0]);
+        const std::string where = "time step " + std::to_string(i);
+        std::pair<unsigned int, unsigned int> its;
+        try
+          {
+            its = newton(t, where);
+          }
+        catch (...)
+          {
+            // The predictor may invert elements; restart from u^{i-1}.
+            u   = u_history[0];
+            its = newton(t, where);
+          }
+
+        // v^i = (u^i + sum_j alpha_j u^{i-j}) / (beta dt)
+        v = u;
+        for (unsigned int j = 0; j < bdf.alpha.size(); ++j)
+          v.add(bdf.alpha[j], u_history[j]);
+        v *= 1. / bdt;
+
+        u_history.push_front(u);
+        v_history.push_front(v);
+        if (u_history.size() > p.bdf_order)
+          {
+            u_history.pop_back();
+            v_history.pop_back();
+          }
+
+        record_step(i, t, its.first, its.second);
+        if (i % p.output_every == 0 || i == n)
+          write_output(i, t);
+        if (context)
+          {
+            std::string line = "[step " + std::to_string(i) + "/" +
+                               std::to_string(n) + "] t = " + fmt(t) +
+                               ", Newton iterations: " + std::to_string(its.first) +
+                               ", kinetic energy: " + fmt(steps.back().kinetic_energy) +
+                               ", elastic energy: " + fmt(steps.back().elastic_energy);
+            for (unsigned int k = 0; k < points.size(); ++k)
+              line += ", u" + fmt(Tensor<1, dim>(points[k])) + " = " +
+                      fmt(steps.back().point_displacements[k]);
+            context->print(line);
+          }
+      }
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::refine_mesh()
+  {
+    auto *ptria = dynamic_cast<parallel::distributed::Triangulation<dim> *>(tria.get());
+    AssertThrow(ptria != nullptr, ExcMessage("adaptivity needs a quad/hex mesh."));
+    u_ghost = u;
+    estimated_error.reinit(tria->n_active_cells());
+    KellyErrorEstimator<dim>::estimate(
+      mapping[0], dof_handler, face_quadrature,
+      std::map<types::boundary_id, const Function<dim> *>(), u_ghost,
+      estimated_error);
+    parallel::distributed::GridRefinement::refine_and_coarsen_fixed_number(
+      *ptria, estimated_error, p.refine_fraction, p.coarsen_fraction);
+    if (p.adaptivity == "hp")
+      {
+        Vector<float> smoothness(tria->n_active_cells());
+        FESeries::Legendre<dim> legendre =
+          SmoothnessEstimator::Legendre::default_fe_series(fe);
+        SmoothnessEstimator::Legendre::coefficient_decay(legendre, dof_handler,
+                                                         u_ghost, smoothness);
+        hp::Refinement::p_adaptivity_from_relative_threshold(dof_handler, smoothness,
+                                                             0.2, 0.2);
+        hp::Refinement::choose_p_over_h(dof_handler);
+      }
+    tria->execute_coarsening_and_refinement();
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::run(RunContext *ctx)
+  {
+    context = ctx;
+    const unsigned int n_cycles = p.adaptivity == "none" ? 1 : p.adaptive_cycles + 1;
+    for (unsigned int cycle = 0; cycle < n_cycles; ++cycle)
+      {
+        if (cycle > 0)
+          refine_mesh();
+        setup_system();
+        if (context)
+          context->print(
+            (n_cycles > 1 ? "[cycle " + std::to_string(cycle) + "/" +
+                              std::to_string(n_cycles - 1) + "] " :
+                            std::string()) +
+            std::to_string(dim) + "D " + p.problem + ", " +
+            (p.model == ConstitutiveModel::linear_elastic ? "linear elastic" :
+                                                            "neo-hookean") +
+            ", " + std::to_string(tria->n_global_active_cells()) + " cells, " +
+            std::to_string(dof_handler.n_dofs()) + " DoFs");
+        steps.clear();
+        max_von_mises = max_frobenius = 0;
+        if (p.problem == "static")
+          {
+            solve_static();
+            write_output(cycle, p.end_time);
+          }
+        else
+          solve_transient();
+        typename ElasticitySimulator<dim>::CycleRecord c;
+        c.cycle   = cycle;
+        c.n_cells = tria->n_global_active_cells();
+        c.n_dofs  = dof_handler.n_dofs();
+        c.estimated_error = 0;
+        cycles.push_back(c);
+        if (cycle_callback)
+          cycle_callback(cycle);
+      }
+    compute_reactions();
+    if (context)
+      {
+        for (const auto &r : reactions)
+          context->print("reaction on boundary " + std::to_string(r.first) +
+                         ": " + fmt(r.second));
+        context->print("max von Mises stress: " + fmt(max_von_mises) +
+                       ", max Frobenius stress: " + fmt(max_frobenius));
+        context->log("assembly wall time " + fmt(assembly_seconds, 4) +
+                     " s, linear solver wall time " + fmt(solver_seconds, 4) + " s");
+      }
+  }
+
+
+
+  // ---------------------------------------------------------------- facade
+
+  template <int dim>
+  ElasticitySimulator<dim>::ElasticitySimulator(const ElasticityParameters &p,
+                                                const MPI_Comm              comm)
+    : impl(std::make_unique<Impl>(p, comm))
+  {}
+
+  template <int dim>
+  ElasticitySimulator<dim>::~ElasticitySimulator() = default;
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::run(RunContext *context)
+  {
+    impl->run(context);
+    if (context)
+      {
+        auto s = summary();
+        for (auto it = s.begin(); it != s.end(); ++it)
+          context->summary[it.key()] = it.value();
+      }
+  }
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::set_cycle_callback(
+    const std::function<void(unsigned int)> &callback)
+  {
+    impl->cycle_callback = callback;
+  }
+
+  template <int dim>
+  Tensor<1, dim>
+  ElasticitySimulator<dim>::point_displacement(const Point<dim> &x) const
+  {
+    impl->u_ghost = impl->u;
+    return impl->point_value(x);
+  }
+
+  template <int dim>
+  Tensor<1, dim>
+  ElasticitySimulator<dim>::reaction(const unsigned int id) const
+  {
+    AssertThrow(impl->reactions.count(id),
+                ExcMessage("no boundary id " + std::to_string(id)));
+    return impl->reactions.at(id);
+  }
+
+  template <int dim>
+  double
+  ElasticitySimulator<dim>::error_norm(const Function<dim> &exact,
+                                       const bool           h1) const
+  {
+    impl->u_ghost = impl->u;
+    Vector<float> cell_errors(impl->tria->n_active_cells());
+    hp::QCollection<dim> q;
+    for (unsigned int k = 0; k < impl->quadrature.size(); ++k)
+      q.push_back(impl->simplex ? impl->tria->get_reference_cells()[0]
+                                    .template get_gauss_type_quadrature<dim>(
+                                      impl->fe[k].degree + 3) :
+                                  Quadrature<dim>(QGauss<dim>(impl->fe[k].degree + 3)));
+    const auto norm = h1 ? VectorTools::H1_seminorm : VectorTools::L2_norm;
+    VectorTools::integrate_difference(impl->mapping, impl->dof_handler, impl->u_ghost,
+                                      exact, cell_errors, q, norm);
+    return VectorTools::compute_global_error(*impl->tria, cell_errors, norm);
+  }
+
+  template <int dim>
+  unsigned long long
+  ElasticitySimulator<dim>::n_dofs() const
+  {
+    return impl->dof_handler.n_dofs();
+  }
+
+  template <int dim>
+  const std::vector<typename ElasticitySimulator<dim>::StepRecord> &
+  ElasticitySimulator<dim>::steps() const
+  {
+    return impl->steps;
+  }
+
+  template <int dim>
+  const std::vector<typename ElasticitySimulator<dim>::CycleRecord> &
+  ElasticitySimulator<dim>::cycles() const
+  {
+    return impl->cycles;
+  }
+
+  template <int dim>
+  nlohmann::json
+  ElasticitySimulator<dim>::summary() const
+  {
+    nlohmann::json s;
+    s["dimension"] = dim;
+    s["n_dofs"]    = impl->dof_handler.n_dofs();
+    s["n_cells"]   = impl->tria->n_global_active_cells();
+    s["n_mpi_processes"] = Utilities::MPI::n_mpi_processes(impl->comm);
+    s["max_von_mises_stress"] = impl->max_von_mises;
+    s["max_frobenius_stress"] = impl->max_frobenius;
+    nlohmann::json steps = nlohmann::json::array();
+    for (const auto &r : impl->steps)
+      {
+        nlohmann::json j;
+        j["step"]              = r.step;
+        j["time"]              = r.time;
+        j["newton_iterations"] = r.newton_iterations;
+        j["linear_iterations"] = r.linear_iterations;
+        j["residual"]          = r.residual;
+        j["kinetic_energy"]    = r.kinetic_energy;
+        j["elastic_energy"]    = r.elastic_energy;
+        j["gravity_potential"] = r.gravity_potential;
+        j["mean_displacement"] = to_json(r.mean_displacement);
+        nlohmann::json pts = nlohmann::json::array();
+        for (const auto &d : r.point_displacements)
+          pts.push_back(to_json(d));
+        j["point_displacements"] = pts;
+        steps.push_back(j);
+      }
+    s["steps"] = steps;
+    nlohmann::json cycles = nlohmann::json::array();
+    for (const auto &c : impl->cycles)
+      cycles.push_back({{"cycle", c.cycle}, {"n_cells", c.n_cells}, {"n_dofs", c.n_dofs}});
+    s["cycles"] = cycles;
+    nlohmann::json reactions;
+    for (const auto &r : impl->reactions)
+      reactions[std::to_string(r.first)] = to_json(r.second);
+    s["reactions"] = reactions;
+    nlohmann::json pts = nlohmann::json::array();
+    for (const auto &x : impl->points)
+      pts.push_back(to_json(Tensor<1, dim>(x)));
+    s["points"] = pts;
+    return s;
+  }
+
+  template class ElasticitySimulator<2>;
+  template class ElasticitySimulator<3>;
+} // namespace forma

@@ -1,0 +1,85 @@
+#include <deal.II/base/symmetric_tensor.h>
+
+#include <forma/physics/damping.h>
+
+namespace forma
+{
+  using namespace dealii;
+
+  template <int dim>
+  Tensor<2, dim>
+  Damping<dim>::stress(const Tensor<2, dim> &grad_u,
+                       const Tensor<2, dim> &grad_u_old,
+                       const double          dt) const
+  {
+    const Tensor<2, dim> I     = unit_symmetric_tensor<dim>();
+    const Tensor<2, dim> F     = grad_u + I;
+    const Tensor<2, dim> F_dot = (grad_u - grad_u_old) / dt;
+    const Tensor<2, dim> E_dot =
+      0.5 * (transpose(F_dot) * F + transpose(F) * F_dot);
+    return F * (2. * alpha * E_dot + beta * trace(E_dot) * I);
+  }
+
+
+
+  template <int dim>
+  Tensor<4, dim>
+  Damping<dim>::derivative(const Tensor<2, dim> &grad_u,
+                           const Tensor<2, dim> &grad_u_old,
+                           const double          dt,
+                           const bool            current) const
+  {
+    // Directional derivatives along the unit tensors e_k (x) e_l.
+    const Tensor<2, dim> I     = unit_symmetric_tensor<dim>();
+    const Tensor<2, dim> F     = grad_u + I;
+    const Tensor<2, dim> F_dot = (grad_u - grad_u_old) / dt;
+    const Tensor<2, dim> E_dot =
+      0.5 * (transpose(F_dot) * F + transpose(F) * F_dot);
+    const Tensor<2, dim> S = 2. * alpha * E_dot + beta * trace(E_dot) * I;
+
+    Tensor<4, dim> D;
+    for (unsigned int k = 0; k < dim; ++k)
+      for (unsigned int l = 0; l < dim; ++l)
+        {
+          Tensor<2, dim> H;
+          H[k][l] = 1.;
+          const Tensor<2, dim> dF     = current ? H : Tensor<2, dim>();
+          const Tensor<2, dim> dF_dot = (current ? 1. : -1.) / dt * H;
+          const Tensor<2, dim> dE_dot =
+            0.5 * (transpose(dF_dot) * F + transpose(F_dot) * dF +
+                   transpose(dF) * F_dot + transpose(F) * dF_dot);
+          const Tensor<2, dim> dS =
+            2. * alpha * dE_dot + beta * trace(dE_dot) * I;
+          const Tensor<2, dim> dP = dF * S + F * dS;
+          for (unsigned int i = 0; i < dim; ++i)
+            for (unsigned int j = 0; j < dim; ++j)
+              D[i][j][k][l] = dP[i][j];
+        }
+    return D;
+  }
+
+
+
+  template <int dim>
+  Tensor<4, dim>
+  Damping<dim>::tangent(const Tensor<2, dim> &grad_u,
+                        const Tensor<2, dim> &grad_u_old,
+                        const double          dt) const
+  {
+    return derivative(grad_u, grad_u_old, dt, true);
+  }
+
+
+
+  template <int dim>
+  Tensor<4, dim>
+  Damping<dim>::tangent_old(const Tensor<2, dim> &grad_u,
+                            const Tensor<2, dim> &grad_u_old,
+                            const double          dt) const
+  {
+    return derivative(grad_u, grad_u_old, dt, false);
+  }
+
+  template class Damping<2>;
+  template class Damping<3>;
+} // namespace forma
