@@ -163,7 +163,10 @@ namespace forma
     auto f = std::make_unique<dealii::FunctionParser<dim>>(mask.size());
     try
       {
-        f->initialize(variables, all, constants, /*time_dependent=*/true);
+        auto with_pi = constants;
+        with_pi.emplace("pi", dealii::numbers::PI);
+        with_pi.emplace("Pi", dealii::numbers::PI);
+        f->initialize(variables, all, with_pi, /*time_dependent=*/true);
         // muparser reports some errors only at evaluation.
         dealii::Vector<double> v(mask.size());
         f->vector_value(dealii::Point<dim>(), v);

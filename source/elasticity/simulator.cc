@@ -1266,7 +1266,7 @@ namespace forma
     for (unsigned int k = 0; k < impl->quadrature.size(); ++k)
       q.push_back(impl->simplex ? impl->tria->get_reference_cells()[0]
                                     .template get_gauss_type_quadrature<dim>(
-                                      impl->fe[k].degree + 3) :
+                                      std::min(impl->fe[k].degree + 2, 4u)) :
                                   Quadrature<dim>(QGauss<dim>(impl->fe[k].degree + 3)));
     const auto norm = h1 ? VectorTools::H1_seminorm : VectorTools::L2_norm;
     VectorTools::integrate_difference(impl->mapping, impl->dof_handler, impl->u_ghost,

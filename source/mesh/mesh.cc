@@ -190,8 +190,12 @@ namespace forma
         AssertThrow(tria.all_reference_cells_are_hyper_cube(),
                     ExcMessage("Mesh/Convert to simplices: the mesh already has "
                                "simplices."));
-        Triangulation<dim> simplex_tria;
-        GridGenerator::convert_hypercube_to_simplex_mesh(tria, simplex_tria);
+        // Refine the hexahedral mesh, then split: keeps the simplices as
+        // shaped as the conversion makes them.
+        tria.refine_global(params.initial_refinement);
+        Triangulation<dim> flat, simplex_tria;
+        GridGenerator::flatten_triangulation(tria, flat);
+        GridGenerator::convert_hypercube_to_simplex_mesh(flat, simplex_tria);
         tria.clear();
         tria.copy_triangulation(simplex_tria);
       }
@@ -218,7 +222,8 @@ namespace forma
         tria = std::make_unique<parallel::shared::Triangulation<dim>>(comm);
       }
     tria->copy_triangulation(coarse);
-    tria->refine_global(params.initial_refinement);
+    if (!params.convert_to_simplices)
+      tria->refine_global(params.initial_refinement);
     return tria;
   }
 

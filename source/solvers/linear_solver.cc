@@ -73,7 +73,7 @@ namespace forma
   {
     if (parameters.type == "direct")
       {
-        SolverControl                  control(1, 0);
+        SolverControl                  control(1, 0, false, false);
         TrilinosWrappers::SolverDirect solver(control);
         try
           {
@@ -111,7 +111,9 @@ namespace forma
     amg.initialize(A, list);
 
     SolverControl control(parameters.max_iterations,
-                          parameters.relative_tolerance * b.l2_norm());
+                          parameters.relative_tolerance * b.l2_norm(),
+                          false,
+                          false);
     try
       {
         if (parameters.type == "cg-amg")
