@@ -43,7 +43,8 @@ rounded(const double x, const int digits = 4)
 {
   if (x == 0 || !std::isfinite(x))
     return x;
-  const double scale = std::pow(10., digits - 1 - std::floor(std::log10(std::abs(x))));
+  const double scale =
+    std::pow(10., digits - 1 - std::floor(std::log10(std::abs(x))));
   return std::round(x * scale) / scale;
 }
 

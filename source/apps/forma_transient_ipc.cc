@@ -9,9 +9,11 @@ namespace
 {
   template <int dim>
   void
-  simulate(const forma::ElasticityParameters &parameters, forma::RunContext &context)
+  simulate(const forma::ElasticityParameters &parameters,
+           forma::RunContext                 &context)
   {
-    forma::ElasticitySimulator<dim> simulator(parameters, context.communicator());
+    forma::ElasticitySimulator<dim> simulator(parameters,
+                                              context.communicator());
     simulator.run(&context);
   }
 } // namespace
@@ -24,10 +26,11 @@ main(int argc, char **argv)
   app.description = "Static and transient elasticity (linear or Neo-Hookean, "
                     "BDF1-6 with damping, h/hp-adaptive, MPI-parallel). "
                     "IPC contact and gradients arrive in later versions.";
-  app.modes              = {"simulate"};
+  app.modes       = {"simulate"};
   app.declare_parameters = forma::ElasticityParameters::declare;
-  app.run = [](dealii::ParameterHandler &prm, const std::string &dir,
-               forma::RunContext &context) {
+  app.run                = [](dealii::ParameterHandler &prm,
+               const std::string        &dir,
+               forma::RunContext        &context) {
     forma::ElasticityParameters parameters;
     parameters.parse(prm, dir);
     if (parameters.dim == 2)

@@ -14,7 +14,8 @@ namespace forma
   error_message(const std::exception &exc)
   {
     std::string text;
-    if (const auto *deal_exc = dynamic_cast<const dealii::ExceptionBase *>(&exc))
+    if (const auto *deal_exc =
+          dynamic_cast<const dealii::ExceptionBase *>(&exc))
       {
         std::ostringstream out;
         deal_exc->print_info(out);
@@ -23,7 +24,8 @@ namespace forma
     else
       text = exc.what();
     // Trim and fold deal.II's indented multi-line messages into one block.
-    while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back())))
+    while (!text.empty() &&
+           std::isspace(static_cast<unsigned char>(text.back())))
       text.pop_back();
     const auto first = text.find_first_not_of(" \t\n");
     return first == std::string::npos ? std::string("unknown error") :
@@ -35,18 +37,20 @@ namespace forma
   namespace
   {
     void
-    declare_common(dealii::ParameterHandler &prm, const ApplicationDescription &app)
+    declare_common(dealii::ParameterHandler     &prm,
+                   const ApplicationDescription &app)
     {
       prm.declare_entry("Dimension",
                         "2",
                         dealii::Patterns::Integer(2, 3),
                         "Space dimension of the problem (2 or 3).");
-      prm.declare_entry("Output directory",
-                        "output",
-                        dealii::Patterns::DirectoryName(),
-                        "Where results go (relative to the working directory). "
-                        "Results are written only when the run succeeds; a "
-                        "failed run leaves its files in <Output directory>/failed-run.");
+      prm.declare_entry(
+        "Output directory",
+        "output",
+        dealii::Patterns::DirectoryName(),
+        "Where results go (relative to the working directory). "
+        "Results are written only when the run succeeds; a "
+        "failed run leaves its files in <Output directory>/failed-run.");
       std::string selection;
       for (const auto &m : app.modes)
         selection += (selection.empty() ? "" : "|") + m;
@@ -62,14 +66,15 @@ namespace forma
     void
     print_usage(const ApplicationDescription &app)
     {
-      std::cout << "Usage: " << app.name << " FILE.prm\n"
-                << "       " << app.name << " --print-parameters\n"
-                << "       " << app.name << " --help\n\n"
-                << app.description << "\n\n"
-                << "FILE.prm is a deal.II parameter file; it may 'include' other "
-                   "files, and a later 'set' overrides an earlier one.\n"
-                << "--print-parameters lists every parameter with its "
-                   "documentation and default value.\n";
+      std::cout
+        << "Usage: " << app.name << " FILE.prm\n"
+        << "       " << app.name << " --print-parameters\n"
+        << "       " << app.name << " --help\n\n"
+        << app.description << "\n\n"
+        << "FILE.prm is a deal.II parameter file; it may 'include' other "
+           "files, and a later 'set' overrides an earlier one.\n"
+        << "--print-parameters lists every parameter with its "
+           "documentation and default value.\n";
     }
   } // namespace
 
@@ -79,8 +84,8 @@ namespace forma
   run_application(int argc, char **argv, const ApplicationDescription &app)
   {
     dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-    const MPI_Comm comm = MPI_COMM_WORLD;
-    const bool     root = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
+    const MPI_Comm                           comm = MPI_COMM_WORLD;
+    const bool root = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
 
     auto report = [&](const std::string &msg) {
       if (root)
@@ -119,7 +124,10 @@ namespace forma
       }
     try
       {
-        prm.parse_input(arg, "", /*skip_undefined=*/false, /*assert_mandatory=*/true);
+        prm.parse_input(arg,
+                        "",
+                        /*skip_undefined=*/false,
+                        /*assert_mandatory=*/true);
       }
     catch (const std::exception &exc)
       {
@@ -130,7 +138,8 @@ namespace forma
     std::unique_ptr<RunContext> context;
     try
       {
-        context = std::make_unique<RunContext>(comm, prm.get("Output directory"));
+        context =
+          std::make_unique<RunContext>(comm, prm.get("Output directory"));
       }
     catch (const std::exception &exc)
       {
@@ -140,7 +149,7 @@ namespace forma
 
     std::ostringstream echoed;
     prm.print_parameters(echoed, dealii::ParameterHandler::JSON);
-    context->summary["parameters"] = nlohmann::json::parse(echoed.str());
+    context->summary["parameters"]  = nlohmann::json::parse(echoed.str());
     context->summary["application"] = app.name;
 
     try

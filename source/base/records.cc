@@ -64,8 +64,9 @@ namespace forma
         catch (...)
           {
             AssertThrow(false,
-                        ExcMessage("'" + entry + "': '" + fields[0] +
-                                   "' is not a valid id (a non-negative integer)."));
+                        ExcMessage(
+                          "'" + entry + "': '" + fields[0] +
+                          "' is not a valid id (a non-negative integer)."));
           }
         r.fields.assign(fields.begin() + 1, fields.end());
         records.push_back(r);
@@ -85,8 +86,9 @@ namespace forma
           continue;
         const auto eq = item.find('=');
         AssertThrow(eq != std::string::npos,
-                    ExcMessage("'" + entry + "': expected 'name = value', got '" +
-                               item + "'."));
+                    ExcMessage("'" + entry +
+                               "': expected 'name = value', got '" + item +
+                               "'."));
         const std::string key = dealii::Utilities::trim(item.substr(0, eq));
         const std::string val = dealii::Utilities::trim(item.substr(eq + 1));
         try
@@ -144,10 +146,10 @@ namespace forma
 
   template <int dim>
   std::unique_ptr<dealii::FunctionParser<dim>>
-  make_function(const std::vector<std::string> &       expressions,
-                const std::vector<bool> &              mask,
-                const std::map<std::string, double> &  constants,
-                const std::string &                    entry)
+  make_function(const std::vector<std::string>      &expressions,
+                const std::vector<bool>             &mask,
+                const std::map<std::string, double> &constants,
+                const std::string                   &entry)
   {
     const unsigned int n_masked = std::count(mask.begin(), mask.end(), true);
     AssertThrow(expressions.size() == n_masked,
@@ -174,9 +176,9 @@ namespace forma
     catch (const std::exception &exc)
       {
         AssertThrow(false,
-                    ExcMessage("'" + entry + "': cannot use the expression(s) '" +
-                               join(expressions) +
-                               "': " + error_message(exc)));
+                    ExcMessage("'" + entry +
+                               "': cannot use the expression(s) '" +
+                               join(expressions) + "': " + error_message(exc)));
       }
     return f;
   }

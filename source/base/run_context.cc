@@ -22,15 +22,14 @@ namespace forma
             fs::create_directories(output_directory);
             fs::remove_all(staging_directory);
             fs::create_directories(staging_directory);
-            log_file =
-              std::make_unique<std::ofstream>(path("log.txt").c_str());
+            log_file = std::make_unique<std::ofstream>(path("log.txt").c_str());
             if (!*log_file)
               error = "cannot write into the output directory '" + dir + "'";
           }
         catch (const std::exception &e)
           {
-            error = "cannot create the output directory '" + dir +
-                    "': " + e.what();
+            error =
+              "cannot create the output directory '" + dir + "': " + e.what();
           }
       }
     error = dealii::Utilities::MPI::broadcast(comm, error, 0);

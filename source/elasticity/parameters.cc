@@ -10,114 +10,171 @@ namespace forma
     MeshParameters::declare(prm);
 
     prm.enter_subsection("Finite element");
-    prm.declare_entry("Degree", "1", Patterns::Integer(1, 4),
+    prm.declare_entry("Degree",
+                      "1",
+                      Patterns::Integer(1, 4),
                       "Polynomial degree: Q1-Q4 on quads/hexes, P1-P2 on "
                       "simplices. With Adaptivity = hp, the starting degree.");
-    prm.declare_entry("Adaptivity", "none", Patterns::Selection("none|h|hp"),
-                      "none: uniform mesh. h: Kelly-indicator refinement with "
-                      "hanging nodes. hp: the same indicator, with smooth cells "
-                      "(Legendre coefficient decay) raised in degree instead of "
-                      "split. Static problems, quads/hexes only.");
-    prm.declare_entry("Max degree", "4", Patterns::Integer(1, 4),
+    prm.declare_entry(
+      "Adaptivity",
+      "none",
+      Patterns::Selection("none|h|hp"),
+      "none: uniform mesh. h: Kelly-indicator refinement with "
+      "hanging nodes. hp: the same indicator, with smooth cells "
+      "(Legendre coefficient decay) raised in degree instead of "
+      "split. Static problems, quads/hexes only.");
+    prm.declare_entry("Max degree",
+                      "4",
+                      Patterns::Integer(1, 4),
                       "Highest degree p-adaptivity may reach.");
-    prm.declare_entry("Adaptive cycles", "0", Patterns::Integer(0, 20),
+    prm.declare_entry("Adaptive cycles",
+                      "0",
+                      Patterns::Integer(0, 20),
                       "Number of solve-estimate-refine cycles after the first "
                       "solve.");
-    prm.declare_entry("Refine fraction", "0.3", Patterns::Double(0, 1),
+    prm.declare_entry("Refine fraction",
+                      "0.3",
+                      Patterns::Double(0, 1),
                       "Fraction of cells (by count) flagged for refinement.");
-    prm.declare_entry("Coarsen fraction", "0.0", Patterns::Double(0, 1),
+    prm.declare_entry("Coarsen fraction",
+                      "0.0",
+                      Patterns::Double(0, 1),
                       "Fraction of cells flagged for coarsening.");
     prm.leave_subsection();
 
     prm.enter_subsection("Material");
-    prm.declare_entry("Model", "linear elastic",
+    prm.declare_entry("Model",
+                      "linear elastic",
                       Patterns::Selection("linear elastic|neo-hookean"),
                       "linear elastic: small strain, sigma = C : eps. "
                       "neo-hookean: compressible, geometrically nonlinear "
                       "(P = mu (F - F^-T) + lambda log(J) F^-T).");
-    prm.declare_entry("Plane", "strain", Patterns::Selection("strain|stress"),
+    prm.declare_entry("Plane",
+                      "strain",
+                      Patterns::Selection("strain|stress"),
                       "2D assumption. Plane stress is available for linear "
                       "elasticity.");
-    prm.declare_entry("Bodies", "0 : E = 1, nu = 0.3",
-                      Patterns::Anything(),
-                      "One record per material id, ';' between records: "
-                      "'<id> : E = .., nu = .., density = .., damping shear = .., "
-                      "damping bulk = ..' or with 'lambda = .., mu = ..' instead "
-                      "of E, nu. density defaults to 1, damping (Brown et al., "
-                      "Pa s) to 0.");
+    prm.declare_entry(
+      "Bodies",
+      "0 : E = 1, nu = 0.3",
+      Patterns::Anything(),
+      "One record per material id, ';' between records: "
+      "'<id> : E = .., nu = .., density = .., damping shear = .., "
+      "damping bulk = ..' or with 'lambda = .., mu = ..' instead "
+      "of E, nu. density defaults to 1, damping (Brown et al., "
+      "Pa s) to 0.");
     prm.leave_subsection();
 
     prm.enter_subsection("Boundary conditions");
-    prm.declare_entry("Dirichlet", "", Patterns::Anything(),
+    prm.declare_entry("Dirichlet",
+                      "",
+                      Patterns::Anything(),
                       "Prescribed displacements, records '<boundary id> : "
                       "<components, e.g. xy> : <one expression per component>' "
                       "separated by ';'. Expressions in x, y, (z,) t.");
-    prm.declare_entry("Traction", "", Patterns::Anything(),
+    prm.declare_entry("Traction",
+                      "",
+                      Patterns::Anything(),
                       "Tractions per reference area, records '<boundary id> : "
                       "<dim expressions>'.");
-    prm.declare_entry("Pressure", "", Patterns::Anything(),
+    prm.declare_entry("Pressure",
+                      "",
+                      Patterns::Anything(),
                       "Pressure on the reference normal (dead load), records "
                       "'<boundary id> : <expression>'.");
-    prm.declare_entry("Constants", "", Patterns::Anything(),
+    prm.declare_entry("Constants",
+                      "",
+                      Patterns::Anything(),
                       "Named constants for all expressions, 'L = 2, P = 1e3'.");
     prm.leave_subsection();
 
     prm.enter_subsection("Loads");
-    prm.declare_entry("Gravity", "", Patterns::Anything(),
+    prm.declare_entry("Gravity",
+                      "",
+                      Patterns::Anything(),
                       "Gravitational acceleration, dim components (times the "
                       "density gives the body force). Empty: none.");
-    prm.declare_entry("Body force", "", Patterns::Anything(),
+    prm.declare_entry("Body force",
+                      "",
+                      Patterns::Anything(),
                       "Body force per reference volume, dim expressions in x, "
                       "y, (z,) t. Empty: none.");
     prm.leave_subsection();
 
     prm.enter_subsection("Time");
-    prm.declare_entry("Problem", "static", Patterns::Selection("static|transient"),
+    prm.declare_entry("Problem",
+                      "static",
+                      Patterns::Selection("static|transient"),
                       "static: equilibrium at t = End time / Load steps * k, "
                       "k = 1..Load steps (loads may depend on t). transient: "
                       "BDF time stepping from t = 0 to End time.");
     prm.declare_entry("End time", "1", Patterns::Double(0), "Final time.");
-    prm.declare_entry("Time step", "0.1", Patterns::Double(0),
+    prm.declare_entry("Time step",
+                      "0.1",
+                      Patterns::Double(0),
                       "Transient step size.");
-    prm.declare_entry("BDF order", "2", Patterns::Integer(1, 6),
+    prm.declare_entry("BDF order",
+                      "2",
+                      Patterns::Integer(1, 6),
                       "Order m of the BDF scheme; the first m-1 steps use "
                       "orders 1..m-1.");
-    prm.declare_entry("Load steps", "1", Patterns::Integer(1),
+    prm.declare_entry("Load steps",
+                      "1",
+                      Patterns::Integer(1),
                       "Static load increments (Newton starts from the previous "
                       "increment).");
     prm.leave_subsection();
 
     prm.enter_subsection("Initial conditions");
-    prm.declare_entry("Displacement", "", Patterns::Anything(),
+    prm.declare_entry("Displacement",
+                      "",
+                      Patterns::Anything(),
                       "Initial displacement, dim expressions in x, y, (z). "
                       "Empty: zero.");
-    prm.declare_entry("Velocity", "", Patterns::Anything(),
+    prm.declare_entry("Velocity",
+                      "",
+                      Patterns::Anything(),
                       "Initial velocity, dim expressions. Empty: zero.");
     prm.leave_subsection();
 
     prm.enter_subsection("Solver");
     LinearSolver::Parameters::declare(prm);
-    prm.declare_entry("Newton relative tolerance", "1e-9", Patterns::Double(0),
+    prm.declare_entry("Newton relative tolerance",
+                      "1e-9",
+                      Patterns::Double(0),
                       "Converged when the residual norm falls below this times "
                       "the reference force norm (first residual of the step or "
                       "the external load, whichever is larger).");
-    prm.declare_entry("Newton absolute tolerance", "1e-12", Patterns::Double(0),
+    prm.declare_entry("Newton absolute tolerance",
+                      "1e-12",
+                      Patterns::Double(0),
                       "... or below this absolute value.");
-    prm.declare_entry("Max Newton iterations", "30", Patterns::Integer(1),
+    prm.declare_entry("Max Newton iterations",
+                      "30",
+                      Patterns::Integer(1),
                       "Iterations per step before the run is declared failed.");
-    prm.declare_entry("Max line search halvings", "12", Patterns::Integer(0),
+    prm.declare_entry("Max line search halvings",
+                      "12",
+                      Patterns::Integer(0),
                       "Backtracking halvings of a Newton step whose residual "
                       "does not decrease or that inverts an element.");
     prm.leave_subsection();
 
     prm.enter_subsection("Output");
-    prm.declare_entry("Write vtu", "true", Patterns::Bool(),
+    prm.declare_entry("Write vtu",
+                      "true",
+                      Patterns::Bool(),
                       "Write VTU files with a PVD time series.");
-    prm.declare_entry("Output every", "1", Patterns::Integer(1),
+    prm.declare_entry("Output every",
+                      "1",
+                      Patterns::Integer(1),
                       "Write every n-th step (the last one always).");
-    prm.declare_entry("Points", "", Patterns::Anything(),
-                      "Points whose displacement is reported each step and in "
-                      "summary.json, ';' between points, e.g. '10, 0.5 ; 5, 1'.");
+    prm.declare_entry(
+      "Points",
+      "",
+      Patterns::Anything(),
+      "Points whose displacement is reported each step and in "
+      "summary.json, ';' between points, e.g. '10, 0.5 ; 5, 1'.");
     prm.leave_subsection();
   }
 
@@ -184,9 +241,11 @@ namespace forma
     prm.leave_subsection();
 
     AssertThrow(problem == "static" || time_step > 0,
-                ExcMessage("Time/Time step must be positive for transient runs."));
+                ExcMessage(
+                  "Time/Time step must be positive for transient runs."));
     AssertThrow(problem == "static" || end_time > 0,
-                ExcMessage("Time/End time must be positive for transient runs."));
+                ExcMessage(
+                  "Time/End time must be positive for transient runs."));
     AssertThrow(adaptivity == "none" || problem == "static",
                 ExcMessage("Finite element/Adaptivity is available for static "
                            "problems only."));

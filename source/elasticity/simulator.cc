@@ -86,8 +86,9 @@ namespace forma
     {
       const auto parts = split_top_level(text, ',');
       AssertThrow(parts.size() == dim,
-                  ExcMessage("'" + entry + "': the point '" + text + "' needs " +
-                             std::to_string(dim) + " coordinates."));
+                  ExcMessage("'" + entry + "': the point '" + text +
+                             "' needs " + std::to_string(dim) +
+                             " coordinates."));
       Point<dim> p;
       for (unsigned int d = 0; d < dim; ++d)
         p[d] = Utilities::string_to_double(parts[d]);
@@ -99,9 +100,9 @@ namespace forma
     struct Scratch
     {
       Scratch(const hp::MappingCollection<dim> &mapping,
-              const hp::FECollection<dim> &     fe,
-              const hp::QCollection<dim> &      q,
-              const hp::QCollection<dim - 1> &  fq)
+              const hp::FECollection<dim>      &fe,
+              const hp::QCollection<dim>       &q,
+              const hp::QCollection<dim - 1>   &fq)
         : fe_values(mapping,
                     fe,
                     q,
@@ -124,8 +125,8 @@ namespace forma
                       other.face_values.get_update_flags())
       {}
 
-      hp::FEValues<dim>          fe_values;
-      hp::FEFaceValues<dim>      face_values;
+      hp::FEValues<dim>           fe_values;
+      hp::FEFaceValues<dim>       face_values;
       std::vector<Tensor<2, dim>> grad_u, grad_u_old;
       std::vector<Tensor<1, dim>> u, w;
       std::vector<Tensor<2, dim>> B; ///< A : grad phi_i, per shape function
@@ -182,23 +183,25 @@ namespace forma
     void
     write_output(const unsigned int step, const double time);
     void
+    print_progress(const std::string &head) const;
+    void
     compute_reactions();
     Tensor<1, dim>
     point_value(const Point<dim> &p) const;
 
     const ElasticityParameters p;
     const MPI_Comm             comm;
-    RunContext *               context = nullptr;
+    RunContext                *context = nullptr;
 
     std::unique_ptr<parallel::TriangulationBase<dim>> tria;
-    bool                                            simplex = false;
-    hp::FECollection<dim>                           fe;
-    hp::QCollection<dim>                            quadrature;
-    hp::QCollection<dim - 1>                        face_quadrature;
-    hp::MappingCollection<dim>                      mapping;
-    DoFHandler<dim>                                 dof_handler;
-    IndexSet                                        owned, relevant;
-    AffineConstraints<double> constraints_zero, constraints_bc;
+    bool                                              simplex = false;
+    hp::FECollection<dim>                             fe;
+    hp::QCollection<dim>                              quadrature;
+    hp::QCollection<dim - 1>                          face_quadrature;
+    hp::MappingCollection<dim>                        mapping;
+    DoFHandler<dim>                                   dof_handler;
+    IndexSet                                          owned, relevant;
+    AffineConstraints<double>      constraints_zero, constraints_bc;
     TrilinosWrappers::SparseMatrix jacobian;
     Vector_t                       u, u_ghost, residual;
     Vector_t                       w_ghost, u_old_ghost, v; // transient state
@@ -209,13 +212,14 @@ namespace forma
     std::map<std::string, double>               constants;
     struct Dirichlet
     {
-      types::boundary_id                      id;
-      std::vector<bool>                       mask;
-      std::shared_ptr<FunctionParser<dim>>    function;
+      types::boundary_id                   id;
+      std::vector<bool>                    mask;
+      std::shared_ptr<FunctionParser<dim>> function;
     };
     std::vector<Dirichlet> dirichlet;
-    std::vector<std::pair<types::boundary_id, std::shared_ptr<FunctionParser<dim>>>>
-      tractions, pressures;
+    std::vector<
+      std::pair<types::boundary_id, std::shared_ptr<FunctionParser<dim>>>>
+                                         tractions, pressures;
     std::shared_ptr<FunctionParser<dim>> body_force;
     Tensor<1, dim>                       gravity;
     std::vector<Point<dim>>              points;
@@ -236,7 +240,6 @@ namespace forma
     std::vector<std::pair<double, std::string>> pvd_records;
     std::function<void(unsigned int)>           cycle_callback;
     Vector<float>                               estimated_error;
-    TimerOutput::Scope *                        unused = nullptr;
     double assembly_seconds = 0, solver_seconds = 0;
   };
 
@@ -250,23 +253,25 @@ namespace forma
     , linear_solver(p.linear_solver)
   {
     AssertThrow(p.dim == dim, ExcInternalError());
-    tria    = create_distributed_mesh<dim>(p.mesh, comm);
-    simplex = !tria->all_reference_cells_are_hyper_cube();
+    tria                          = create_distributed_mesh<dim>(p.mesh, comm);
+    simplex                       = !tria->all_reference_cells_are_hyper_cube();
     const ReferenceCell cell_type = tria->get_reference_cells()[0];
 
     if (simplex)
       {
         AssertThrow(p.degree <= 2,
                     ExcMessage("Finite element/Degree: simplices support P1 "
-                               "and P2 (got " + std::to_string(p.degree) + ")."));
+                               "and P2 (got " +
+                               std::to_string(p.degree) + ")."));
         AssertThrow(p.adaptivity == "none",
                     ExcMessage("Finite element/Adaptivity needs a quad/hex "
                                "mesh; simplex meshes are refined uniformly."));
         fe.push_back(FESystem<dim>(FE_SimplexP<dim>(p.degree), dim));
-        quadrature.push_back(cell_type.template get_gauss_type_quadrature<dim>(p.degree + 1));
+        quadrature.push_back(
+          cell_type.template get_gauss_type_quadrature<dim>(p.degree + 1));
         face_quadrature.push_back(
-          cell_type.face_reference_cell(0).template get_gauss_type_quadrature<dim - 1>(
-            p.degree + 1));
+          cell_type.face_reference_cell(0)
+            .template get_gauss_type_quadrature<dim - 1>(p.degree + 1));
         mapping.push_back(MappingFE<dim>(FE_SimplexP<dim>(1)));
       }
     else
@@ -316,16 +321,18 @@ namespace forma
       {
         const bool specific = records.count(id) > 0;
         AssertThrow(specific || records.count(any_id),
-                    ExcMessage("Material/Bodies has no record for material id " +
-                               std::to_string(id) +
-                               ", which the mesh uses (a record '* : ...' "
-                               "covers all ids not listed)."));
+                    ExcMessage(
+                      "Material/Bodies has no record for material id " +
+                      std::to_string(id) +
+                      ", which the mesh uses (a record '* : ...' "
+                      "covers all ids not listed)."));
         const std::string where =
           "Material/Bodies, material id " + std::to_string(id);
         const auto props = MaterialProperties::from_key_values(
           records.at(specific ? id : any_id), p.model, dim, where);
         materials.emplace(id, Material<dim>(p.model, props, p.plane_stress));
-        dampings.emplace(id, Damping<dim>(props.damping_shear, props.damping_bulk));
+        dampings.emplace(id,
+                         Damping<dim>(props.damping_shear, props.damping_bulk));
       }
 
     std::set<types::boundary_id> boundary_ids;
@@ -347,7 +354,8 @@ namespace forma
         dirichlet.push_back(
           {static_cast<types::boundary_id>(r.id),
            mask,
-           make_function<dim>(split_top_level(r.fields[1], ','), mask, constants, dir_entry)});
+           make_function<dim>(
+             split_top_level(r.fields[1], ','), mask, constants, dir_entry)});
       }
     const std::vector<bool> all(dim, true);
     const std::string       tr_entry = "Boundary conditions/Traction";
@@ -355,8 +363,11 @@ namespace forma
       {
         check_boundary(r.id, tr_entry);
         tractions.emplace_back(r.id,
-                               make_function<dim>(split_top_level(r.fields[0], ','),
-                                                  all, constants, tr_entry));
+                               make_function<dim>(split_top_level(r.fields[0],
+                                                                  ','),
+                                                  all,
+                                                  constants,
+                                                  tr_entry));
       }
     const std::string pr_entry = "Boundary conditions/Pressure";
     for (const auto &r : parse_records(p.pressure, 1, pr_entry))
@@ -364,13 +375,14 @@ namespace forma
         check_boundary(r.id, pr_entry);
         std::vector<bool> first(dim, false);
         first[0] = true;
-        pressures.emplace_back(r.id,
-                               make_function<dim>({r.fields[0]}, first, constants,
-                                                  pr_entry));
+        pressures.emplace_back(
+          r.id, make_function<dim>({r.fields[0]}, first, constants, pr_entry));
       }
     if (!p.body_force.empty())
-      body_force = make_function<dim>(split_top_level(p.body_force, ','), all,
-                                      constants, "Loads/Body force");
+      body_force = make_function<dim>(split_top_level(p.body_force, ','),
+                                      all,
+                                      constants,
+                                      "Loads/Body force");
     if (!p.gravity.empty())
       {
         const auto g = parse_point<dim>(p.gravity, "Loads/Gravity");
@@ -395,7 +407,10 @@ namespace forma
     make_constraints(time);
 
     TrilinosWrappers::SparsityPattern sp(owned, owned, relevant, comm);
-    DoFTools::make_sparsity_pattern(dof_handler, sp, constraints_zero, false,
+    DoFTools::make_sparsity_pattern(dof_handler,
+                                    sp,
+                                    constraints_zero,
+                                    false,
                                     Utilities::MPI::this_mpi_process(comm));
     sp.compress();
     jacobian.reinit(sp);
@@ -425,12 +440,19 @@ namespace forma
     for (const auto &d : dirichlet)
       {
         d.function->set_time(t);
-        VectorTools::interpolate_boundary_values(mapping, dof_handler, d.id,
-                                                 *d.function, constraints_bc,
+        VectorTools::interpolate_boundary_values(mapping,
+                                                 dof_handler,
+                                                 d.id,
+                                                 *d.function,
+                                                 constraints_bc,
                                                  ComponentMask(d.mask));
-        VectorTools::interpolate_boundary_values(
-          mapping, dof_handler, d.id, Functions::ZeroFunction<dim>(dim),
-          constraints_zero, ComponentMask(d.mask));
+        VectorTools::interpolate_boundary_values(mapping,
+                                                 dof_handler,
+                                                 d.id,
+                                                 Functions::ZeroFunction<dim>(
+                                                   dim),
+                                                 constraints_zero,
+                                                 ComponentMask(d.mask));
       }
     for (auto *c : {&constraints_zero, &constraints_bc})
       {
@@ -452,14 +474,15 @@ namespace forma
       {
         std::vector<bool> m(dim, false);
         m[c] = true;
-        const IndexSet dofs = DoFTools::extract_dofs(dof_handler, ComponentMask(m));
+        const IndexSet dofs =
+          DoFTools::extract_dofs(dof_handler, ComponentMask(m));
         for (const auto i : dofs)
           if (owned.is_element(i))
             component[owned.index_within_set(i)] = c;
       }
-    const unsigned int n_rot = dim == 2 ? 1 : 3;
-    std::vector<std::vector<double>> modes(dim + n_rot,
-                                           std::vector<double>(owned.n_elements()));
+    const unsigned int               n_rot = dim == 2 ? 1 : 3;
+    std::vector<std::vector<double>> modes(
+      dim + n_rot, std::vector<double>(owned.n_elements()));
     for (const auto i : owned)
       {
         const unsigned int k = owned.index_within_set(i);
@@ -474,9 +497,9 @@ namespace forma
             const double r_z[3] = {-x[1], x[0], 0};
             const double r_x[3] = {0, -x[dim - 1], x[1]};
             const double r_y[3] = {x[dim - 1], 0, -x[0]};
-            modes[dim][k]     = r_z[c];
-            modes[dim + 1][k] = r_x[c];
-            modes[dim + 2][k] = r_y[c];
+            modes[dim][k]       = r_z[c];
+            modes[dim + 1][k]   = r_x[c];
+            modes[dim + 2][k]   = r_y[c];
           }
       }
     linear_solver.set_null_space(modes);
@@ -488,7 +511,7 @@ namespace forma
   bool
   ElasticitySimulator<dim>::Impl::assemble(const Vector_t &u_owned,
                                            const bool      with_matrix,
-                                           Vector_t *      raw)
+                                           Vector_t       *raw)
   {
     Timer timer;
     u_ghost = u_owned;
@@ -507,139 +530,144 @@ namespace forma
     for (const auto &t : pressures)
       loaded.insert(t.first);
 
-    auto worker = [&](const typename DoFHandler<dim>::active_cell_iterator &cell,
-                      Scratch<dim> &                                        s,
-                      CopyData &                                            c) {
-      s.fe_values.reinit(cell);
-      const FEValues<dim> &fv    = s.fe_values.get_present_fe_values();
-      const auto &         cfe   = fv.get_fe();
-      const unsigned int   n     = cfe.n_dofs_per_cell();
-      const unsigned int   nq    = fv.n_quadrature_points;
-      c.dofs.resize(n);
-      cell->get_dof_indices(c.dofs);
-      c.residual.reinit(n);
-      if (with_matrix)
-        c.matrix.reinit(n, n);
-      c.admissible = true;
+    auto worker =
+      [&](const typename DoFHandler<dim>::active_cell_iterator &cell,
+          Scratch<dim>                                         &s,
+          CopyData                                             &c) {
+        s.fe_values.reinit(cell);
+        const FEValues<dim> &fv  = s.fe_values.get_present_fe_values();
+        const auto          &cfe = fv.get_fe();
+        const unsigned int   n   = cfe.n_dofs_per_cell();
+        const unsigned int   nq  = fv.n_quadrature_points;
+        c.dofs.resize(n);
+        cell->get_dof_indices(c.dofs);
+        c.residual.reinit(n);
+        if (with_matrix)
+          c.matrix.reinit(n, n);
+        c.admissible = true;
 
-      const Material<dim> &mat  = materials.at(cell->material_id());
-      const Damping<dim> & damp = dampings.at(cell->material_id());
-      const double         rho  = mat.properties().density;
-      const bool           damped = dynamic && damp.active();
+        const Material<dim> &mat    = materials.at(cell->material_id());
+        const Damping<dim>  &damp   = dampings.at(cell->material_id());
+        const double         rho    = mat.properties().density;
+        const bool           damped = dynamic && damp.active();
 
-      s.grad_u.resize(nq);
-      fv[disp].get_function_gradients(u_ghost, s.grad_u);
-      if (damped)
-        {
-          s.grad_u_old.resize(nq);
-          fv[disp].get_function_gradients(u_old_ghost, s.grad_u_old);
-        }
-      if (dynamic)
-        {
-          s.u.resize(nq);
-          s.w.resize(nq);
-          fv[disp].get_function_values(u_ghost, s.u);
-          fv[disp].get_function_values(w_ghost, s.w);
-        }
-      s.B.resize(n);
+        s.grad_u.resize(nq);
+        fv[disp].get_function_gradients(u_ghost, s.grad_u);
+        if (damped)
+          {
+            s.grad_u_old.resize(nq);
+            fv[disp].get_function_gradients(u_old_ghost, s.grad_u_old);
+          }
+        if (dynamic)
+          {
+            s.u.resize(nq);
+            s.w.resize(nq);
+            fv[disp].get_function_values(u_ghost, s.u);
+            fv[disp].get_function_values(w_ghost, s.w);
+          }
+        s.B.resize(n);
 
-      Vector<double> bf(dim);
-      for (unsigned int q = 0; q < nq; ++q)
-        {
-          if (!mat.admissible(s.grad_u[q]))
-            {
-              c.admissible = false;
-              return;
-            }
-          Tensor<2, dim> P = mat.stress(s.grad_u[q]);
-          Tensor<4, dim> A;
-          if (with_matrix)
-            A = mat.tangent(s.grad_u[q]);
-          if (damped)
-            {
-              P += damp.stress(s.grad_u[q], s.grad_u_old[q], dt);
-              if (with_matrix)
-                A += damp.tangent(s.grad_u[q], s.grad_u_old[q], dt);
-            }
-          // Force density per unit reference volume (inertia minus loads).
-          Tensor<1, dim> f = -rho * gravity;
-          if (body_force)
-            {
-              body_force->vector_value(fv.quadrature_point(q), bf);
-              for (unsigned int d = 0; d < dim; ++d)
-                f[d] -= bf[d];
-            }
-          if (dynamic)
-            f += rho * inertia_factor * (s.u[q] + s.w[q]);
+        Vector<double> bf(dim);
+        for (unsigned int q = 0; q < nq; ++q)
+          {
+            if (!mat.admissible(s.grad_u[q]))
+              {
+                c.admissible = false;
+                return;
+              }
+            Tensor<2, dim> P = mat.stress(s.grad_u[q]);
+            Tensor<4, dim> A;
+            if (with_matrix)
+              A = mat.tangent(s.grad_u[q]);
+            if (damped)
+              {
+                P += damp.stress(s.grad_u[q], s.grad_u_old[q], dt);
+                if (with_matrix)
+                  A += damp.tangent(s.grad_u[q], s.grad_u_old[q], dt);
+              }
+            // Force density per unit reference volume (inertia minus loads).
+            Tensor<1, dim> f = -rho * gravity;
+            if (body_force)
+              {
+                body_force->vector_value(fv.quadrature_point(q), bf);
+                for (unsigned int d = 0; d < dim; ++d)
+                  f[d] -= bf[d];
+              }
+            if (dynamic)
+              f += rho * inertia_factor * (s.u[q] + s.w[q]);
 
-          const double JxW = fv.JxW(q);
-          for (unsigned int i = 0; i < n; ++i)
-            {
-              const unsigned int    ci = cfe.system_to_component_index(i).first;
-              const Tensor<1, dim> &gi = fv.shape_grad(i, q);
-              const double          vi = fv.shape_value(i, q);
-              c.residual(i) += (P[ci] * gi + f[ci] * vi) * JxW;
-              if (with_matrix)
-                for (unsigned int k = 0; k < dim; ++k)
-                  for (unsigned int l = 0; l < dim; ++l)
-                    {
-                      double b = 0;
-                      for (unsigned int J = 0; J < dim; ++J)
-                        b += A[ci][J][k][l] * gi[J];
-                      s.B[i][k][l] = b;
-                    }
-            }
-          if (with_matrix)
-            {
-              const double mass = dynamic ? rho * inertia_factor : 0.;
-              for (unsigned int i = 0; i < n; ++i)
-                {
-                  const unsigned int ci = cfe.system_to_component_index(i).first;
-                  const double       vi = fv.shape_value(i, q);
-                  for (unsigned int j = 0; j < n; ++j)
-                    {
-                      const unsigned int cj =
-                        cfe.system_to_component_index(j).first;
-                      double kij = s.B[i][cj] * fv.shape_grad(j, q);
-                      if (ci == cj)
-                        kij += mass * vi * fv.shape_value(j, q);
-                      c.matrix(i, j) += kij * JxW;
-                    }
-                }
-            }
-        }
-
-      if (!loaded.empty() && cell->at_boundary())
-        for (const auto face : cell->face_indices())
-          if (cell->face(face)->at_boundary() &&
-              loaded.count(cell->face(face)->boundary_id()))
-            {
-              s.face_values.reinit(cell, face);
-              const FEFaceValues<dim> &ff = s.face_values.get_present_fe_values();
-              const types::boundary_id  id = cell->face(face)->boundary_id();
-              Vector<double>            val(dim);
-              for (unsigned int q = 0; q < ff.n_quadrature_points; ++q)
-                {
-                  Tensor<1, dim> t;
-                  for (const auto &tr : tractions)
-                    if (tr.first == id)
+            const double JxW = fv.JxW(q);
+            for (unsigned int i = 0; i < n; ++i)
+              {
+                const unsigned int ci = cfe.system_to_component_index(i).first;
+                const Tensor<1, dim> &gi = fv.shape_grad(i, q);
+                const double          vi = fv.shape_value(i, q);
+                c.residual(i) += (P[ci] * gi + f[ci] * vi) * JxW;
+                if (with_matrix)
+                  for (unsigned int k = 0; k < dim; ++k)
+                    for (unsigned int l = 0; l < dim; ++l)
                       {
-                        tr.second->vector_value(ff.quadrature_point(q), val);
-                        for (unsigned int d = 0; d < dim; ++d)
-                          t[d] += val[d];
+                        double b = 0;
+                        for (unsigned int J = 0; J < dim; ++J)
+                          b += A[ci][J][k][l] * gi[J];
+                        s.B[i][k][l] = b;
                       }
-                  for (const auto &pr : pressures)
-                    if (pr.first == id)
-                      t -= pr.second->value(ff.quadrature_point(q), 0) *
-                           ff.normal_vector(q);
-                  for (unsigned int i = 0; i < n; ++i)
-                    {
-                      const unsigned int ci = cfe.system_to_component_index(i).first;
-                      c.residual(i) -= t[ci] * ff.shape_value(i, q) * ff.JxW(q);
-                    }
-                }
-            }
-    };
+              }
+            if (with_matrix)
+              {
+                const double mass = dynamic ? rho * inertia_factor : 0.;
+                for (unsigned int i = 0; i < n; ++i)
+                  {
+                    const unsigned int ci =
+                      cfe.system_to_component_index(i).first;
+                    const double vi = fv.shape_value(i, q);
+                    for (unsigned int j = 0; j < n; ++j)
+                      {
+                        const unsigned int cj =
+                          cfe.system_to_component_index(j).first;
+                        double kij = s.B[i][cj] * fv.shape_grad(j, q);
+                        if (ci == cj)
+                          kij += mass * vi * fv.shape_value(j, q);
+                        c.matrix(i, j) += kij * JxW;
+                      }
+                  }
+              }
+          }
+
+        if (!loaded.empty() && cell->at_boundary())
+          for (const auto face : cell->face_indices())
+            if (cell->face(face)->at_boundary() &&
+                loaded.count(cell->face(face)->boundary_id()))
+              {
+                s.face_values.reinit(cell, face);
+                const FEFaceValues<dim> &ff =
+                  s.face_values.get_present_fe_values();
+                const types::boundary_id id = cell->face(face)->boundary_id();
+                Vector<double>           val(dim);
+                for (unsigned int q = 0; q < ff.n_quadrature_points; ++q)
+                  {
+                    Tensor<1, dim> t;
+                    for (const auto &tr : tractions)
+                      if (tr.first == id)
+                        {
+                          tr.second->vector_value(ff.quadrature_point(q), val);
+                          for (unsigned int d = 0; d < dim; ++d)
+                            t[d] += val[d];
+                        }
+                    for (const auto &pr : pressures)
+                      if (pr.first == id)
+                        t -= pr.second->value(ff.quadrature_point(q), 0) *
+                             ff.normal_vector(q);
+                    for (unsigned int i = 0; i < n; ++i)
+                      {
+                        const unsigned int ci =
+                          cfe.system_to_component_index(i).first;
+                        c.residual(i) -=
+                          t[ci] * ff.shape_value(i, q) * ff.JxW(q);
+                      }
+                  }
+              }
+      };
 
     bool admissible = true;
     auto copier     = [&](const CopyData &c) {
@@ -649,10 +677,12 @@ namespace forma
           return;
         }
       if (with_matrix)
-        constraints_zero.distribute_local_to_global(c.matrix, c.residual, c.dofs,
-                                                    jacobian, residual);
+        constraints_zero.distribute_local_to_global(
+          c.matrix, c.residual, c.dofs, jacobian, residual);
       else
-        constraints_zero.distribute_local_to_global(c.residual, c.dofs, residual);
+        constraints_zero.distribute_local_to_global(c.residual,
+                                                    c.dofs,
+                                                    residual);
       if (raw)
         for (unsigned int i = 0; i < c.dofs.size(); ++i)
           (*raw)(c.dofs[i]) += c.residual(i);
@@ -666,14 +696,15 @@ namespace forma
       body_force->set_time(time);
 
     using Iterator = typename DoFHandler<dim>::active_cell_iterator;
-    WorkStream::run(FilteredIterator<Iterator>(IteratorFilters::LocallyOwnedCell(),
-                                               dof_handler.begin_active()),
-                    FilteredIterator<Iterator>(IteratorFilters::LocallyOwnedCell(),
-                                               dof_handler.end()),
-                    worker,
-                    copier,
-                    Scratch<dim>(mapping, fe, quadrature, face_quadrature),
-                    CopyData());
+    WorkStream::run(
+      FilteredIterator<Iterator>(IteratorFilters::LocallyOwnedCell(),
+                                 dof_handler.begin_active()),
+      FilteredIterator<Iterator>(IteratorFilters::LocallyOwnedCell(),
+                                 dof_handler.end()),
+      worker,
+      copier,
+      Scratch<dim>(mapping, fe, quadrature, face_quadrature),
+      CopyData());
 
     admissible = Utilities::MPI::min(admissible ? 1 : 0, comm) == 1;
     if (admissible)
@@ -701,20 +732,23 @@ namespace forma
 
   template <int dim>
   std::pair<unsigned int, unsigned int>
-  ElasticitySimulator<dim>::Impl::newton(const double t, const std::string &where)
+  ElasticitySimulator<dim>::Impl::newton(const double       t,
+                                         const std::string &where)
   {
     time = t;
     make_constraints(t);
     constraints_bc.distribute(u);
 
     AssertThrow(assemble(u, true, nullptr),
-                ExcMessage(where + " (t = " + fmt(t) + "): the initial guess "
+                ExcMessage(where + " (t = " + fmt(t) +
+                           "): the initial guess "
                            "inverts an element (det F <= 0); use more load "
                            "steps or a smaller time step."));
     double norm = residual.l2_norm();
     force_scale = std::max(force_scale, norm);
     const double tolerance =
-      std::max(p.newton_absolute_tolerance, p.newton_relative_tolerance * force_scale);
+      std::max(p.newton_absolute_tolerance,
+               p.newton_relative_tolerance * force_scale);
 
     unsigned int linear_its = 0;
     Vector_t     du(owned, comm), trial(owned, comm);
@@ -726,20 +760,23 @@ namespace forma
         rhs *= -1.;
         du = 0;
         Timer timer;
-        linear_its += linear_solver.solve(jacobian, du, rhs, fe.max_degree() > 1);
+        linear_its +=
+          linear_solver.solve(jacobian, du, rhs, fe.max_degree() > 1);
         solver_seconds += timer.wall_time();
         constraints_zero.distribute(du);
 
-        double       step     = 1.;
-        bool         accepted = false;
-        for (unsigned int h = 0; h <= p.max_line_search_halvings; ++h, step *= 0.5)
+        double step     = 1.;
+        bool   accepted = false;
+        for (unsigned int h = 0; h <= p.max_line_search_halvings;
+             ++h, step *= 0.5)
           {
             trial = u;
             trial.add(step, du);
             if (!assemble(trial, true, nullptr))
               continue; // inverted: shorter step
             const double trial_norm = residual.l2_norm();
-            if (trial_norm <= tolerance || trial_norm < (1. - 1e-4 * step) * norm)
+            if (trial_norm <= tolerance ||
+                trial_norm < (1. - 1e-4 * step) * norm)
               {
                 u        = trial;
                 norm     = trial_norm;
@@ -748,9 +785,12 @@ namespace forma
               }
           }
         AssertThrow(accepted,
-                    ExcMessage(where + " (t = " + fmt(t) + "): the Newton line "
+                    ExcMessage(where + " (t = " + fmt(t) +
+                               "): the Newton line "
                                "search found no step that reduces the residual "
-                               "(norm " + fmt(norm, 3) + ") without inverting an "
+                               "(norm " +
+                               fmt(norm, 3) +
+                               ") without inverting an "
                                "element; use more load steps or a smaller time "
                                "step."));
         if (context)
@@ -758,12 +798,15 @@ namespace forma
                        fmt(norm, 3) + ", step " + fmt(step, 3));
       }
     AssertThrow(norm <= tolerance,
-                ExcMessage(where + " (t = " + fmt(t) + "): Newton's method did "
-                           "not converge in " + std::to_string(p.max_newton_iterations) +
-                           " iterations: residual norm " + fmt(norm, 3) +
-                           ", tolerance " + fmt(tolerance, 3) +
-                           ". Use more load steps, a smaller time step or raise "
-                           "'Max Newton iterations'."));
+                ExcMessage(
+                  where + " (t = " + fmt(t) +
+                  "): Newton's method did "
+                  "not converge in " +
+                  std::to_string(p.max_newton_iterations) +
+                  " iterations: residual norm " + fmt(norm, 3) +
+                  ", tolerance " + fmt(tolerance, 3) +
+                  ". Use more load steps, a smaller time step or raise "
+                  "'Max Newton iterations'."));
     return {p.max_newton_iterations, linear_its};
   }
 
@@ -782,9 +825,12 @@ namespace forma
       v_ghost = v;
 
     const FEValuesExtractors::Vector disp(0);
-    hp::FEValues<dim> hp_fv(mapping, fe, quadrature,
-                            update_values | update_gradients | update_JxW_values);
-    double kinetic = 0, elastic = 0, potential = 0, mass = 0;
+    hp::FEValues<dim>                hp_fv(mapping,
+                            fe,
+                            quadrature,
+                            update_values | update_gradients |
+                              update_JxW_values);
+    double         kinetic = 0, elastic = 0, potential = 0, mass = 0;
     Tensor<1, dim> first_moment;
     std::vector<Tensor<2, dim>> grads;
     std::vector<Tensor<1, dim>> vals, vels;
@@ -792,10 +838,10 @@ namespace forma
       if (cell->is_locally_owned())
         {
           hp_fv.reinit(cell);
-          const auto &fv = hp_fv.get_present_fe_values();
-          const auto &mat = materials.at(cell->material_id());
-          const double rho = mat.properties().density;
-          const unsigned int nq = fv.n_quadrature_points;
+          const auto        &fv  = hp_fv.get_present_fe_values();
+          const auto        &mat = materials.at(cell->material_id());
+          const double       rho = mat.properties().density;
+          const unsigned int nq  = fv.n_quadrature_points;
           grads.resize(nq);
           vals.resize(nq);
           vels.resize(nq);
@@ -847,19 +893,22 @@ namespace forma
     Tensor<1, dim>     value;
     try
       {
-        const auto found = GridTools::find_active_cell_around_point(
-          mapping, dof_handler, x);
+        const auto found =
+          GridTools::find_active_cell_around_point(mapping, dof_handler, x);
         if (found.first.state() == IteratorState::valid &&
             found.first->is_locally_owned())
           {
-            owner = rank;
-            const auto &cell = found.first;
-            const Point<dim> ref = found.second;
-            FEValues<dim> fv(mapping[0], fe[cell->active_fe_index()],
-                             Quadrature<dim>(ref), update_values);
+            owner                 = rank;
+            const auto      &cell = found.first;
+            const Point<dim> ref  = found.second;
+            FEValues<dim>    fv(mapping[0],
+                             fe[cell->active_fe_index()],
+                             Quadrature<dim>(ref),
+                             update_values);
             fv.reinit(cell);
             std::vector<Tensor<1, dim>> vals(1);
-            fv[FEValuesExtractors::Vector(0)].get_function_values(u_ghost, vals);
+            fv[FEValuesExtractors::Vector(0)].get_function_values(u_ghost,
+                                                                  vals);
             value = vals[0];
           }
       }
@@ -867,8 +916,8 @@ namespace forma
       {}
     const unsigned int first = Utilities::MPI::min(owner, comm);
     AssertThrow(first != numbers::invalid_unsigned_int,
-                ExcMessage("Output/Points: the point (" + fmt(Tensor<1, dim>(x)) +
-                           ") is outside the mesh."));
+                ExcMessage("Output/Points: the point (" +
+                           fmt(Tensor<1, dim>(x)) + ") is outside the mesh."));
     return Utilities::MPI::sum(rank == first ? value : Tensor<1, dim>(), comm);
   }
 
@@ -886,7 +935,8 @@ namespace forma
       {
         std::vector<bool> m(dim, false);
         m[c] = true;
-        component_dofs.push_back(DoFTools::extract_dofs(dof_handler, ComponentMask(m)));
+        component_dofs.push_back(
+          DoFTools::extract_dofs(dof_handler, ComponentMask(m)));
       }
     // Supports are the Dirichlet boundaries; a DoF on two of them (a corner)
     // counts in both.
@@ -921,9 +971,11 @@ namespace forma
       material(tria->n_active_cells()), partition(tria->n_active_cells()),
       degree(tria->n_active_cells());
     const FEValuesExtractors::Vector disp(0);
-    hp::FEValues<dim> hp_fv(mapping, fe, quadrature,
+    hp::FEValues<dim>                hp_fv(mapping,
+                            fe,
+                            quadrature,
                             update_gradients | update_JxW_values);
-    std::vector<Tensor<2, dim>> grads;
+    std::vector<Tensor<2, dim>>      grads;
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
@@ -956,15 +1008,14 @@ namespace forma
                         std::vector<std::string>(dim, "displacement"),
                         DataOut<dim>::type_dof_data,
                         vec);
+    Vector_t v_ghost(owned, relevant, comm); // must outlive build_patches()
     if (transient)
       {
-        Vector_t v_ghost(owned, relevant, comm);
         v_ghost = v;
         out.add_data_vector(v_ghost,
                             std::vector<std::string>(dim, "velocity"),
                             DataOut<dim>::type_dof_data,
                             vec);
-        out.build_patches(mapping, simplex ? 1 : fe.max_degree());
       }
     out.add_data_vector(vm, "von_mises");
     out.add_data_vector(fro, "stress_frobenius");
@@ -972,9 +1023,8 @@ namespace forma
     out.add_data_vector(partition, "partition");
     out.add_data_vector(degree, "fe_degree");
     out.build_patches(mapping, simplex ? 1 : fe.max_degree());
-    const std::string name =
-      out.write_vtu_with_pvtu_record(context->directory() + "/", "solution", step,
-                                     comm, 4);
+    const std::string name = out.write_vtu_with_pvtu_record(
+      context->directory() + "/", "solution", step, comm, 4);
     pvd_records.emplace_back(t, name);
     if (context->is_root())
       {
@@ -987,32 +1037,44 @@ namespace forma
 
   template <int dim>
   void
+  ElasticitySimulator<dim>::Impl::print_progress(const std::string &head) const
+  {
+    if (!context)
+      return;
+    const auto &r    = steps.back();
+    std::string line = head;
+    if (transient)
+      line += ", kinetic energy: " + fmt(r.kinetic_energy);
+    line += ", elastic energy: " + fmt(r.elastic_energy);
+    for (unsigned int k = 0; k < points.size(); ++k)
+      line += ", u" + fmt(Tensor<1, dim>(points[k])) + " = " +
+              fmt(r.point_displacements[k]);
+    context->print(line);
+  }
+
+
+
+  template <int dim>
+  void
   ElasticitySimulator<dim>::Impl::solve_static()
   {
     bool has_dirichlet = !dirichlet.empty();
     AssertThrow(has_dirichlet,
-                ExcMessage("a static problem needs Dirichlet conditions "
-                           "(Boundary conditions/Dirichlet) to remove rigid-body "
-                           "motions."));
+                ExcMessage(
+                  "a static problem needs Dirichlet conditions "
+                  "(Boundary conditions/Dirichlet) to remove rigid-body "
+                  "motions."));
     transient = false;
     u         = 0;
     for (unsigned int k = 1; k <= p.load_steps; ++k)
       {
-        const double t = p.end_time * k / p.load_steps;
+        const double      t = p.end_time * k / p.load_steps;
         const std::string where =
           "load step " + std::to_string(k) + "/" + std::to_string(p.load_steps);
         const auto its = newton(t, where);
         record_step(k, t, its.first, its.second);
-        if (context)
-          {
-            std::string line = "[" + where + "] t = " + fmt(t) +
-                               ", Newton iterations: " + std::to_string(its.first) +
-                               ", elastic energy: " + fmt(steps.back().elastic_energy);
-            for (unsigned int i = 0; i < points.size(); ++i)
-              line += ", u" + fmt(Tensor<1, dim>(points[i])) + " = " +
-                      fmt(steps.back().point_displacements[i]);
-            context->print(line);
-          }
+        print_progress("[" + where + "] t = " + fmt(t) +
+                       ", Newton iterations: " + std::to_string(its.first));
       }
   }
 
@@ -1022,35 +1084,39 @@ namespace forma
   void
   ElasticitySimulator<dim>::Impl::solve_transient()
   {
-    transient              = true;
-    const unsigned int n   = std::max(1, static_cast<int>(std::round(p.end_time / p.time_step)));
-    dt                     = p.end_time / n;
+    transient = true;
+    const unsigned int n =
+      std::max(1, static_cast<int>(std::round(p.end_time / p.time_step)));
+    dt = p.end_time / n;
     const std::vector<bool> all(dim, true);
 
     // Initial state.
     u = 0;
     v = 0;
     if (!p.initial_displacement.empty())
-      VectorTools::interpolate(mapping, dof_handler,
-                               *make_function<dim>(split_top_level(p.initial_displacement, ','),
-                                                   all, constants,
-                                                   "Initial conditions/Displacement"),
-                               u);
+      VectorTools::interpolate(
+        mapping,
+        dof_handler,
+        *make_function<dim>(split_top_level(p.initial_displacement, ','),
+                            all,
+                            constants,
+                            "Initial conditions/Displacement"),
+        u);
     if (!p.initial_velocity.empty())
-      VectorTools::interpolate(mapping, dof_handler,
-                               *make_function<dim>(split_top_level(p.initial_velocity, ','),
-                                                   all, constants,
-                                                   "Initial conditions/Velocity"),
-                               v);
+      VectorTools::interpolate(
+        mapping,
+        dof_handler,
+        *make_function<dim>(split_top_level(p.initial_velocity, ','),
+                            all,
+                            constants,
+                            "Initial conditions/Velocity"),
+        v);
     make_constraints(0.);
     constraints_zero.distribute(u); // hanging nodes only matter here
     time = 0;
     record_step(0, 0., 0, 0);
     write_output(0, 0.);
-    if (context)
-      context->print("[step 0/" + std::to_string(n) + "] t = 0, kinetic energy: " +
-                     fmt(steps.back().kinetic_energy) + ", elastic energy: " +
-                     fmt(steps.back().elastic_energy));
+    print_progress("[step 0/" + std::to_string(n) + "] t = 0");
 
     u_history.clear();
     v_history.clear();
@@ -1105,18 +1171,9 @@ namespace forma
         record_step(i, t, its.first, its.second);
         if (i % p.output_every == 0 || i == n)
           write_output(i, t);
-        if (context)
-          {
-            std::string line = "[step " + std::to_string(i) + "/" +
-                               std::to_string(n) + "] t = " + fmt(t) +
-                               ", Newton iterations: " + std::to_string(its.first) +
-                               ", kinetic energy: " + fmt(steps.back().kinetic_energy) +
-                               ", elastic energy: " + fmt(steps.back().elastic_energy);
-            for (unsigned int k = 0; k < points.size(); ++k)
-              line += ", u" + fmt(Tensor<1, dim>(points[k])) + " = " +
-                      fmt(steps.back().point_displacements[k]);
-            context->print(line);
-          }
+        print_progress("[step " + std::to_string(i) + "/" + std::to_string(n) +
+                       "] t = " + fmt(t) +
+                       ", Newton iterations: " + std::to_string(its.first));
       }
   }
 
@@ -1126,25 +1183,34 @@ namespace forma
   void
   ElasticitySimulator<dim>::Impl::refine_mesh()
   {
-    auto *ptria = dynamic_cast<parallel::distributed::Triangulation<dim> *>(tria.get());
-    AssertThrow(ptria != nullptr, ExcMessage("adaptivity needs a quad/hex mesh."));
+    auto *ptria =
+      dynamic_cast<parallel::distributed::Triangulation<dim> *>(tria.get());
+    AssertThrow(ptria != nullptr,
+                ExcMessage("adaptivity needs a quad/hex mesh."));
     u_ghost = u;
     estimated_error.reinit(tria->n_active_cells());
     KellyErrorEstimator<dim>::estimate(
-      mapping[0], dof_handler, face_quadrature,
-      std::map<types::boundary_id, const Function<dim> *>(), u_ghost,
+      mapping[0],
+      dof_handler,
+      face_quadrature,
+      std::map<types::boundary_id, const Function<dim> *>(),
+      u_ghost,
       estimated_error);
     parallel::distributed::GridRefinement::refine_and_coarsen_fixed_number(
       *ptria, estimated_error, p.refine_fraction, p.coarsen_fraction);
     if (p.adaptivity == "hp")
       {
-        Vector<float> smoothness(tria->n_active_cells());
+        Vector<float>           smoothness(tria->n_active_cells());
         FESeries::Legendre<dim> legendre =
           SmoothnessEstimator::Legendre::default_fe_series(fe);
-        SmoothnessEstimator::Legendre::coefficient_decay(legendre, dof_handler,
-                                                         u_ghost, smoothness);
-        hp::Refinement::p_adaptivity_from_relative_threshold(dof_handler, smoothness,
-                                                             0.2, 0.2);
+        SmoothnessEstimator::Legendre::coefficient_decay(legendre,
+                                                         dof_handler,
+                                                         u_ghost,
+                                                         smoothness);
+        hp::Refinement::p_adaptivity_from_relative_threshold(dof_handler,
+                                                             smoothness,
+                                                             0.2,
+                                                             0.2);
         hp::Refinement::choose_p_over_h(dof_handler);
       }
     tria->execute_coarsening_and_refinement();
@@ -1157,7 +1223,8 @@ namespace forma
   ElasticitySimulator<dim>::Impl::run(RunContext *ctx)
   {
     context = ctx;
-    const unsigned int n_cycles = p.adaptivity == "none" ? 1 : p.adaptive_cycles + 1;
+    const unsigned int n_cycles =
+      p.adaptivity == "none" ? 1 : p.adaptive_cycles + 1;
     for (unsigned int cycle = 0; cycle < n_cycles; ++cycle)
       {
         if (cycle > 0)
@@ -1183,9 +1250,9 @@ namespace forma
         else
           solve_transient();
         typename ElasticitySimulator<dim>::CycleRecord c;
-        c.cycle   = cycle;
-        c.n_cells = tria->n_global_active_cells();
-        c.n_dofs  = dof_handler.n_dofs();
+        c.cycle           = cycle;
+        c.n_cells         = tria->n_global_active_cells();
+        c.n_dofs          = dof_handler.n_dofs();
         c.estimated_error = 0;
         cycles.push_back(c);
         if (cycle_callback)
@@ -1200,7 +1267,8 @@ namespace forma
         context->print("max von Mises stress: " + fmt(max_von_mises) +
                        ", max Frobenius stress: " + fmt(max_frobenius));
         context->log("assembly wall time " + fmt(assembly_seconds, 4) +
-                     " s, linear solver wall time " + fmt(solver_seconds, 4) + " s");
+                     " s, linear solver wall time " + fmt(solver_seconds, 4) +
+                     " s");
       }
   }
 
@@ -1210,7 +1278,7 @@ namespace forma
 
   template <int dim>
   ElasticitySimulator<dim>::ElasticitySimulator(const ElasticityParameters &p,
-                                                const MPI_Comm              comm)
+                                                const MPI_Comm comm)
     : impl(std::make_unique<Impl>(p, comm))
   {}
 
@@ -1261,16 +1329,22 @@ namespace forma
                                        const bool           h1) const
   {
     impl->u_ghost = impl->u;
-    Vector<float> cell_errors(impl->tria->n_active_cells());
+    Vector<float>        cell_errors(impl->tria->n_active_cells());
     hp::QCollection<dim> q;
     for (unsigned int k = 0; k < impl->quadrature.size(); ++k)
-      q.push_back(impl->simplex ? impl->tria->get_reference_cells()[0]
-                                    .template get_gauss_type_quadrature<dim>(
-                                      std::min(impl->fe[k].degree + 2, 4u)) :
-                                  Quadrature<dim>(QGauss<dim>(impl->fe[k].degree + 3)));
+      q.push_back(impl->simplex ?
+                    impl->tria->get_reference_cells()[0]
+                      .template get_gauss_type_quadrature<dim>(
+                        std::min(impl->fe[k].degree + 2, 4u)) :
+                    Quadrature<dim>(QGauss<dim>(impl->fe[k].degree + 3)));
     const auto norm = h1 ? VectorTools::H1_seminorm : VectorTools::L2_norm;
-    VectorTools::integrate_difference(impl->mapping, impl->dof_handler, impl->u_ghost,
-                                      exact, cell_errors, q, norm);
+    VectorTools::integrate_difference(impl->mapping,
+                                      impl->dof_handler,
+                                      impl->u_ghost,
+                                      exact,
+                                      cell_errors,
+                                      q,
+                                      norm);
     return VectorTools::compute_global_error(*impl->tria, cell_errors, norm);
   }
 
@@ -1300,13 +1374,13 @@ namespace forma
   ElasticitySimulator<dim>::summary() const
   {
     nlohmann::json s;
-    s["dimension"] = dim;
-    s["n_dofs"]    = impl->dof_handler.n_dofs();
-    s["n_cells"]   = impl->tria->n_global_active_cells();
-    s["n_mpi_processes"] = Utilities::MPI::n_mpi_processes(impl->comm);
+    s["dimension"]            = dim;
+    s["n_dofs"]               = impl->dof_handler.n_dofs();
+    s["n_cells"]              = impl->tria->n_global_active_cells();
+    s["n_mpi_processes"]      = Utilities::MPI::n_mpi_processes(impl->comm);
     s["max_von_mises_stress"] = impl->max_von_mises;
     s["max_frobenius_stress"] = impl->max_frobenius;
-    nlohmann::json steps = nlohmann::json::array();
+    nlohmann::json steps      = nlohmann::json::array();
     for (const auto &r : impl->steps)
       {
         nlohmann::json j;
@@ -1319,21 +1393,22 @@ namespace forma
         j["elastic_energy"]    = r.elastic_energy;
         j["gravity_potential"] = r.gravity_potential;
         j["mean_displacement"] = to_json(r.mean_displacement);
-        nlohmann::json pts = nlohmann::json::array();
+        nlohmann::json pts     = nlohmann::json::array();
         for (const auto &d : r.point_displacements)
           pts.push_back(to_json(d));
         j["point_displacements"] = pts;
         steps.push_back(j);
       }
-    s["steps"] = steps;
+    s["steps"]            = steps;
     nlohmann::json cycles = nlohmann::json::array();
     for (const auto &c : impl->cycles)
-      cycles.push_back({{"cycle", c.cycle}, {"n_cells", c.n_cells}, {"n_dofs", c.n_dofs}});
+      cycles.push_back(
+        {{"cycle", c.cycle}, {"n_cells", c.n_cells}, {"n_dofs", c.n_dofs}});
     s["cycles"] = cycles;
     nlohmann::json reactions;
     for (const auto &r : impl->reactions)
       reactions[std::to_string(r.first)] = to_json(r.second);
-    s["reactions"] = reactions;
+    s["reactions"]     = reactions;
     nlohmann::json pts = nlohmann::json::array();
     for (const auto &x : impl->points)
       pts.push_back(to_json(Tensor<1, dim>(x)));

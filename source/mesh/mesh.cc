@@ -25,12 +25,13 @@ namespace forma
                       Patterns::Selection("generator|file"),
                       "Build the coarse mesh with a deal.II GridGenerator "
                       "function or read it from a Gmsh .msh file.");
-    prm.declare_entry("Generator",
-                      "hyper_cube",
-                      Patterns::Anything(),
-                      "Name of a deal.II GridGenerator function (e.g. "
-                      "hyper_rectangle, subdivided_hyper_rectangle, hyper_ball, "
-                      "hyper_shell, hyper_L, plate_with_a_hole).");
+    prm.declare_entry(
+      "Generator",
+      "hyper_cube",
+      Patterns::Anything(),
+      "Name of a deal.II GridGenerator function (e.g. "
+      "hyper_rectangle, subdivided_hyper_rectangle, hyper_ball, "
+      "hyper_shell, hyper_L, plate_with_a_hole).");
     prm.declare_entry("Generator arguments",
                       "0 : 1 : true",
                       Patterns::Anything(),
@@ -69,8 +70,8 @@ namespace forma
     file                = file_as_given.empty() ?
                             std::string() :
                             (std::filesystem::path(prm_directory) / file_as_given)
-                              .lexically_normal()
-                              .string();
+               .lexically_normal()
+               .string();
     if (!file_as_given.empty() && file_as_given[0] == '/')
       file = file_as_given;
     convert_to_simplices = prm.get_bool("Convert to simplices");
@@ -88,8 +89,8 @@ namespace forma
   {
     for (const auto &cell : tria.active_cell_iterators())
       {
-        if (!cell->is_locally_owned() && tria.locally_owned_subdomain() !=
-                                           numbers::invalid_subdomain_id)
+        if (!cell->is_locally_owned() &&
+            tria.locally_owned_subdomain() != numbers::invalid_subdomain_id)
           continue;
         const unsigned int nv    = cell->n_vertices();
         double             scale = 0;
@@ -106,8 +107,8 @@ namespace forma
               Tensor<2, dim> J;
               for (unsigned int d = 0; d < dim; ++d)
                 {
-                  const Tensor<1, dim> e = cell->vertex(v | (1u << d)) -
-                                           cell->vertex(v & ~(1u << d));
+                  const Tensor<1, dim> e =
+                    cell->vertex(v | (1u << d)) - cell->vertex(v & ~(1u << d));
                   for (unsigned int c = 0; c < dim; ++c)
                     J[c][d] = e[c];
                 }
@@ -166,7 +167,8 @@ namespace forma
         where = "mesh file '" + params.file_as_given + "'";
         std::ifstream in(params.file);
         AssertThrow(in.good(),
-                    ExcMessage("Mesh/File: cannot open '" + params.file_as_given +
+                    ExcMessage("Mesh/File: cannot open '" +
+                               params.file_as_given +
                                "' (looked relative to the parameter file's "
                                "directory)."));
         GridIn<dim> grid_in(tria);
@@ -177,7 +179,8 @@ namespace forma
         catch (const std::exception &exc)
           {
             AssertThrow(false,
-                        ExcMessage(where + " could not be read as a Gmsh file: " +
+                        ExcMessage(where +
+                                   " could not be read as a Gmsh file: " +
                                    error_message(exc)));
           }
         AssertThrow(tria.n_active_cells() > 0,
@@ -188,8 +191,9 @@ namespace forma
     if (params.convert_to_simplices)
       {
         AssertThrow(tria.all_reference_cells_are_hyper_cube(),
-                    ExcMessage("Mesh/Convert to simplices: the mesh already has "
-                               "simplices."));
+                    ExcMessage(
+                      "Mesh/Convert to simplices: the mesh already has "
+                      "simplices."));
         // Refine the hexahedral mesh, then split: keeps the simplices as
         // shaped as the conversion makes them.
         tria.refine_global(params.initial_refinement);

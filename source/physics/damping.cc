@@ -6,18 +6,34 @@ namespace forma
 {
   using namespace dealii;
 
+  namespace
+  {
+    // F, the backward-difference rate dF and the Green strain rate dE.
+    template <int dim>
+    struct Kinematics
+    {
+      Kinematics(const Tensor<2, dim> &grad_u,
+                 const Tensor<2, dim> &grad_u_old,
+                 const double          dt)
+        : F(grad_u + unit_symmetric_tensor<dim>())
+        , F_dot((grad_u - grad_u_old) / dt)
+        , E_dot(0.5 * (transpose(F_dot) * F + transpose(F) * F_dot))
+      {}
+      const Tensor<2, dim> F, F_dot, E_dot;
+    };
+  } // namespace
+
+
+
   template <int dim>
   Tensor<2, dim>
   Damping<dim>::stress(const Tensor<2, dim> &grad_u,
                        const Tensor<2, dim> &grad_u_old,
                        const double          dt) const
   {
-    const Tensor<2, dim> I     = unit_symmetric_tensor<dim>();
-    const Tensor<2, dim> F     = grad_u + I;
-    const Tensor<2, dim> F_dot = (grad_u - grad_u_old) / dt;
-    const Tensor<2, dim> E_dot =
-      0.5 * (transpose(F_dot) * F + transpose(F) * F_dot);
-    return F * (2. * alpha * E_dot + beta * trace(E_dot) * I);
+    const Kinematics<dim> k(grad_u, grad_u_old, dt);
+    return k.F * (2. * alpha * k.E_dot +
+                  beta * trace(k.E_dot) * unit_symmetric_tensor<dim>());
   }
 
 
@@ -30,19 +46,19 @@ namespace forma
                            const bool            current) const
   {
     // Directional derivatives along the unit tensors e_k (x) e_l.
-    const Tensor<2, dim> I     = unit_symmetric_tensor<dim>();
-    const Tensor<2, dim> F     = grad_u + I;
-    const Tensor<2, dim> F_dot = (grad_u - grad_u_old) / dt;
-    const Tensor<2, dim> E_dot =
-      0.5 * (transpose(F_dot) * F + transpose(F) * F_dot);
-    const Tensor<2, dim> S = 2. * alpha * E_dot + beta * trace(E_dot) * I;
+    const Tensor<2, dim>  I = unit_symmetric_tensor<dim>();
+    const Kinematics<dim> kin(grad_u, grad_u_old, dt);
+    const Tensor<2, dim> &F     = kin.F;
+    const Tensor<2, dim> &F_dot = kin.F_dot;
+    const Tensor<2, dim>  S =
+      2. * alpha * kin.E_dot + beta * trace(kin.E_dot) * I;
 
     Tensor<4, dim> D;
     for (unsigned int k = 0; k < dim; ++k)
       for (unsigned int l = 0; l < dim; ++l)
         {
           Tensor<2, dim> H;
-          H[k][l] = 1.;
+          H[k][l]                     = 1.;
           const Tensor<2, dim> dF     = current ? H : Tensor<2, dim>();
           const Tensor<2, dim> dF_dot = (current ? 1. : -1.) / dt * H;
           const Tensor<2, dim> dE_dot =

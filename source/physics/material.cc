@@ -25,14 +25,15 @@ namespace forma
 
   MaterialProperties
   MaterialProperties::from_key_values(const std::map<std::string, double> &v,
-                                      const ConstitutiveModel              model,
-                                      const unsigned int                   dim,
-                                      const std::string &                  where)
+                                      const ConstitutiveModel model,
+                                      const unsigned int      dim,
+                                      const std::string      &where)
   {
     static const std::vector<std::string> known = {
       "E", "nu", "lambda", "mu", "density", "damping shear", "damping bulk"};
     for (const auto &kv : v)
-      AssertThrow(std::find(known.begin(), known.end(), kv.first) != known.end(),
+      AssertThrow(std::find(known.begin(), known.end(), kv.first) !=
+                    known.end(),
                   ExcMessage(where + ": unknown property '" + kv.first +
                              "' (known: E, nu, lambda, mu, density, damping "
                              "shear, damping bulk)."));
@@ -53,13 +54,14 @@ namespace forma
                                std::to_string(p.youngs_modulus) +
                                " must be positive."));
         AssertThrow(p.poisson_ratio < 0.5 && p.poisson_ratio > -1.0,
-                    ExcMessage(where + ": Poisson's ratio nu = " +
-                               std::to_string(p.poisson_ratio) +
-                               " is outside (-1, 0.5); " +
-                               (model == ConstitutiveModel::linear_elastic ?
-                                  "linear elasticity" :
-                                  "the compressible Neo-Hookean law") +
-                               " needs -1 < nu < 0.5 (nu = 0.5 is incompressible)."));
+                    ExcMessage(
+                      where + ": Poisson's ratio nu = " +
+                      std::to_string(p.poisson_ratio) +
+                      " is outside (-1, 0.5); " +
+                      (model == ConstitutiveModel::linear_elastic ?
+                         "linear elasticity" :
+                         "the compressible Neo-Hookean law") +
+                      " needs -1 < nu < 0.5 (nu = 0.5 is incompressible)."));
         const double E = p.youngs_modulus, nu = p.poisson_ratio;
         p.lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
         p.mu     = E / (2 * (1 + nu));
@@ -71,13 +73,13 @@ namespace forma
         p.lambda = v.at("lambda");
         p.mu     = v.at("mu");
         AssertThrow(p.mu > 0 && p.lambda + 2. * p.mu / dim > 0,
-                    ExcMessage(where + ": lambda = " + std::to_string(p.lambda) +
-                               ", mu = " + std::to_string(p.mu) +
-                               " are not admissible: need mu > 0 and a positive "
-                               "bulk modulus lambda + 2 mu / dim."));
-        p.youngs_modulus =
-          p.mu * (3 * p.lambda + 2 * p.mu) / (p.lambda + p.mu);
-        p.poisson_ratio = p.lambda / (2 * (p.lambda + p.mu));
+                    ExcMessage(
+                      where + ": lambda = " + std::to_string(p.lambda) +
+                      ", mu = " + std::to_string(p.mu) +
+                      " are not admissible: need mu > 0 and a positive "
+                      "bulk modulus lambda + 2 mu / dim."));
+        p.youngs_modulus = p.mu * (3 * p.lambda + 2 * p.mu) / (p.lambda + p.mu);
+        p.poisson_ratio  = p.lambda / (2 * (p.lambda + p.mu));
       }
     if (v.count("density"))
       p.density = v.at("density");
@@ -103,8 +105,9 @@ namespace forma
     , lambda(properties.lambda)
     , mu(properties.mu)
   {
-    AssertThrow(!plane_stress || (dim == 2 && model == ConstitutiveModel::linear_elastic),
-                ExcMessage("plane stress is available for 2D linear elasticity only."));
+    AssertThrow(
+      !plane_stress || (dim == 2 && model == ConstitutiveModel::linear_elastic),
+      ExcMessage("plane stress is available for 2D linear elasticity only."));
     if (plane_stress)
       lambda = 2. * lambda * mu / (lambda + 2. * mu);
   }
@@ -118,7 +121,8 @@ namespace forma
     if (law == ConstitutiveModel::linear_elastic)
       {
         const Tensor<2, dim> eps = 0.5 * (grad_u + transpose(grad_u));
-        return lambda * trace(eps) * unit_symmetric_tensor<dim>() + 2. * mu * eps;
+        return lambda * trace(eps) * unit_symmetric_tensor<dim>() +
+               2. * mu * eps;
       }
     const Tensor<2, dim> F = grad_u + unit_symmetric_tensor<dim>();
     const Tensor<2, dim> Q = transpose(invert(F));
@@ -215,6 +219,8 @@ namespace forma
 
   template class Material<2>;
   template class Material<3>;
-  template double von_mises<2>(const Tensor<2, 2> &);
-  template double von_mises<3>(const Tensor<2, 3> &);
+  template double
+  von_mises<2>(const Tensor<2, 2> &);
+  template double
+  von_mises<3>(const Tensor<2, 3> &);
 } // namespace forma

@@ -67,8 +67,8 @@ namespace forma
 
   unsigned int
   LinearSolver::solve(const TrilinosWrappers::SparseMatrix &A,
-                      TrilinosWrappers::MPI::Vector &       x,
-                      const TrilinosWrappers::MPI::Vector & b,
+                      TrilinosWrappers::MPI::Vector        &x,
+                      const TrilinosWrappers::MPI::Vector  &b,
                       const bool                            higher_order) const
   {
     if (parameters.type == "direct")
@@ -82,10 +82,11 @@ namespace forma
         catch (const std::exception &exc)
           {
             AssertThrow(false,
-                        ExcMessage("the direct linear solver failed (singular "
-                                   "system? check that the Dirichlet conditions "
-                                   "remove all rigid-body motions): " +
-                                   error_message(exc)));
+                        ExcMessage(
+                          "the direct linear solver failed (singular "
+                          "system? check that the Dirichlet conditions "
+                          "remove all rigid-body motions): " +
+                          error_message(exc)));
           }
         return 1;
       }

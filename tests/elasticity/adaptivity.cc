@@ -18,7 +18,8 @@ const std::string force =
 
 // Error (H1 seminorm) and DoFs per cycle.
 std::vector<std::pair<double, double>>
-study(const std::string &adaptivity, const unsigned int degree,
+study(const std::string &adaptivity,
+      const unsigned int degree,
       const unsigned int cycles)
 {
   std::string dirichlet;
@@ -27,17 +28,22 @@ study(const std::string &adaptivity, const unsigned int degree,
   const auto p = parameters_from_string<forma::ElasticityParameters>(
     "subsection Mesh\n set Generator = hyper_cube\n set Generator arguments = 0 : 1 : true\n"
     " set Initial refinement = 2\nend\n"
-    "subsection Finite element\n set Degree = " + std::to_string(degree) +
-    "\n set Adaptivity = " + adaptivity + "\n set Adaptive cycles = " +
-    std::to_string(cycles) + "\nend\n"
+    "subsection Finite element\n set Degree = " +
+    std::to_string(degree) + "\n set Adaptivity = " + adaptivity +
+    "\n set Adaptive cycles = " + std::to_string(cycles) +
+    "\nend\n"
     "subsection Material\n set Bodies = * : lambda = 1.5, mu = 1\nend\n"
-    "subsection Boundary conditions\n set Dirichlet = " + dirichlet +
+    "subsection Boundary conditions\n set Dirichlet = " +
+    dirichlet +
     "\n set Constants = lambda = 1.5, mu = 1\nend\n"
-    "subsection Loads\n set Body force = " + force + "\nend\n");
+    "subsection Loads\n set Body force = " +
+    force + "\nend\n");
   forma::ElasticitySimulator<2>          sim(p, MPI_COMM_WORLD);
   std::vector<std::pair<double, double>> history;
   FunctionParser<2>                      u(2);
-  u.initialize("x,y", std::vector<std::string>{"atan(50*(x + y - 1))", "0"}, {});
+  u.initialize("x,y",
+               std::vector<std::string>{"atan(50*(x + y - 1))", "0"},
+               {});
   sim.set_cycle_callback([&](unsigned int) {
     history.emplace_back(sim.n_dofs(), sim.error_norm(u, false));
   });
@@ -52,8 +58,10 @@ error_at(const std::vector<std::pair<double, double>> &h, const double n)
   for (unsigned int i = 1; i < h.size(); ++i)
     if (h[i].first >= n)
       {
-        const double s = std::log(n / h[i - 1].first) / std::log(h[i].first / h[i - 1].first);
-        return std::exp((1 - s) * std::log(h[i - 1].second) + s * std::log(h[i].second));
+        const double s =
+          std::log(n / h[i - 1].first) / std::log(h[i].first / h[i - 1].first);
+        return std::exp((1 - s) * std::log(h[i - 1].second) +
+                        s * std::log(h[i].second));
       }
   return h.back().second;
 }
@@ -68,23 +76,29 @@ main(int argc, char **argv)
     {
       const auto p = parameters_from_string<forma::ElasticityParameters>(
         "subsection Mesh\n set Generator = hyper_cube\n set Generator arguments = 0 : 1 : true\n"
-        " set Initial refinement = " + std::to_string(r) + "\nend\n"
+        " set Initial refinement = " +
+        std::to_string(r) +
+        "\nend\n"
         "subsection Finite element\n set Degree = 2\nend\n"
         "subsection Material\n set Bodies = * : lambda = 1.5, mu = 1\nend\n"
-        "subsection Boundary conditions\n set Dirichlet = 0 : xy : " + exact +
-        " ; 1 : xy : " + exact + " ; 2 : xy : " + exact + " ; 3 : xy : " + exact +
+        "subsection Boundary conditions\n set Dirichlet = 0 : xy : " +
+        exact + " ; 1 : xy : " + exact + " ; 2 : xy : " + exact +
+        " ; 3 : xy : " + exact +
         "\n set Constants = lambda = 1.5, mu = 1\nend\n"
-        "subsection Loads\n set Body force = " + force + "\nend\n");
+        "subsection Loads\n set Body force = " +
+        force + "\nend\n");
       forma::ElasticitySimulator<2> sim(p, MPI_COMM_WORLD);
       sim.run();
       FunctionParser<2> u(2);
-      u.initialize("x,y", std::vector<std::string>{"atan(50*(x + y - 1))", "0"}, {});
+      u.initialize("x,y",
+                   std::vector<std::string>{"atan(50*(x + y - 1))", "0"},
+                   {});
       uniform.emplace_back(sim.n_dofs(), sim.error_norm(u, false));
     }
   const auto h  = study("h", 2, 8);
   const auto hp = study("hp", 2, 8);
-  for (const auto &[name, hist] :
-       std::vector<std::pair<std::string, std::vector<std::pair<double, double>>>>{
+  for (const auto &[name, hist] : std::vector<
+         std::pair<std::string, std::vector<std::pair<double, double>>>>{
          {"uniform Q2", uniform}, {"h-adaptive Q2", h}, {"hp-adaptive", hp}})
     {
       deallog << name << ":";

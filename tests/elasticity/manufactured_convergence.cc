@@ -21,7 +21,8 @@ const std::string f2 =
   "-pi*lambda*(pi*x*y*(x - 1)*cos(pi*y/2) + 4*x*(x - 1)*sin(pi*y/2) + "
   "4*pi*cos(pi*x)*cos(pi*y))/4 - pi*mu*x*(x - 1)*(pi*y*cos(pi*y/2) + "
   "4*sin(pi*y/2))/2 + mu*(2*y*cos(pi*y/2) - pi^2*cos(pi*x)*cos(pi*y))";
-const std::string u3[] = {"sin(pi*x)*sin(pi*y)*sin(pi*z)", "x*y*z*(1 - x)",
+const std::string u3[] = {"sin(pi*x)*sin(pi*y)*sin(pi*z)",
+                          "x*y*z*(1 - x)",
                           "y*sin(pi*z)"};
 const std::string f3 =
   "2*lambda*x*z - lambda*z + pi^2*lambda*sin(pi*x)*sin(pi*y)*sin(pi*z) + "
@@ -33,7 +34,9 @@ const std::string f3 =
 
 template <int dim>
 void
-study(const unsigned int degree, const bool simplex, const unsigned int r0,
+study(const unsigned int degree,
+      const bool         simplex,
+      const unsigned int r0,
       const unsigned int r1)
 {
   const std::string *u = dim == 2 ? u2 : u3;
@@ -51,14 +54,16 @@ study(const unsigned int degree, const bool simplex, const unsigned int r0,
         "set Dimension = " + std::to_string(dim) + "\n" +
         "subsection Mesh\n set Generator = hyper_cube\n"
         " set Generator arguments = 0 : 1 : true\n"
-        " set Convert to simplices = " + (simplex ? "true" : "false") + "\n" +
+        " set Convert to simplices = " +
+        (simplex ? "true" : "false") + "\n" +
         " set Initial refinement = " + std::to_string(r) + "\nend\n" +
         "subsection Finite element\n set Degree = " + std::to_string(degree) +
         "\nend\n" +
         "subsection Material\n set Bodies = * : lambda = 1.5, mu = 1\nend\n" +
         "subsection Boundary conditions\n set Dirichlet = " + dirichlet +
         "\n set Constants = " + constants + "\nend\n" +
-        "subsection Loads\n set Body force = " + (dim == 2 ? f2 : f3) + "\nend\n";
+        "subsection Loads\n set Body force = " + (dim == 2 ? f2 : f3) +
+        "\nend\n";
       const auto parameters =
         parameters_from_string<forma::ElasticityParameters>(prm);
       forma::ElasticitySimulator<dim> sim(parameters, MPI_COMM_WORLD);
@@ -71,16 +76,20 @@ study(const unsigned int degree, const bool simplex, const unsigned int r0,
       e0.push_back(sim.error_norm(solution, false));
       e1.push_back(sim.error_norm(solution, true));
     }
-  for (unsigned int i = 0; i < h.size(); ++i) deallog << "  h = " << h[i] << ": L2 error " << rounded(e0[i]) << ", H1 error " << rounded(e1[i]) << std::endl;
+  for (unsigned int i = 0; i < h.size(); ++i)
+    deallog << "  h = " << h[i] << ": L2 error " << rounded(e0[i])
+            << ", H1 error " << rounded(e1[i]) << std::endl;
   const auto r_l2 = observed_rates(h, e0);
   const auto r_h1 = observed_rates(h, e1);
-  deallog << dim << "D " << (simplex ? "P" : "Q") << degree
-          << ": L2 rate " << rounded(r_l2.back(), 2) << " (expect "
-          << degree + 1 << "), H1 rate " << rounded(r_h1.back(), 2)
-          << " (expect " << degree << ")" << std::endl;
+  deallog << dim << "D " << (simplex ? "P" : "Q") << degree << ": L2 rate "
+          << rounded(r_l2.back(), 2) << " (expect " << degree + 1
+          << "), H1 rate " << rounded(r_h1.back(), 2) << " (expect " << degree
+          << ")" << std::endl;
   deallog << "  rates within 0.15 of the theory: "
           << ((std::abs(r_l2.back() - (degree + 1)) < 0.15 &&
-               std::abs(r_h1.back() - degree) < 0.15) ? "yes" : "no")
+               std::abs(r_h1.back() - degree) < 0.15) ?
+                "yes" :
+                "no")
           << std::endl;
 }
 

@@ -35,11 +35,11 @@ fd_error(const Tensor<2, dim> &G, const F &f, const DF &df)
     for (unsigned int l = 0; l < dim; ++l)
       {
         Tensor<2, dim> H;
-        H[k][l]                = h;
-        const auto fd          = (f(G + H) - f(G - H)) / (2 * h);
-        const auto analytic    = df(G, k, l);
-        err                    = std::max(err, (fd - analytic).norm());
-        ref                    = std::max(ref, analytic.norm());
+        H[k][l]             = h;
+        const auto fd       = (f(G + H) - f(G - H)) / (2 * h);
+        const auto analytic = df(G, k, l);
+        err                 = std::max(err, (fd - analytic).norm());
+        ref                 = std::max(ref, analytic.norm());
       }
   return err / ref;
 }
@@ -48,26 +48,28 @@ template <int dim>
 void
 check_materials()
 {
-  forma::MaterialProperties p =
-    forma::MaterialProperties::from_key_values({{"E", 200.}, {"nu", 0.3}},
-                                               forma::ConstitutiveModel::neo_hookean,
-                                               dim, "test");
+  forma::MaterialProperties p = forma::MaterialProperties::from_key_values(
+    {{"E", 200.}, {"nu", 0.3}},
+    forma::ConstitutiveModel::neo_hookean,
+    dim,
+    "test");
   for (const auto model : {forma::ConstitutiveModel::linear_elastic,
                            forma::ConstitutiveModel::neo_hookean})
     {
       const forma::Material<dim> m(model, p);
       const Tensor<2, dim>       G = sample_gradient<dim>(0.2);
       // stress = dW/dG
-      const double h = 1e-6;
+      const double   h = 1e-6;
       Tensor<2, dim> fd;
       for (unsigned int k = 0; k < dim; ++k)
         for (unsigned int l = 0; l < dim; ++l)
           {
             Tensor<2, dim> H;
-            H[k][l]  = h;
-            fd[k][l] = (m.energy_density(G + H) - m.energy_density(G - H)) / (2 * h);
+            H[k][l] = h;
+            fd[k][l] =
+              (m.energy_density(G + H) - m.energy_density(G - H)) / (2 * h);
           }
-      const double e_stress = (fd - m.stress(G)).norm() / m.stress(G).norm();
+      const double e_stress  = (fd - m.stress(G)).norm() / m.stress(G).norm();
       const double e_tangent = fd_error<dim>(
         G,
         [&](const Tensor<2, dim> &g) { return m.stress(g); },
@@ -80,11 +82,13 @@ check_materials()
           return col;
         });
       deallog << dim << "D "
-              << (model == forma::ConstitutiveModel::linear_elastic ? "linear" :
-                                                                     "neo-hookean")
-              << ": stress = dW/dF to 1e-7: " << (e_stress < 1e-7 ? "yes" : "no")
-              << ", tangent = dP/dF to 1e-7: " << (e_tangent < 1e-7 ? "yes" : "no")
-              << std::endl;
+              << (model == forma::ConstitutiveModel::linear_elastic ?
+                    "linear" :
+                    "neo-hookean")
+              << ": stress = dW/dF to 1e-7: "
+              << (e_stress < 1e-7 ? "yes" : "no")
+              << ", tangent = dP/dF to 1e-7: "
+              << (e_tangent < 1e-7 ? "yes" : "no") << std::endl;
     }
 
   const forma::Damping<dim> damping(0.7, 0.4);
@@ -110,8 +114,10 @@ check_materials()
     [&](const Tensor<2, dim> &g, unsigned int k, unsigned int l) {
       return column(damping.tangent_old(G1, g, dt), k, l);
     });
-  deallog << dim << "D damping: d/du^i to 1e-7: " << (e_current < 1e-7 ? "yes" : "no")
-          << ", d/du^{i-1} to 1e-7: " << (e_old < 1e-7 ? "yes" : "no") << std::endl;
+  deallog << dim
+          << "D damping: d/du^i to 1e-7: " << (e_current < 1e-7 ? "yes" : "no")
+          << ", d/du^{i-1} to 1e-7: " << (e_old < 1e-7 ? "yes" : "no")
+          << std::endl;
 }
 
 void
@@ -125,12 +131,13 @@ check_bdf()
       double       err = 0;
       for (unsigned int p = 0; p <= m; ++p)
         {
-          const double t  = 1.0;
+          const double t   = 1.0;
           double       lhs = std::pow(t, p);
           for (unsigned int j = 1; j <= m; ++j)
             lhs += c.alpha[j - 1] * std::pow(t - j * dt, p);
-          const double rhs = c.beta * dt * (p == 0 ? 0. : p * std::pow(t, p - 1));
-          err              = std::max(err, std::abs(lhs - rhs));
+          const double rhs =
+            c.beta * dt * (p == 0 ? 0. : p * std::pow(t, p - 1));
+          err = std::max(err, std::abs(lhs - rhs));
         }
       deallog << "BDF" << m << " exact for degree <= " << m << ": "
               << (err < 1e-12 ? "yes" : "no") << std::endl;

@@ -18,10 +18,11 @@ read(const std::string &file)
   return s.str();
 }
 
-const std::string base = "set Output directory = results\n"
-                         "subsection Material\n set Bodies = * : E = 10, nu = 0.3\nend\n"
-                         "subsection Boundary conditions\n set Dirichlet = 0 : xy : 0, 0\n"
-                         " set Traction = 1 : 0, -0.1\nend\n";
+const std::string base =
+  "set Output directory = results\n"
+  "subsection Material\n set Bodies = * : E = 10, nu = 0.3\nend\n"
+  "subsection Boundary conditions\n set Dirichlet = 0 : xy : 0, 0\n"
+  " set Traction = 1 : 0, -0.1\nend\n";
 
 int
 run(const std::string &name, const std::string &prm)
@@ -35,12 +36,16 @@ run(const std::string &name, const std::string &prm)
 }
 
 void
-expect_failure(const std::string &name, const std::string &prm, const std::string &good)
+expect_failure(const std::string &name,
+               const std::string &prm,
+               const std::string &good)
 {
   const int code = run(name, prm);
-  dealii::deallog << name << ": exit code non-zero: " << (code != 0 ? "yes" : "no")
+  dealii::deallog << name
+                  << ": exit code non-zero: " << (code != 0 ? "yes" : "no")
                   << ", earlier results untouched: "
-                  << (read("results/summary.json") == good ? "yes" : "no") << std::endl;
+                  << (read("results/summary.json") == good ? "yes" : "no")
+                  << std::endl;
   dealii::deallog << "  message: " << read(name + ".stderr");
 }
 
@@ -49,40 +54,55 @@ main()
 {
   initlog();
   // A mesh with a self-intersecting (bow-tie) quadrilateral.
-  std::ofstream("bowtie.msh") << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n6\n"
-                                 "1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 2 1 0\n6 2 0 0\n"
-                                 "$EndNodes\n$Elements\n2\n"
-                                 "1 3 2 0 1 1 2 3 4\n2 3 2 0 1 2 6 3 5\n$EndElements\n";
-  const int code = run("good", base);
+  std::ofstream("bowtie.msh")
+    << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n6\n"
+       "1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 2 1 0\n6 2 0 0\n"
+       "$EndNodes\n$Elements\n2\n"
+       "1 3 2 0 1 1 2 3 4\n2 3 2 0 1 2 6 3 5\n$EndElements\n";
+  const int         code = run("good", base);
   const std::string good = read("results/summary.json");
   dealii::deallog << "good run: exit code " << code << ", summary status ok: "
-                  << (good.find("\"status\": \"ok\"") != std::string::npos ? "yes" : "no")
+                  << (good.find("\"status\": \"ok\"") != std::string::npos ?
+                        "yes" :
+                        "no")
                   << std::endl;
 
   expect_failure("unknown_entry", base + "set Dimensoin = 3\n", good);
-  expect_failure("wrong_value", base + "subsection Time\n set BDF order = 7\nend\n", good);
-  expect_failure("missing_mesh",
-                 base + "subsection Mesh\n set Source = file\n set File = missing.msh\nend\n",
+  expect_failure("wrong_value",
+                 base + "subsection Time\n set BDF order = 7\nend\n",
                  good);
-  expect_failure("inverted_element",
-                 base + "subsection Mesh\n set Source = file\n set File = bowtie.msh\nend\n",
-                 good);
-  expect_failure("incompressible",
-                 base + "subsection Material\n set Bodies = * : E = 10, nu = 0.5\nend\n",
-                 good);
-  expect_failure("unknown_boundary",
-                 base + "subsection Boundary conditions\n set Traction = 7 : 0, 1\nend\n",
-                 good);
-  expect_failure("bad_expression",
-                 base + "subsection Boundary conditions\n set Traction = 1 : 0, sin(\nend\n",
-                 good);
-  expect_failure("no_convergence",
-                 base + "subsection Material\n set Model = neo-hookean\nend\n"
-                        "subsection Boundary conditions\n set Traction = 1 : 0, -50\nend\n"
-                        "subsection Solver\n set Max Newton iterations = 3\nend\n",
-                 good);
+  expect_failure(
+    "missing_mesh",
+    base +
+      "subsection Mesh\n set Source = file\n set File = missing.msh\nend\n",
+    good);
+  expect_failure(
+    "inverted_element",
+    base + "subsection Mesh\n set Source = file\n set File = bowtie.msh\nend\n",
+    good);
+  expect_failure(
+    "incompressible",
+    base + "subsection Material\n set Bodies = * : E = 10, nu = 0.5\nend\n",
+    good);
+  expect_failure(
+    "unknown_boundary",
+    base + "subsection Boundary conditions\n set Traction = 7 : 0, 1\nend\n",
+    good);
+  expect_failure(
+    "bad_expression",
+    base + "subsection Boundary conditions\n set Traction = 1 : 0, sin(\nend\n",
+    good);
+  expect_failure(
+    "no_convergence",
+    base + "subsection Material\n set Model = neo-hookean\nend\n"
+           "subsection Boundary conditions\n set Traction = 1 : 0, -50\nend\n"
+           "subsection Solver\n set Max Newton iterations = 3\nend\n",
+    good);
   dealii::deallog << "failed run recorded in failed-run/summary.json: "
-                  << (read("results/failed-run/summary.json").find("\"status\": \"failed\"") !=
-                          std::string::npos ? "yes" : "no")
+                  << (read("results/failed-run/summary.json")
+                            .find("\"status\": \"failed\"") !=
+                          std::string::npos ?
+                        "yes" :
+                        "no")
                   << std::endl;
 }

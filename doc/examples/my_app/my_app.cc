@@ -14,13 +14,14 @@ main(int argc, char **argv)
   app.description        = "Reports the compliance of a 2D elastic body.";
   app.modes              = {"simulate"};
   app.declare_parameters = forma::ElasticityParameters::declare;
-  app.run = [](dealii::ParameterHandler &prm, const std::string &dir,
-               forma::RunContext &context) {
+  app.run                = [](dealii::ParameterHandler &prm,
+               const std::string        &dir,
+               forma::RunContext        &context) {
     forma::ElasticityParameters parameters;
     parameters.parse(prm, dir);
     forma::ElasticitySimulator<2> simulator(parameters, context.communicator());
     simulator.run(&context);
-    const double energy = simulator.steps().back().elastic_energy;
+    const double energy           = simulator.steps().back().elastic_energy;
     context.summary["compliance"] = 2 * energy;
     context.print("compliance: " + std::to_string(2 * energy));
   };

@@ -21,9 +21,9 @@ namespace forma
    */
   struct ApplicationDescription
   {
-    std::string              name;
-    std::string              description;
-    std::vector<std::string> modes;
+    std::string                                     name;
+    std::string                                     description;
+    std::vector<std::string>                        modes;
     std::function<void(dealii::ParameterHandler &)> declare_parameters;
     /// Runs the job; `prm_directory` resolves relative file names.
     std::function<void(dealii::ParameterHandler &,

@@ -53,10 +53,10 @@ namespace forma
    */
   template <int dim>
   std::unique_ptr<dealii::FunctionParser<dim>>
-  make_function(const std::vector<std::string> &  expressions,
-                const std::vector<bool> &         mask,
+  make_function(const std::vector<std::string>      &expressions,
+                const std::vector<bool>             &mask,
                 const std::map<std::string, double> &constants,
-                const std::string &               entry);
+                const std::string                   &entry);
 } // namespace forma
 
 #endif

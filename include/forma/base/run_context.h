@@ -75,11 +75,11 @@ namespace forma
     void
     write_summary() const;
 
-    MPI_Comm                       comm;
-    std::string                    output_directory;
-    std::string                    staging_directory;
+    MPI_Comm                               comm;
+    std::string                            output_directory;
+    std::string                            staging_directory;
     mutable std::unique_ptr<std::ofstream> log_file;
-    bool                           finished = false;
+    bool                                   finished = false;
   };
 } // namespace forma
 

@@ -19,15 +19,15 @@ namespace forma
    */
   struct ElasticityParameters
   {
-    unsigned int dim = 2;
+    unsigned int   dim = 2;
     MeshParameters mesh;
 
     // Finite element
-    unsigned int degree = 1;
-    std::string  adaptivity = "none"; ///< none | h | hp
-    unsigned int max_degree = 4;
-    unsigned int adaptive_cycles = 0;
-    double       refine_fraction = 0.3;
+    unsigned int degree           = 1;
+    std::string  adaptivity       = "none"; ///< none | h | hp
+    unsigned int max_degree       = 4;
+    unsigned int adaptive_cycles  = 0;
+    double       refine_fraction  = 0.3;
     double       coarsen_fraction = 0.0;
 
     // Material
@@ -44,20 +44,20 @@ namespace forma
     std::string constants;
 
     // Time
-    std::string  problem = "static"; ///< static | transient
-    double       end_time  = 1;
-    double       time_step = 0.1;
-    unsigned int bdf_order = 2;
+    std::string  problem    = "static"; ///< static | transient
+    double       end_time   = 1;
+    double       time_step  = 0.1;
+    unsigned int bdf_order  = 2;
     unsigned int load_steps = 1;
     std::string  initial_displacement;
     std::string  initial_velocity;
 
     // Solvers
     LinearSolver::Parameters linear_solver;
-    double       newton_relative_tolerance = 1e-9;
-    double       newton_absolute_tolerance = 1e-12;
-    unsigned int max_newton_iterations     = 30;
-    unsigned int max_line_search_halvings  = 12;
+    double                   newton_relative_tolerance = 1e-9;
+    double                   newton_absolute_tolerance = 1e-12;
+    unsigned int             max_newton_iterations     = 30;
+    unsigned int             max_line_search_halvings  = 12;
 
     // Output
     bool         write_vtu    = true;

@@ -39,24 +39,24 @@ namespace forma
   public:
     struct StepRecord
     {
-      unsigned int step;
-      double       time;
-      unsigned int newton_iterations;
-      unsigned int linear_iterations;
-      double       residual;
-      double       kinetic_energy;
-      double       elastic_energy;
-      double       gravity_potential; ///< -int rho g . u
-      dealii::Tensor<1, dim> mean_displacement; ///< mass-weighted
+      unsigned int                        step;
+      double                              time;
+      unsigned int                        newton_iterations;
+      unsigned int                        linear_iterations;
+      double                              residual;
+      double                              kinetic_energy;
+      double                              elastic_energy;
+      double                              gravity_potential; ///< -int rho g . u
+      dealii::Tensor<1, dim>              mean_displacement; ///< mass-weighted
       std::vector<dealii::Tensor<1, dim>> point_displacements;
     };
 
     struct CycleRecord
     {
-      unsigned int cycle;
-      unsigned int n_cells;
+      unsigned int       cycle;
+      unsigned int       n_cells;
       unsigned long long n_dofs;
-      double       estimated_error;
+      double             estimated_error;
     };
 
     ElasticitySimulator(const ElasticityParameters &parameters,
@@ -81,7 +81,8 @@ namespace forma
 
     /// L2 norm (or H1 seminorm) of u_h - exact over the domain.
     double
-    error_norm(const dealii::Function<dim> &exact, const bool h1_seminorm) const;
+    error_norm(const dealii::Function<dim> &exact,
+               const bool                   h1_seminorm) const;
 
     unsigned long long
     n_dofs() const;

@@ -40,7 +40,7 @@ namespace forma
   /// The coarse mesh (generator or Gmsh file), checked for inverted cells.
   template <int dim>
   void
-  create_coarse_mesh(const MeshParameters &              params,
+  create_coarse_mesh(const MeshParameters            &params,
                      dealii::Triangulation<dim, dim> &tria);
 
   /**
@@ -50,7 +50,7 @@ namespace forma
   template <int dim>
   void
   check_mesh_validity(const dealii::Triangulation<dim, dim> &tria,
-                      const std::string &                    where);
+                      const std::string                     &where);
 
   /**
    * The distributed triangulation for the run: p4est for quads/hexes (so

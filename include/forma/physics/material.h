@@ -37,7 +37,7 @@ namespace forma
     from_key_values(const std::map<std::string, double> &values,
                     const ConstitutiveModel              model,
                     const unsigned int                   dim,
-                    const std::string &                  where);
+                    const std::string                   &where);
   };
 
   /**

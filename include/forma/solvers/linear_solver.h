@@ -40,8 +40,8 @@ namespace forma
     /// Solve A x = b; returns the iteration count (1 for direct).
     unsigned int
     solve(const dealii::TrilinosWrappers::SparseMatrix &A,
-          dealii::TrilinosWrappers::MPI::Vector &       x,
-          const dealii::TrilinosWrappers::MPI::Vector & b,
+          dealii::TrilinosWrappers::MPI::Vector        &x,
+          const dealii::TrilinosWrappers::MPI::Vector  &b,
           const bool                                    higher_order) const;
 
   private:
