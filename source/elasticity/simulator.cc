@@ -302,12 +302,9 @@ namespace forma
     constants = parse_key_values(p.constants, "Boundary conditions/Constants");
 
     // Materials: every material id of the mesh needs a record.
-    std::set<types::material_id> ids;
-    for (const auto &cell : tria->active_cell_iterators())
-      ids.insert(cell->material_id());
     std::set<types::material_id> all_ids;
-    for (const auto id : ids)
-      all_ids.insert(id);
+    for (const auto &cell : tria->active_cell_iterators())
+      all_ids.insert(cell->material_id());
     {
       std::vector<types::material_id> local(all_ids.begin(), all_ids.end());
       const auto gathered = Utilities::MPI::all_gather(comm, local);
@@ -706,24 +703,14 @@ namespace forma
       Scratch<dim>(mapping, fe, quadrature, face_quadrature),
       CopyData());
 
+    // Compress even when a cell was inadmissible, so the containers stay
+    // usable for the next (shorter-step) assembly.
+    if (with_matrix)
+      jacobian.compress(VectorOperation::add);
+    residual.compress(VectorOperation::add);
+    if (raw)
+      raw->compress(VectorOperation::add);
     admissible = Utilities::MPI::min(admissible ? 1 : 0, comm) == 1;
-    if (admissible)
-      {
-        if (with_matrix)
-          jacobian.compress(VectorOperation::add);
-        residual.compress(VectorOperation::add);
-        if (raw)
-          raw->compress(VectorOperation::add);
-      }
-    else
-      {
-        // Leave the containers in a consistent state for the next call.
-        if (with_matrix)
-          jacobian.compress(VectorOperation::add);
-        residual.compress(VectorOperation::add);
-        if (raw)
-          raw->compress(VectorOperation::add);
-      }
     assembly_seconds += timer.wall_time();
     return admissible;
   }
@@ -1250,10 +1237,9 @@ namespace forma
         else
           solve_transient();
         typename ElasticitySimulator<dim>::CycleRecord c;
-        c.cycle           = cycle;
-        c.n_cells         = tria->n_global_active_cells();
-        c.n_dofs          = dof_handler.n_dofs();
-        c.estimated_error = 0;
+        c.cycle   = cycle;
+        c.n_cells = tria->n_global_active_cells();
+        c.n_dofs  = dof_handler.n_dofs();
         cycles.push_back(c);
         if (cycle_callback)
           cycle_callback(cycle);

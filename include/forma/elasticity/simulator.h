@@ -56,7 +56,6 @@ namespace forma
       unsigned int       cycle;
       unsigned int       n_cells;
       unsigned long long n_dofs;
-      double             estimated_error;
     };
 
     ElasticitySimulator(const ElasticityParameters &parameters,
