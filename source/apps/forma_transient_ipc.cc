@@ -1,12 +1,41 @@
 // forma-transient-ipc: differentiable static and transient elasticity
-// (thesis ch. 3). This step adds the forward simulator without contact.
+// (thesis ch. 3). This version: the forward simulator without contact and
+// its adjoint gradients (shape, materials, damping, loads, initial
+// conditions) with a Taylor test.
 
+#include <deal.II/base/exceptions.h>
+
+#include <forma/adjoint/gradient_check.h>
+#include <forma/adjoint/objective.h>
 #include <forma/base/application.h>
+#include <forma/base/run_context.h>
 #include <forma/elasticity/parameters.h>
 #include <forma/elasticity/simulator.h>
 
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
 namespace
 {
+  std::string
+  fixed(const double x, const int digits)
+  {
+    if (!std::isfinite(x))
+      return "n/a";
+    std::ostringstream s;
+    s << std::fixed << std::setprecision(digits) << x;
+    return s.str();
+  }
+
+  std::string
+  significant(const double x, const int digits)
+  {
+    std::ostringstream s;
+    s << std::setprecision(digits) << x;
+    return s.str();
+  }
+
   template <int dim>
   void
   simulate(const forma::ElasticityParameters &parameters,
@@ -16,6 +45,85 @@ namespace
                                               context.communicator());
     simulator.run(&context);
   }
+
+  template <int dim>
+  void
+  verify_gradient(forma::ElasticityParameters           parameters,
+                  const forma::GradientCheckParameters &check,
+                  forma::RunContext                    &context)
+  {
+    // The Taylor remainder is compared with J to ~1e-10: converge Newton
+    // well below that.
+    parameters.newton_relative_tolerance =
+      std::min(parameters.newton_relative_tolerance, 1e-12);
+    parameters.newton_absolute_tolerance =
+      std::min(parameters.newton_absolute_tolerance, 1e-14);
+    forma::ElasticitySimulator<dim> simulator(parameters,
+                                              context.communicator());
+    simulator.prepare(&context);
+    AssertThrow(simulator.design_layout().size() > 0,
+                dealii::ExcMessage("Design/Parameters is empty: there is "
+                                   "nothing to differentiate."));
+    simulator.set_objective(
+      std::make_shared<const forma::Objective<dim>>(parameters.objective));
+
+    std::string blocks;
+    for (const auto &b : simulator.design_layout().blocks)
+      blocks += (blocks.empty() ? "" : ", ") + b.name + " (" +
+                std::to_string(b.size) + ")";
+    context.print("design: " + blocks);
+
+    const auto   q      = simulator.design();
+    const auto   theta  = forma::random_direction(simulator.design_layout(),
+                                               q,
+                                               simulator.cell_size(),
+                                               check);
+    unsigned int row    = 0;
+    const auto   result = forma::taylor_test(
+      [&](const std::vector<double> &x) {
+        simulator.set_design(x);
+        simulator.solve_design();
+        const double J = simulator.objective();
+        context.log("  row " + std::to_string(row++) +
+                    ": J = " + significant(J, 16));
+        return J;
+      },
+      [&](const std::vector<double> &x, std::vector<double> &dJ) {
+        simulator.set_design(x);
+        simulator.solve_design();
+        return simulator.gradient(dJ);
+      },
+      q,
+      theta,
+      check);
+
+    context.print("J = " + significant(result.value, 8) + ", dJ . theta = " +
+                  significant(result.directional_derivative, 8));
+    for (unsigned int k = 0; k < result.epsilons.size(); ++k)
+      context.log("  epsilon " + significant(result.epsilons[k], 4) +
+                  ": J = " + significant(result.values[k], 16) +
+                  ", Taylor error " + significant(result.errors[k], 4));
+    std::string rates;
+    for (const double r : result.rates)
+      rates += (rates.empty() ? "" : " ") + fixed(r, 1);
+    context.print("Taylor test rates (epsilon halving): " + rates);
+    // No valid rate: every error is at round-off level, i.e. J is linear
+    // along theta and the first-order expansion is exact.
+    const bool exact = std::isnan(result.min_rate);
+    const bool pass  = exact || result.min_rate >= 1.9;
+    context.print(exact ? "Taylor errors at round-off level: J is linear "
+                          "along the direction, gradient exact" :
+                          "min rate " + fixed(result.min_rate, 1) +
+                            (pass ? ": gradient verified (>= 1.9)" :
+                                    ": GRADIENT CHECK FAILED (< 1.9)"));
+    context.summary["gradient_check"]           = result.to_json();
+    context.summary["gradient_check"]["passed"] = pass;
+    context.summary["adjoint"] = simulator.adjoint_statistics();
+    AssertThrow(pass,
+                dealii::ExcMessage("the Taylor test failed: min rate " +
+                                   fixed(result.min_rate, 2) +
+                                   " < 1.9 (table in summary.json)."));
+  }
 } // namespace
 
 int
@@ -24,19 +132,35 @@ main(int argc, char **argv)
   forma::ApplicationDescription app;
   app.name        = "forma-transient-ipc";
   app.description = "Static and transient elasticity (linear or Neo-Hookean, "
-                    "BDF1-6 with damping, h/hp-adaptive, MPI-parallel). "
-                    "IPC contact and gradients arrive in later versions.";
-  app.modes       = {"simulate"};
-  app.declare_parameters = forma::ElasticityParameters::declare;
-  app.run                = [](dealii::ParameterHandler &prm,
+                    "BDF1-6 with damping, h/hp-adaptive, MPI-parallel) with "
+                    "adjoint gradients of objectives with respect to shape, "
+                    "materials, damping, loads and initial conditions. IPC "
+                    "contact arrives in a later version.";
+  app.modes       = {"simulate", "verify gradient"};
+  app.declare_parameters = [](dealii::ParameterHandler &prm) {
+    forma::ElasticityParameters::declare(prm);
+    forma::GradientCheckParameters::declare(prm);
+  };
+  app.run = [](dealii::ParameterHandler &prm,
                const std::string        &dir,
                forma::RunContext        &context) {
     forma::ElasticityParameters parameters;
     parameters.parse(prm, dir);
+    const std::string mode = prm.get("Mode");
+    if (mode == "simulate")
+      {
+        if (parameters.dim == 2)
+          simulate<2>(parameters, context);
+        else
+          simulate<3>(parameters, context);
+        return;
+      }
+    forma::GradientCheckParameters check;
+    check.parse(prm);
     if (parameters.dim == 2)
-      simulate<2>(parameters, context);
+      verify_gradient<2>(parameters, check, context);
     else
-      simulate<3>(parameters, context);
+      verify_gradient<3>(parameters, check, context);
   };
   return forma::run_application(argc, argv, app);
 }

@@ -176,6 +176,9 @@ namespace forma
       "Points whose displacement is reported each step and in "
       "summary.json, ';' between points, e.g. '10, 0.5 ; 5, 1'.");
     prm.leave_subsection();
+
+    DesignParameters::declare(prm);
+    ObjectiveParameters::declare(prm);
   }
 
 
@@ -239,6 +242,9 @@ namespace forma
     output_every = prm.get_integer("Output every");
     points       = prm.get("Points");
     prm.leave_subsection();
+
+    design.parse(prm);
+    objective.parse(prm);
 
     AssertThrow(problem == "static" || time_step > 0,
                 ExcMessage(

@@ -12,6 +12,7 @@
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/fe/mapping_fe.h>
+#include <deal.II/fe/mapping_fe_field.h>
 #include <deal.II/fe/mapping_q.h>
 #include <deal.II/grid/filtered_iterator.h>
 #include <deal.II/grid/grid_tools.h>
@@ -39,6 +40,8 @@
 #include <forma/physics/material.h>
 #include <forma/solvers/linear_solver.h>
 
+#include "simulator_impl.h"
+
 #include <cmath>
 #include <deque>
 #include <fstream>
@@ -47,204 +50,6 @@
 
 namespace forma
 {
-  using namespace dealii;
-  using Vector_t = TrilinosWrappers::MPI::Vector;
-
-  namespace
-  {
-    std::string
-    fmt(const double v, const int precision = 6)
-    {
-      std::ostringstream s;
-      s << std::setprecision(precision) << v;
-      return s.str();
-    }
-
-    template <int dim>
-    std::string
-    fmt(const Tensor<1, dim> &v, const int precision = 6)
-    {
-      std::string s = "(";
-      for (unsigned int d = 0; d < dim; ++d)
-        s += (d ? ", " : "") + fmt(v[d], precision);
-      return s + ")";
-    }
-
-    template <int dim>
-    nlohmann::json
-    to_json(const Tensor<1, dim> &v)
-    {
-      nlohmann::json j = nlohmann::json::array();
-      for (unsigned int d = 0; d < dim; ++d)
-        j.push_back(v[d]);
-      return j;
-    }
-
-    template <int dim>
-    Point<dim>
-    parse_point(const std::string &text, const std::string &entry)
-    {
-      const auto parts = split_top_level(text, ',');
-      AssertThrow(parts.size() == dim,
-                  ExcMessage("'" + entry + "': the point '" + text +
-                             "' needs " + std::to_string(dim) +
-                             " coordinates."));
-      Point<dim> p;
-      for (unsigned int d = 0; d < dim; ++d)
-        p[d] = Utilities::string_to_double(parts[d]);
-      return p;
-    }
-
-    // Per-thread assembly workspace.
-    template <int dim>
-    struct Scratch
-    {
-      Scratch(const hp::MappingCollection<dim> &mapping,
-              const hp::FECollection<dim>      &fe,
-              const hp::QCollection<dim>       &q,
-              const hp::QCollection<dim - 1>   &fq)
-        : fe_values(mapping,
-                    fe,
-                    q,
-                    update_values | update_gradients | update_JxW_values |
-                      update_quadrature_points)
-        , face_values(mapping,
-                      fe,
-                      fq,
-                      update_values | update_JxW_values |
-                        update_quadrature_points | update_normal_vectors)
-      {}
-      Scratch(const Scratch &other)
-        : fe_values(other.fe_values.get_mapping_collection(),
-                    other.fe_values.get_fe_collection(),
-                    other.fe_values.get_quadrature_collection(),
-                    other.fe_values.get_update_flags())
-        , face_values(other.face_values.get_mapping_collection(),
-                      other.face_values.get_fe_collection(),
-                      other.face_values.get_quadrature_collection(),
-                      other.face_values.get_update_flags())
-      {}
-
-      hp::FEValues<dim>           fe_values;
-      hp::FEFaceValues<dim>       face_values;
-      std::vector<Tensor<2, dim>> grad_u, grad_u_old;
-      std::vector<Tensor<1, dim>> u, w;
-      std::vector<Tensor<2, dim>> B; ///< A : grad phi_i, per shape function
-    };
-
-    struct CopyData
-    {
-      FullMatrix<double>                   matrix;
-      dealii::Vector<double>               residual;
-      std::vector<types::global_dof_index> dofs;
-      bool                                 admissible = true;
-    };
-  } // namespace
-
-
-
-  template <int dim>
-  class ElasticitySimulator<dim>::Impl
-  {
-  public:
-    Impl(const ElasticityParameters &p, const MPI_Comm comm);
-
-    void
-    run(RunContext *context);
-
-    // setup
-    void
-    build_loads();
-    void
-    setup_system();
-    void
-    make_constraints(const double time);
-    void
-    compute_null_space();
-
-    // solving
-    bool
-    assemble(const Vector_t &u_owned, const bool with_matrix, Vector_t *raw);
-    std::pair<unsigned int, unsigned int>
-    newton(const double time, const std::string &where);
-    void
-    solve_static();
-    void
-    solve_transient();
-    void
-    refine_mesh();
-
-    // postprocessing
-    void
-    record_step(const unsigned int step,
-                const double       time,
-                const unsigned int newton_its,
-                const unsigned int linear_its);
-    void
-    write_output(const unsigned int step, const double time);
-    void
-    print_progress(const std::string &head) const;
-    void
-    compute_reactions();
-    Tensor<1, dim>
-    point_value(const Point<dim> &p) const;
-
-    const ElasticityParameters p;
-    const MPI_Comm             comm;
-    RunContext                *context = nullptr;
-
-    std::unique_ptr<parallel::TriangulationBase<dim>> tria;
-    bool                                              simplex = false;
-    hp::FECollection<dim>                             fe;
-    hp::QCollection<dim>                              quadrature;
-    hp::QCollection<dim - 1>                          face_quadrature;
-    hp::MappingCollection<dim>                        mapping;
-    DoFHandler<dim>                                   dof_handler;
-    IndexSet                                          owned, relevant;
-    AffineConstraints<double>      constraints_zero, constraints_bc;
-    TrilinosWrappers::SparseMatrix jacobian;
-    Vector_t                       u, u_ghost, residual;
-    Vector_t                       w_ghost, u_old_ghost, v; // transient state
-    std::deque<Vector_t>           u_history, v_history;    // [0] = step i-1
-
-    std::map<types::material_id, Material<dim>> materials;
-    std::map<types::material_id, Damping<dim>>  dampings;
-    std::map<std::string, double>               constants;
-    struct Dirichlet
-    {
-      types::boundary_id                   id;
-      std::vector<bool>                    mask;
-      std::shared_ptr<FunctionParser<dim>> function;
-    };
-    std::vector<Dirichlet> dirichlet;
-    std::vector<
-      std::pair<types::boundary_id, std::shared_ptr<FunctionParser<dim>>>>
-                                         tractions, pressures;
-    std::shared_ptr<FunctionParser<dim>> body_force;
-    Tensor<1, dim>                       gravity;
-    std::vector<Point<dim>>              points;
-
-    LinearSolver linear_solver;
-
-    // State read by assemble().
-    bool   transient      = false;
-    double time           = 0;
-    double dt             = 0;
-    double inertia_factor = 0; ///< 1 / (beta dt)^2
-    double force_scale    = 0; ///< largest initial residual seen (tolerance)
-
-    std::vector<typename ElasticitySimulator<dim>::StepRecord>  steps;
-    std::vector<typename ElasticitySimulator<dim>::CycleRecord> cycles;
-    std::map<types::boundary_id, Tensor<1, dim>>                reactions;
-    double max_von_mises = 0, max_frobenius = 0;
-    std::vector<std::pair<double, std::string>> pvd_records;
-    std::function<void(unsigned int)>           cycle_callback;
-    Vector<float>                               estimated_error;
-    double assembly_seconds = 0, solver_seconds = 0;
-  };
-
-
-
   template <int dim>
   ElasticitySimulator<dim>::Impl::Impl(const ElasticityParameters &p,
                                        const MPI_Comm              comm)
@@ -272,7 +77,8 @@ namespace forma
         face_quadrature.push_back(
           cell_type.face_reference_cell(0)
             .template get_gauss_type_quadrature<dim - 1>(p.degree + 1));
-        mapping.push_back(MappingFE<dim>(FE_SimplexP<dim>(1)));
+        reference_mapping.push_back(MappingFE<dim>(FE_SimplexP<dim>(1)));
+        shape_fe = std::make_unique<FESystem<dim>>(FE_SimplexP<dim>(1), dim);
       }
     else
       {
@@ -283,9 +89,14 @@ namespace forma
             quadrature.push_back(QGauss<dim>(k + 1));
             face_quadrature.push_back(QGauss<dim - 1>(k + 1));
           }
-        mapping.push_back(MappingQ<dim>(1));
+        reference_mapping.push_back(MappingQ<dim>(1));
+        shape_fe = std::make_unique<FESystem<dim>>(FE_Q<dim>(1), dim);
       }
     dof_handler.reinit(*tria);
+    shape_dof_handler.reinit(*tria);
+    setup_shape();
+    mapping.push_back(
+      MappingFEField<dim, dim, Vector_t>(shape_dof_handler, shape_ghost));
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         cell->set_active_fe_index(simplex ? 0 : p.degree - 1);
@@ -302,7 +113,7 @@ namespace forma
     constants = parse_key_values(p.constants, "Boundary conditions/Constants");
 
     // Materials: every material id of the mesh needs a record.
-    std::set<types::material_id> all_ids;
+    all_ids.clear();
     for (const auto &cell : tria->active_cell_iterators())
       all_ids.insert(cell->material_id());
     {
@@ -311,26 +122,7 @@ namespace forma
       for (const auto &g : gathered)
         all_ids.insert(g.begin(), g.end());
     }
-    std::map<unsigned int, std::map<std::string, double>> records;
-    for (const auto &r : parse_records(p.bodies, 1, "Material/Bodies"))
-      records[r.id] = parse_key_values(r.fields[0], "Material/Bodies");
-    for (const auto id : all_ids)
-      {
-        const bool specific = records.count(id) > 0;
-        AssertThrow(specific || records.count(any_id),
-                    ExcMessage(
-                      "Material/Bodies has no record for material id " +
-                      std::to_string(id) +
-                      ", which the mesh uses (a record '* : ...' "
-                      "covers all ids not listed)."));
-        const std::string where =
-          "Material/Bodies, material id " + std::to_string(id);
-        const auto props = MaterialProperties::from_key_values(
-          records.at(specific ? id : any_id), p.model, dim, where);
-        materials.emplace(id, Material<dim>(p.model, props, p.plane_stress));
-        dampings.emplace(id,
-                         Damping<dim>(props.damping_shear, props.damping_bulk));
-      }
+    bodies = parse_bodies(p.bodies, "Material/Bodies");
 
     std::set<types::boundary_id> boundary_ids;
     for (const auto b : tria->get_boundary_ids())
@@ -394,9 +186,235 @@ namespace forma
 
 
   template <int dim>
+  std::map<types::material_id, MaterialProperties>
+  ElasticitySimulator<dim>::Impl::parse_bodies(const std::string &text,
+                                               const std::string &entry) const
+  {
+    std::map<unsigned int, std::map<std::string, double>> records;
+    for (const auto &r : parse_records(text, 1, entry))
+      records[r.id] = parse_key_values(r.fields[0], entry);
+    std::map<types::material_id, MaterialProperties> result;
+    for (const auto id : all_ids)
+      {
+        const bool specific = records.count(id) > 0;
+        AssertThrow(specific || records.count(any_id),
+                    ExcMessage(entry + " has no record for material id " +
+                               std::to_string(id) +
+                               ", which the mesh uses (a record '* : ...' "
+                               "covers all ids not listed)."));
+        const std::string where = entry + ", material id " + std::to_string(id);
+        const auto        props = MaterialProperties::from_key_values(
+          records.at(specific ? id : any_id), p.model, dim, where);
+        Material<dim>(p.model, props, p.plane_stress); // checks plane stress
+        result.emplace(id, props);
+      }
+    return result;
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::reset_physical_parameters(
+    const std::string &text)
+  {
+    const auto props =
+      text.empty() ? bodies : parse_bodies(text, "Objective/Reference bodies");
+    cell_lame.assign(tria->n_active_cells(), {{0., 0.}});
+    cell_damping_coefficients.assign(tria->n_active_cells(), {{0., 0.}});
+    for (const auto &cell : tria->active_cell_iterators())
+      if (!cell->is_artificial())
+        {
+          const auto &m                        = props.at(cell->material_id());
+          cell_lame[cell->active_cell_index()] = {{m.lambda, m.mu}};
+          cell_damping_coefficients[cell->active_cell_index()] = {
+            {m.damping_shear, m.damping_bulk}};
+        }
+    surface_load_scale.assign(tractions.size() + pressures.size(), 1.);
+    body_force_scale = gravity_scale = 1.;
+    initial_displacement_offset = initial_velocity_offset = Tensor<1, dim>();
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::setup_shape()
+  {
+    shape_dof_handler.distribute_dofs(*shape_fe);
+    shape_owned = shape_dof_handler.locally_owned_dofs();
+    DoFTools::extract_locally_relevant_dofs(shape_dof_handler, shape_relevant);
+
+    // Which vertices the design may move: hanging vertices follow their
+    // parents, vertices on fixed boundaries stay, symmetry planes keep one
+    // coordinate.
+    shape_constraints.clear();
+    shape_constraints.reinit(shape_relevant);
+    DoFTools::make_hanging_node_constraints(shape_dof_handler,
+                                            shape_constraints);
+    std::set<types::boundary_id> mesh_ids;
+    for (const auto b : tria->get_boundary_ids())
+      mesh_ids.insert(b);
+    auto constrain = [&](const unsigned int       id,
+                         const std::vector<bool> &mask,
+                         const std::string       &entry) {
+      AssertThrow(mesh_ids.count(id),
+                  ExcMessage("'" + entry + "': the mesh has no boundary id " +
+                             std::to_string(id) + "."));
+      VectorTools::interpolate_boundary_values(
+        reference_mapping,
+        shape_dof_handler,
+        static_cast<types::boundary_id>(id),
+        Functions::ZeroFunction<dim>(dim),
+        shape_constraints,
+        ComponentMask(mask));
+    };
+    for (const auto &id :
+         Utilities::split_string_list(p.design.fixed_boundaries, ','))
+      constrain(Utilities::string_to_int(id),
+                std::vector<bool>(dim, true),
+                "Design/Fixed boundaries");
+    for (const auto &r :
+         parse_records(p.design.symmetry_planes, 1, "Design/Symmetry planes"))
+      constrain(r.id,
+                parse_components(r.fields[0], dim, "Design/Symmetry planes"),
+                "Design/Symmetry planes");
+    shape_constraints.make_consistent_in_parallel(shape_owned,
+                                                  shape_relevant,
+                                                  comm);
+    shape_constraints.close();
+
+    Vector_t X(shape_owned, comm);
+    VectorTools::get_position_vector(reference_mapping[0],
+                                     shape_dof_handler,
+                                     X);
+    shape_reference.reinit(shape_owned, shape_relevant, comm);
+    shape_reference = X;
+    shape_ghost.reinit(shape_owned, shape_relevant, comm);
+    shape_ghost = X;
+  }
+
+
+
+  template <int dim>
+  Material<dim>
+  ElasticitySimulator<dim>::Impl::cell_material(
+    const typename DoFHandler<dim>::active_cell_iterator &cell) const
+  {
+    MaterialProperties m = bodies.at(cell->material_id());
+    const auto        &l = cell_lame[cell->active_cell_index()];
+    m.lambda             = l[0];
+    m.mu                 = l[1];
+    return Material<dim>(p.model, m, p.plane_stress);
+  }
+
+
+
+  template <int dim>
+  Damping<dim>
+  ElasticitySimulator<dim>::Impl::cell_damping(
+    const typename DoFHandler<dim>::active_cell_iterator &cell) const
+  {
+    const auto &d = cell_damping_coefficients[cell->active_cell_index()];
+    return Damping<dim>(d[0], d[1]);
+  }
+
+
+
+  template <int dim>
+  Tensor<1, dim>
+  ElasticitySimulator<dim>::Impl::volume_force(const double          rho,
+                                               const Point<dim>     &X,
+                                               const Tensor<1, dim> &u_q,
+                                               const Tensor<1, dim> &w_q) const
+  {
+    Tensor<1, dim> f = -gravity_scale * rho * gravity;
+    if (body_force)
+      {
+        Vector<double> b(dim);
+        body_force->vector_value(X, b);
+        for (unsigned int d = 0; d < dim; ++d)
+          f[d] -= body_force_scale * b[d];
+      }
+    if (transient)
+      f += rho * inertia_factor * (u_q + w_q);
+    return f;
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::reference_points(
+    const typename DoFHandler<dim>::active_cell_iterator &cell,
+    Scratch<dim>                                         &s) const
+  {
+    s.reference_values.reinit(cell);
+    s.X = s.reference_values.get_present_fe_values().get_quadrature_points();
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::reference_face_points(
+    const typename DoFHandler<dim>::active_cell_iterator &cell,
+    const unsigned int                                    face,
+    Scratch<dim>                                         &s) const
+  {
+    s.reference_face_values.reinit(cell, face);
+    s.X =
+      s.reference_face_values.get_present_fe_values().get_quadrature_points();
+  }
+
+
+
+  template <int dim>
+  bool
+  ElasticitySimulator<dim>::Impl::loaded(const types::boundary_id id) const
+  {
+    for (const auto &t : tractions)
+      if (t.first == id)
+        return true;
+    for (const auto &t : pressures)
+      if (t.first == id)
+        return true;
+    return false;
+  }
+
+
+
+  template <int dim>
+  Tensor<1, dim>
+  ElasticitySimulator<dim>::Impl::surface_load(
+    const types::boundary_id id,
+    const Point<dim>        &X,
+    const Tensor<1, dim>    &normal) const
+  {
+    Tensor<1, dim> t;
+    Vector<double> val(dim);
+    for (unsigned int k = 0; k < tractions.size(); ++k)
+      if (tractions[k].first == id)
+        {
+          tractions[k].second->vector_value(X, val);
+          for (unsigned int d = 0; d < dim; ++d)
+            t[d] += surface_load_scale[k] * val[d];
+        }
+    for (unsigned int k = 0; k < pressures.size(); ++k)
+      if (pressures[k].first == id)
+        t -= surface_load_scale[tractions.size() + k] *
+             pressures[k].second->value(X, 0) * normal;
+    return t;
+  }
+
+
+
+  template <int dim>
   void
   ElasticitySimulator<dim>::Impl::setup_system()
   {
+    setup_shape();
+    reset_physical_parameters("");
     dof_handler.distribute_dofs(fe);
     owned = dof_handler.locally_owned_dofs();
     DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
@@ -437,13 +455,13 @@ namespace forma
     for (const auto &d : dirichlet)
       {
         d.function->set_time(t);
-        VectorTools::interpolate_boundary_values(mapping,
+        VectorTools::interpolate_boundary_values(reference_mapping,
                                                  dof_handler,
                                                  d.id,
                                                  *d.function,
                                                  constraints_bc,
                                                  ComponentMask(d.mask));
-        VectorTools::interpolate_boundary_values(mapping,
+        VectorTools::interpolate_boundary_values(reference_mapping,
                                                  dof_handler,
                                                  d.id,
                                                  Functions::ZeroFunction<dim>(
@@ -521,12 +539,6 @@ namespace forma
     const FEValuesExtractors::Vector disp(0);
     const bool                       dynamic = transient;
 
-    std::set<types::boundary_id> loaded;
-    for (const auto &t : tractions)
-      loaded.insert(t.first);
-    for (const auto &t : pressures)
-      loaded.insert(t.first);
-
     auto worker =
       [&](const typename DoFHandler<dim>::active_cell_iterator &cell,
           Scratch<dim>                                         &s,
@@ -543,10 +555,10 @@ namespace forma
           c.matrix.reinit(n, n);
         c.admissible = true;
 
-        const Material<dim> &mat    = materials.at(cell->material_id());
-        const Damping<dim>  &damp   = dampings.at(cell->material_id());
-        const double         rho    = mat.properties().density;
-        const bool           damped = dynamic && damp.active();
+        const Material<dim> mat    = cell_material(cell);
+        const Damping<dim>  damp   = cell_damping(cell);
+        const double        rho    = mat.properties().density;
+        const bool          damped = dynamic && damp.active();
 
         s.grad_u.resize(nq);
         fv[disp].get_function_gradients(u_ghost, s.grad_u);
@@ -555,16 +567,16 @@ namespace forma
             s.grad_u_old.resize(nq);
             fv[disp].get_function_gradients(u_old_ghost, s.grad_u_old);
           }
+        s.u.assign(nq, Tensor<1, dim>());
+        s.w.assign(nq, Tensor<1, dim>());
         if (dynamic)
           {
-            s.u.resize(nq);
-            s.w.resize(nq);
             fv[disp].get_function_values(u_ghost, s.u);
             fv[disp].get_function_values(w_ghost, s.w);
           }
+        reference_points(cell, s);
         s.B.resize(n);
 
-        Vector<double> bf(dim);
         for (unsigned int q = 0; q < nq; ++q)
           {
             if (!mat.admissible(s.grad_u[q]))
@@ -582,16 +594,7 @@ namespace forma
                 if (with_matrix)
                   A += damp.tangent(s.grad_u[q], s.grad_u_old[q], dt);
               }
-            // Force density per unit reference volume (inertia minus loads).
-            Tensor<1, dim> f = -rho * gravity;
-            if (body_force)
-              {
-                body_force->vector_value(fv.quadrature_point(q), bf);
-                for (unsigned int d = 0; d < dim; ++d)
-                  f[d] -= bf[d];
-              }
-            if (dynamic)
-              f += rho * inertia_factor * (s.u[q] + s.w[q]);
+            const Tensor<1, dim> f = volume_force(rho, s.X[q], s.u[q], s.w[q]);
 
             const double JxW = fv.JxW(q);
             for (unsigned int i = 0; i < n; ++i)
@@ -631,30 +634,21 @@ namespace forma
               }
           }
 
-        if (!loaded.empty() && cell->at_boundary())
+        if (cell->at_boundary())
           for (const auto face : cell->face_indices())
             if (cell->face(face)->at_boundary() &&
-                loaded.count(cell->face(face)->boundary_id()))
+                loaded(cell->face(face)->boundary_id()))
               {
                 s.face_values.reinit(cell, face);
                 const FEFaceValues<dim> &ff =
                   s.face_values.get_present_fe_values();
-                const types::boundary_id id = cell->face(face)->boundary_id();
-                Vector<double>           val(dim);
+                reference_face_points(cell, face, s);
                 for (unsigned int q = 0; q < ff.n_quadrature_points; ++q)
                   {
-                    Tensor<1, dim> t;
-                    for (const auto &tr : tractions)
-                      if (tr.first == id)
-                        {
-                          tr.second->vector_value(ff.quadrature_point(q), val);
-                          for (unsigned int d = 0; d < dim; ++d)
-                            t[d] += val[d];
-                        }
-                    for (const auto &pr : pressures)
-                      if (pr.first == id)
-                        t -= pr.second->value(ff.quadrature_point(q), 0) *
-                             ff.normal_vector(q);
+                    const Tensor<1, dim> t =
+                      surface_load(cell->face(face)->boundary_id(),
+                                   s.X[q],
+                                   ff.normal_vector(q));
                     for (unsigned int i = 0; i < n; ++i)
                       {
                         const unsigned int ci =
@@ -673,7 +667,14 @@ namespace forma
           admissible = false;
           return;
         }
-      if (with_matrix)
+      if (with_matrix && transpose_matrix)
+        {
+          FullMatrix<double> t(c.matrix.n(), c.matrix.m());
+          t.copy_transposed(c.matrix);
+          constraints_zero.distribute_local_to_global(
+            t, c.residual, c.dofs, jacobian, residual);
+        }
+      else if (with_matrix)
         constraints_zero.distribute_local_to_global(
           c.matrix, c.residual, c.dofs, jacobian, residual);
       else
@@ -700,7 +701,7 @@ namespace forma
                                  dof_handler.end()),
       worker,
       copier,
-      Scratch<dim>(mapping, fe, quadrature, face_quadrature),
+      Scratch<dim>(mapping, reference_mapping, fe, quadrature, face_quadrature),
       CopyData());
 
     // Compress even when a cell was inadmissible, so the containers stay
@@ -826,7 +827,7 @@ namespace forma
         {
           hp_fv.reinit(cell);
           const auto        &fv  = hp_fv.get_present_fe_values();
-          const auto        &mat = materials.at(cell->material_id());
+          const auto         mat = cell_material(cell);
           const double       rho = mat.properties().density;
           const unsigned int nq  = fv.n_quadrature_points;
           grads.resize(nq);
@@ -881,14 +882,16 @@ namespace forma
     try
       {
         const auto found =
-          GridTools::find_active_cell_around_point(mapping, dof_handler, x);
+          GridTools::find_active_cell_around_point(reference_mapping,
+                                                   dof_handler,
+                                                   x);
         if (found.first.state() == IteratorState::valid &&
             found.first->is_locally_owned())
           {
             owner                 = rank;
             const auto      &cell = found.first;
             const Point<dim> ref  = found.second;
-            FEValues<dim>    fv(mapping[0],
+            FEValues<dim>    fv(reference_mapping[0],
                              fe[cell->active_fe_index()],
                              Quadrature<dim>(ref),
                              update_values);
@@ -968,7 +971,7 @@ namespace forma
         {
           hp_fv.reinit(cell);
           const auto &fv  = hp_fv.get_present_fe_values();
-          const auto &mat = materials.at(cell->material_id());
+          const auto  mat = cell_material(cell);
           grads.resize(fv.n_quadrature_points);
           fv[disp].get_function_gradients(u_ghost, grads);
           double a = 0, b = 0, vol = 0;
@@ -1043,6 +1046,27 @@ namespace forma
 
   template <int dim>
   void
+  ElasticitySimulator<dim>::Impl::add_uniform(Vector_t             &x,
+                                              const Tensor<1, dim> &value)
+  {
+    if (value.norm() == 0)
+      return;
+    for (unsigned int c = 0; c < dim; ++c)
+      {
+        std::vector<bool> m(dim, false);
+        m[c] = true;
+        for (const auto i :
+             DoFTools::extract_dofs(dof_handler, ComponentMask(m)))
+          if (owned.is_element(i))
+            x(i) = x(i) + value[c];
+      }
+    x.compress(VectorOperation::insert);
+  }
+
+
+
+  template <int dim>
+  void
   ElasticitySimulator<dim>::Impl::solve_static()
   {
     bool has_dirichlet = !dirichlet.empty();
@@ -1059,10 +1083,14 @@ namespace forma
         const std::string where =
           "load step " + std::to_string(k) + "/" + std::to_string(p.load_steps);
         const auto its = newton(t, where);
+        if (quiet)
+          continue;
         record_step(k, t, its.first, its.second);
         print_progress("[" + where + "] t = " + fmt(t) +
                        ", Newton iterations: " + std::to_string(its.first));
       }
+    if (store_states)
+      u_states.assign(1, u);
   }
 
 
@@ -1082,7 +1110,7 @@ namespace forma
     v = 0;
     if (!p.initial_displacement.empty())
       VectorTools::interpolate(
-        mapping,
+        reference_mapping,
         dof_handler,
         *make_function<dim>(split_top_level(p.initial_displacement, ','),
                             all,
@@ -1091,19 +1119,29 @@ namespace forma
         u);
     if (!p.initial_velocity.empty())
       VectorTools::interpolate(
-        mapping,
+        reference_mapping,
         dof_handler,
         *make_function<dim>(split_top_level(p.initial_velocity, ','),
                             all,
                             constants,
                             "Initial conditions/Velocity"),
         v);
+    add_uniform(u, initial_displacement_offset);
+    add_uniform(v, initial_velocity_offset);
     make_constraints(0.);
     constraints_zero.distribute(u); // hanging nodes only matter here
     time = 0;
-    record_step(0, 0., 0, 0);
-    write_output(0, 0.);
-    print_progress("[step 0/" + std::to_string(n) + "] t = 0");
+    if (store_states)
+      {
+        u_states.assign(1, u);
+        v_states.assign(1, v);
+      }
+    if (!quiet)
+      {
+        record_step(0, 0., 0, 0);
+        write_output(0, 0.);
+        print_progress("[step 0/" + std::to_string(n) + "] t = 0");
+      }
 
     u_history.clear();
     v_history.clear();
@@ -1155,6 +1193,13 @@ namespace forma
             v_history.pop_back();
           }
 
+        if (store_states)
+          {
+            u_states.push_back(u);
+            v_states.push_back(v);
+          }
+        if (quiet)
+          continue;
         record_step(i, t, its.first, its.second);
         if (i % p.output_every == 0 || i == n)
           write_output(i, t);

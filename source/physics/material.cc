@@ -63,7 +63,7 @@ namespace forma
                          "the compressible Neo-Hookean law") +
                       " needs -1 < nu < 0.5 (nu = 0.5 is incompressible)."));
         const double E = p.youngs_modulus, nu = p.poisson_ratio;
-        p.lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
+        p.lambda = lame_from_young_poisson(E, nu)[0];
         p.mu     = E / (2 * (1 + nu));
       }
     else
@@ -102,6 +102,7 @@ namespace forma
                           const bool                plane_stress)
     : law(model)
     , props(properties)
+    , plane_stress(plane_stress)
     , lambda(properties.lambda)
     , mu(properties.mu)
   {
@@ -118,15 +119,56 @@ namespace forma
   Tensor<2, dim>
   Material<dim>::stress(const Tensor<2, dim> &grad_u) const
   {
+    return first_piola_kirchhoff<dim, double>(law, grad_u, lambda, mu);
+  }
+
+
+
+  template <int dim>
+  std::array<double, 2>
+  Material<dim>::effective_lame(double jacobian[2][2]) const
+  {
+    if (jacobian)
+      {
+        const double l = props.lambda, m = props.mu;
+        jacobian[0][0] =
+          plane_stress ? 4. * m * m / ((l + 2. * m) * (l + 2. * m)) : 1.;
+        jacobian[0][1] =
+          plane_stress ? 2. * l * l / ((l + 2. * m) * (l + 2. * m)) : 0.;
+        jacobian[1][0] = 0.;
+        jacobian[1][1] = 1.;
+      }
+    return {{lambda, mu}};
+  }
+
+
+
+  template <int dim>
+  std::array<Tensor<2, dim>, 2>
+  Material<dim>::stress_lame_derivatives(const Tensor<2, dim> &grad_u) const
+  {
+    // d stress / d(lambda_eff, mu_eff); stress is linear in both.
+    Tensor<2, dim>       d_lambda, d_mu;
+    const Tensor<2, dim> I = unit_symmetric_tensor<dim>();
     if (law == ConstitutiveModel::linear_elastic)
       {
         const Tensor<2, dim> eps = 0.5 * (grad_u + transpose(grad_u));
-        return lambda * trace(eps) * unit_symmetric_tensor<dim>() +
-               2. * mu * eps;
+        d_lambda                 = trace(eps) * I;
+        d_mu                     = 2. * eps;
       }
-    const Tensor<2, dim> F = grad_u + unit_symmetric_tensor<dim>();
-    const Tensor<2, dim> Q = transpose(invert(F));
-    return mu * (F - Q) + lambda * std::log(determinant(F)) * Q;
+    else
+      {
+        // The thesis (after eq. 3.25) swaps the two labels; these are the
+        // derivatives of mu (F - Q) + lambda log(J) Q.
+        const Tensor<2, dim> F = grad_u + I;
+        const Tensor<2, dim> Q = transpose(invert(F));
+        d_lambda               = std::log(determinant(F)) * Q;
+        d_mu                   = F - Q;
+      }
+    double j[2][2];
+    effective_lame(j);
+    return {{j[0][0] * d_lambda + j[1][0] * d_mu,
+             j[0][1] * d_lambda + j[1][1] * d_mu}};
   }
 
 
@@ -215,6 +257,21 @@ namespace forma
     // |dev s|^2 in 3D embedding with s_33 = 0 for plane problems.
     dev2 -= trace_s * trace_s / 3.;
     return std::sqrt(1.5 * std::max(dev2, 0.));
+  }
+
+  std::array<double, 2>
+  lame_from_young_poisson(const double E, const double nu, double jac[2][2])
+  {
+    const double a = (1. + nu) * (1. - 2. * nu);
+    if (jac)
+      {
+        // d a / d nu = (1 - 2 nu) - 2 (1 + nu) = -1 - 4 nu
+        jac[0][0] = nu / a;
+        jac[0][1] = E * (a + nu * (1. + 4. * nu)) / (a * a);
+        jac[1][0] = 1. / (2. * (1. + nu));
+        jac[1][1] = -E / (2. * (1. + nu) * (1. + nu));
+      }
+    return {{E * nu / a, E / (2. * (1. + nu))}};
   }
 
   template class Material<2>;

@@ -48,8 +48,19 @@ namespace forma
 
 
 
+  struct LinearSolver::State
+  {
+    SolverControl                                   control{1, 0, false, false};
+    std::unique_ptr<TrilinosWrappers::SolverDirect> direct;
+    TrilinosWrappers::PreconditionAMG               amg;
+    bool                                            has_amg = false;
+  };
+
+
+
   LinearSolver::LinearSolver(const Parameters &parameters)
-    : parameters(parameters)
+    : state(std::make_shared<State>())
+    , parameters(parameters)
   {}
 
 
@@ -73,14 +84,16 @@ namespace forma
   {
     if (parameters.type == "direct")
       {
-        SolverControl                  control(1, 0, false, false);
-        TrilinosWrappers::SolverDirect solver(control);
         try
           {
-            solver.solve(A, x, b);
+            state->direct =
+              std::make_unique<TrilinosWrappers::SolverDirect>(state->control);
+            state->direct->initialize(A);
+            state->direct->solve(x, b);
           }
         catch (const std::exception &exc)
           {
+            state->direct.reset();
             AssertThrow(false,
                         ExcMessage(
                           "the direct linear solver failed (singular "
@@ -108,8 +121,9 @@ namespace forma
         list.set("null space: dimension", static_cast<int>(n_modes));
         list.set("null space: vectors", modes.data());
       }
-    TrilinosWrappers::PreconditionAMG amg;
+    TrilinosWrappers::PreconditionAMG &amg = state->amg;
     amg.initialize(A, list);
+    state->has_amg = true;
 
     SolverControl control(parameters.max_iterations,
                           parameters.relative_tolerance * b.l2_norm(),
@@ -140,6 +154,52 @@ namespace forma
                                std::to_string(exc.last_residual) +
                                "); raise 'Max linear iterations' or use the "
                                "direct solver."));
+      }
+    return control.last_step();
+  }
+
+
+
+  unsigned int
+  LinearSolver::solve_reusing(const TrilinosWrappers::SparseMatrix &A,
+                              TrilinosWrappers::MPI::Vector        &x,
+                              const TrilinosWrappers::MPI::Vector  &b) const
+  {
+    const double tolerance =
+      std::max(parameters.relative_tolerance, 1e-12) * b.l2_norm();
+    if (parameters.type == "direct")
+      {
+        if (!state->direct)
+          return solve(A, x, b, false);
+        // Iterative refinement with the old factors: converges at the rate
+        // |I - S^-1 A|, tiny after a converged Newton solve.
+        TrilinosWrappers::MPI::Vector r(b), dx(b);
+        x = 0;
+        for (unsigned int it = 1; it <= 20; ++it)
+          {
+            A.vmult(r, x);
+            r.sadd(-1., 1., b);
+            if (r.l2_norm() <= tolerance)
+              return it;
+            state->direct->solve(dx, r);
+            x += dx;
+          }
+        return solve(A, x, b, false); // old factors too far off
+      }
+    if (!state->has_amg)
+      return solve(A, x, b, true);
+    SolverControl control(parameters.max_iterations, tolerance, false, false);
+    if (parameters.type == "cg-amg")
+      {
+        SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
+        cg.solve(A, x, b, state->amg);
+      }
+    else
+      {
+        SolverGMRES<TrilinosWrappers::MPI::Vector> gmres(
+          control,
+          SolverGMRES<TrilinosWrappers::MPI::Vector>::AdditionalData(100));
+        gmres.solve(A, x, b, state->amg);
       }
     return control.last_step();
   }

@@ -3,6 +3,8 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <forma/adjoint/design.h>
+#include <forma/adjoint/objective.h>
 #include <forma/mesh/mesh.h>
 #include <forma/physics/material.h>
 #include <forma/solvers/linear_solver.h>
@@ -58,6 +60,10 @@ namespace forma
     double                   newton_absolute_tolerance = 1e-12;
     unsigned int             max_newton_iterations     = 30;
     unsigned int             max_line_search_halvings  = 12;
+
+    // Gradients (adjoint layer)
+    DesignParameters    design;
+    ObjectiveParameters objective;
 
     // Output
     bool         write_vtu    = true;

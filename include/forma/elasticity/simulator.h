@@ -6,6 +6,8 @@
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
 
+#include <forma/adjoint/design.h>
+#include <forma/adjoint/objective.h>
 #include <forma/elasticity/parameters.h>
 
 #include <nlohmann/json.hpp>
@@ -95,6 +97,58 @@ namespace forma
     /// The run's key results as JSON (what summary.json holds).
     nlohmann::json
     summary() const;
+
+    /**
+     * @name Adjoint layer (thesis ch. 3.3-3.8)
+     *
+     * The design vector holds the blocks chosen in the `Design` section
+     * (see DesignParameters). Typical use: prepare(), set_objective(),
+     * then per design set_design(), solve_design(), objective() and
+     * gradient().
+     */
+    //@{
+    /// Set up the mesh (running the adaptive cycles first, if any) and the
+    /// design space at the starting design.
+    void
+    prepare(RunContext *context = nullptr);
+
+    const DesignLayout &
+    design_layout() const;
+
+    /// The current design (after prepare(): the starting design).
+    const std::vector<double> &
+    design() const;
+
+    /// Move to design q; throws with a message if q is inadmissible
+    /// (inverted cells, materials out of range).
+    void
+    set_design(const std::vector<double> &q);
+
+    /// Use J; runs the reference simulation first if a term needs one.
+    void
+    set_objective(const std::shared_ptr<const Objective<dim>> &J);
+
+    /// Forward solve for the current design, without output; stores the
+    /// states the adjoint needs. Throws with a message if it fails.
+    void
+    solve_design();
+
+    /// J at the last solved design.
+    double
+    objective() const;
+
+    /// J and dJ/dq at the last solved design, by the adjoint method.
+    double
+    gradient(std::vector<double> &dJ) const;
+
+    /// Smallest cell diameter of the mesh (a length scale for designs).
+    double
+    cell_size() const;
+
+    /// Accumulated forward and adjoint wall times, stored-state memory.
+    nlohmann::json
+    adjoint_statistics() const;
+    //@}
 
   private:
     class Impl;

@@ -3,6 +3,8 @@
 
 #include <deal.II/base/tensor.h>
 
+#include <array>
+#include <cmath>
 #include <map>
 #include <string>
 
@@ -41,6 +43,46 @@ namespace forma
   };
 
   /**
+   * First Piola-Kirchhoff stress f(grad u; lambda, mu) of thesis ch. 3.7.2,
+   * generic in the number type so objectives can differentiate it with
+   * Sacado. lambda is the effective value (plane stress already applied).
+   */
+  template <int dim, typename Number>
+  dealii::Tensor<2, dim, Number>
+  first_piola_kirchhoff(const ConstitutiveModel               law,
+                        const dealii::Tensor<2, dim, Number> &grad_u,
+                        const Number                         &lambda,
+                        const Number                         &mu)
+  {
+    // Scalars are materialized before scaling tensors: AD numbers with
+    // expression templates (Sacado) do not multiply tensors as expressions.
+    using std::log;
+    dealii::Tensor<2, dim, Number> I;
+    for (unsigned int d = 0; d < dim; ++d)
+      I[d][d] = 1.;
+    if (law == ConstitutiveModel::linear_elastic)
+      {
+        const Number                         half = 0.5;
+        const dealii::Tensor<2, dim, Number> eps =
+          half * (grad_u + transpose(grad_u));
+        const Number a      = lambda * trace(eps);
+        const Number two_mu = 2. * mu;
+        return a * I + two_mu * eps;
+      }
+    const dealii::Tensor<2, dim, Number> F = grad_u + I;
+    const dealii::Tensor<2, dim, Number> Q = transpose(invert(F));
+    const Number lambda_log_J              = lambda * log(determinant(F));
+    return mu * (F - Q) + lambda_log_J * Q;
+  }
+
+  /// lambda = E nu / ((1 + nu)(1 - 2 nu)), mu = E / (2 (1 + nu)) and the
+  /// Jacobian d(lambda, mu)/d(E, nu) (row: lambda, mu; column: E, nu).
+  std::array<double, 2>
+  lame_from_young_poisson(const double E,
+                          const double nu,
+                          double       jacobian[2][2] = nullptr);
+
+  /**
    * Stress laws in the form used by every forma force (thesis eq. 3.23):
    * stress(grad u) is the first Piola-Kirchhoff stress (equal to the Cauchy
    * stress for linear elasticity), tangent() its derivative with respect to
@@ -69,6 +111,19 @@ namespace forma
     dealii::Tensor<2, dim>
     cauchy_stress(const dealii::Tensor<2, dim> &grad_u) const;
 
+    /**
+     * Derivatives of stress() with respect to the Lame parameters given in
+     * the properties (before the plane-stress reduction): [d/dlambda,
+     * d/dmu].
+     */
+    std::array<dealii::Tensor<2, dim>, 2>
+    stress_lame_derivatives(const dealii::Tensor<2, dim> &grad_u) const;
+
+    /// Effective (lambda, mu) used in the stress and d(effective)/d(input),
+    /// rows lambda_eff, mu_eff; columns lambda, mu.
+    std::array<double, 2>
+    effective_lame(double jacobian[2][2] = nullptr) const;
+
     /// False where the deformation inverts the material (det F <= 0).
     bool
     admissible(const dealii::Tensor<2, dim> &grad_u) const;
@@ -88,6 +143,7 @@ namespace forma
   private:
     ConstitutiveModel  law;
     MaterialProperties props;
+    bool               plane_stress;
     double             lambda; ///< effective (plane stress reduces it)
     double             mu;
   };

@@ -5,6 +5,7 @@
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/trilinos_vector.h>
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -44,10 +45,24 @@ namespace forma
           const dealii::TrilinosWrappers::MPI::Vector  &b,
           const bool                                    higher_order) const;
 
+    /**
+     * Solve A x = b with the factorization (direct) or AMG hierarchy
+     * (iterative) kept from the last solve() as preconditioner: for the
+     * adjoint of a converged Newton solve, whose Jacobian differs little
+     * from the last factored one. Iterates to the same tolerance; returns
+     * the iteration count.
+     */
+    unsigned int
+    solve_reusing(const dealii::TrilinosWrappers::SparseMatrix &A,
+                  dealii::TrilinosWrappers::MPI::Vector        &x,
+                  const dealii::TrilinosWrappers::MPI::Vector  &b) const;
+
   private:
-    Parameters          parameters;
-    std::vector<double> null_space; ///< column-major, n_owned x n_modes
-    unsigned int        n_modes = 0;
+    struct State;
+    std::shared_ptr<State> state; ///< last factorization / preconditioner
+    Parameters             parameters;
+    std::vector<double>    null_space; ///< column-major, n_owned x n_modes
+    unsigned int           n_modes = 0;
   };
 } // namespace forma
 

@@ -1,0 +1,68 @@
+#ifndef forma_adjoint_design_h
+#define forma_adjoint_design_h
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <string>
+#include <vector>
+
+namespace forma
+{
+  /**
+   * Which physical parameters form the design vector q of thesis eq. 3.3
+   * (the `Design` section), and how shape parameters are constrained.
+   *
+   * Blocks, in this order when selected:
+   * - `shape`: displacement of the vertices of the shape field (thesis ch.
+   *   3.7.1) from the mesh as read, one entry per shape DoF. Vertices on
+   *   `Fixed boundaries` do not move, vertices on a symmetry plane keep
+   *   their normal coordinate, hanging vertices follow their parents.
+   * - `cell material`: (lambda, mu) or (E, nu) per active cell.
+   * - `material`: (lambda, mu) or (E, nu) per material id.
+   * - `damping`: (shear, bulk) damping coefficients per material id.
+   * - `loads`: a scale factor per traction record, then one for the body
+   *   force and one for gravity (only those the problem has).
+   * - `initial displacement`, `initial velocity`: a uniform vector added to
+   *   the initial condition (thesis ch. 3.5.3).
+   */
+  struct DesignParameters
+  {
+    std::vector<std::string> blocks;
+    bool                     young_poisson = true; ///< (E, nu), else Lame
+    std::string              fixed_boundaries;
+    std::string              symmetry_planes;
+    std::string              shape_perturbation;
+
+    static void
+    declare(dealii::ParameterHandler &prm);
+    void
+    parse(dealii::ParameterHandler &prm);
+
+    bool
+    has(const std::string &block) const;
+  };
+
+  /// One named block of a design vector.
+  struct DesignBlock
+  {
+    std::string  name;
+    unsigned int offset;
+    unsigned int size;
+  };
+
+  /// Layout of a design vector: its blocks in order. Every rank holds the
+  /// whole vector (design vectors are small next to the state).
+  struct DesignLayout
+  {
+    std::vector<DesignBlock> blocks;
+
+    unsigned int
+    size() const;
+
+    /// The block called `name`, or nullptr.
+    const DesignBlock *
+    find(const std::string &name) const;
+  };
+} // namespace forma
+
+#endif

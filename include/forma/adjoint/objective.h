@@ -1,0 +1,143 @@
+#ifndef forma_adjoint_objective_h
+#define forma_adjoint_objective_h
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+#include <deal.II/base/types.h>
+
+#include <forma/physics/material.h>
+
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace forma
+{
+  /// Fixed data at an integration point of an objective integrand.
+  template <int dim>
+  struct IntegrandContext
+  {
+    dealii::Point<dim>     X; ///< position on the mesh as read (material label)
+    dealii::Tensor<1, dim> target; ///< deformed position in the reference run
+    dealii::Tensor<1, dim> normal; ///< outer normal (boundary integrals)
+    double                 density      = 1;
+    double                 time         = 0;
+    ConstitutiveModel      model        = ConstitutiveModel::linear_elastic;
+    bool                   plane_stress = false;
+  };
+
+  /// Value and partial derivatives of an integrand j(x, u, grad u, lambda, mu)
+  /// (x: design position, lambda/mu: the Lame parameters of the material).
+  template <int dim>
+  struct IntegrandValue
+  {
+    double                 value = 0;
+    dealii::Tensor<1, dim> d_x, d_u;
+    dealii::Tensor<2, dim> d_grad_u;
+    double                 d_lambda = 0, d_mu = 0;
+  };
+
+  /**
+   * One term of an objective (thesis ch. 3.8): a function Phi of a few
+   * integrals I_k = int j_k(x, u, grad u, lambda, mu) over the domain or
+   * parts of its boundary. The generic volume/boundary shape derivatives of
+   * eqs. 3.31 and 3.34 and the adjoint right-hand sides 3.32 and 3.35 follow
+   * from the partials of j_k, so a new term only states j_k and Phi.
+   */
+  template <int dim>
+  class ObjectiveTerm
+  {
+  public:
+    struct Integral
+    {
+      bool                                 boundary = false;
+      std::set<dealii::types::boundary_id> boundary_ids; ///< empty: all
+    };
+
+    ObjectiveTerm(const std::string &name, const double weight);
+    virtual ~ObjectiveTerm() = default;
+
+    virtual std::vector<Integral>
+    integrals() const = 0;
+
+    /// j_k at one point with all partials (`derivatives`) or the value only.
+    virtual void
+    integrand(const unsigned int            k,
+              const IntegrandContext<dim>  &context,
+              const dealii::Tensor<1, dim> &x,
+              const dealii::Tensor<1, dim> &u,
+              const dealii::Tensor<2, dim> &grad_u,
+              const double                  lambda,
+              const double                  mu,
+              const bool                    derivatives,
+              IntegrandValue<dim>          &result) const = 0;
+
+    /// Phi(I) and, when `gradient` is given, dPhi/dI_k.
+    virtual double
+    combine(const std::vector<double> &I,
+            std::vector<double>       *gradient) const = 0;
+
+    /// Whether the term reads IntegrandContext::target.
+    virtual bool
+    needs_reference_run() const
+    {
+      return false;
+    }
+
+    const std::string name;
+    const double      weight;
+  };
+
+  /// The `Objective` section (see Objective).
+  struct ObjectiveParameters
+  {
+    std::string terms;
+    std::string time_weighting = "integral"; ///< integral | final
+    std::string target;                      ///< expressions or empty
+    std::string reference_bodies;
+
+    static void
+    declare(dealii::ParameterHandler &prm);
+    void
+    parse(dealii::ParameterHandler &prm);
+  };
+
+  /**
+   * The objective J = sum_t weight_t Phi_t(I_t) (thesis eq. 3.10), for
+   * transient runs integrated in time (eq. 3.14) or taken at the final step.
+   * Read from the `Objective` section:
+   *   set Terms = stress : p=4, weight=1 ; volume bound : bound=0.8
+   */
+  template <int dim>
+  class Objective
+  {
+  public:
+    using Parameters = ObjectiveParameters;
+
+    explicit Objective(const Parameters &parameters);
+
+    const std::vector<std::unique_ptr<ObjectiveTerm<dim>>> &
+    terms() const
+    {
+      return term_list;
+    }
+
+    /// Time-step weight of step i of n (dt: step size).
+    double
+    step_weight(const unsigned int i,
+                const unsigned int n,
+                const double       dt) const;
+
+    bool
+    needs_reference_run() const;
+
+    const Parameters parameters;
+
+  private:
+    std::vector<std::unique_ptr<ObjectiveTerm<dim>>> term_list;
+  };
+} // namespace forma
+
+#endif

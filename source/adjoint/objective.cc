@@ -1,0 +1,614 @@
+#include <deal.II/base/function_parser.h>
+#include <deal.II/base/utilities.h>
+#include <deal.II/differentiation/ad/sacado_math.h>
+#include <deal.II/differentiation/ad/sacado_number_types.h>
+#include <deal.II/differentiation/ad/sacado_product_types.h>
+#include <deal.II/lac/vector.h>
+
+#include <forma/adjoint/objective.h>
+#include <forma/base/records.h>
+
+#include <Sacado.hpp>
+
+#include <cmath>
+
+namespace forma
+{
+  using namespace dealii;
+
+  template <int dim>
+  ObjectiveTerm<dim>::ObjectiveTerm(const std::string &name,
+                                    const double       weight)
+    : name(name)
+    , weight(weight)
+  {}
+
+  namespace
+  {
+    /**
+     * Terms state their integrand once, generic in the number type; the
+     * partials come from forward-mode AD over (x, u, grad u, lambda, mu).
+     */
+    template <int dim, typename Derived>
+    class AutoDiffTerm : public ObjectiveTerm<dim>
+    {
+    public:
+      using ObjectiveTerm<dim>::ObjectiveTerm;
+
+      void
+      integrand(const unsigned int           k,
+                const IntegrandContext<dim> &c,
+                const Tensor<1, dim>        &x,
+                const Tensor<1, dim>        &u,
+                const Tensor<2, dim>        &grad_u,
+                const double                 lambda,
+                const double                 mu,
+                const bool                   derivatives,
+                IntegrandValue<dim>         &r) const override
+      {
+        const auto &self = static_cast<const Derived &>(*this);
+        if (!derivatives)
+          {
+            r.value = self.template j<double>(k, c, x, u, grad_u, lambda, mu);
+            return;
+          }
+        constexpr int n = 2 * dim + dim * dim + 2;
+        using AD = Sacado::Fad::DFad<double>; // what deal.II tensors support
+        Tensor<1, dim, AD> xa, ua;
+        Tensor<2, dim, AD> ga;
+        int                i = 0;
+        for (unsigned int d = 0; d < dim; ++d)
+          xa[d] = AD(n, i++, x[d]);
+        for (unsigned int d = 0; d < dim; ++d)
+          ua[d] = AD(n, i++, u[d]);
+        for (unsigned int d = 0; d < dim; ++d)
+          for (unsigned int e = 0; e < dim; ++e)
+            ga[d][e] = AD(n, i++, grad_u[d][e]);
+        const AD la(n, i++, lambda);
+        const AD ma(n, i++, mu);
+        const AD v = self.template j<AD>(k, c, xa, ua, ga, la, ma);
+        r.value    = v.val();
+        i          = 0;
+        for (unsigned int d = 0; d < dim; ++d)
+          r.d_x[d] = v.dx(i++);
+        for (unsigned int d = 0; d < dim; ++d)
+          r.d_u[d] = v.dx(i++);
+        for (unsigned int d = 0; d < dim; ++d)
+          for (unsigned int e = 0; e < dim; ++e)
+            r.d_grad_u[d][e] = v.dx(i++);
+        r.d_lambda = v.dx(i++);
+        r.d_mu     = v.dx(i++);
+      }
+    };
+
+    /// The stress f(grad u) of the forces, with the plane-stress reduction.
+    template <int dim, typename Number>
+    Tensor<2, dim, Number>
+    stress(const IntegrandContext<dim>  &c,
+           const Tensor<2, dim, Number> &grad_u,
+           const Number                 &lambda,
+           const Number                 &mu)
+    {
+      const Number l =
+        c.plane_stress ? Number(2. * lambda * mu / (lambda + 2. * mu)) : lambda;
+      return first_piola_kirchhoff<dim, Number>(c.model, grad_u, l, mu);
+    }
+
+    /// Squared stress measure: Frobenius, or von Mises (plane problems embed
+    /// the in-plane tensor with zero out-of-plane components).
+    template <int dim, typename Number>
+    Number
+    stress_measure_squared(const Tensor<2, dim, Number> &s,
+                           const bool                    von_mises)
+    {
+      Number ss = 0, tr = 0;
+      for (unsigned int i = 0; i < dim; ++i)
+        {
+          tr += s[i][i];
+          for (unsigned int j = 0; j < dim; ++j)
+            ss += s[i][j] * s[i][j];
+        }
+      return von_mises ? Number(1.5) * (ss - tr * tr / Number(3.)) : ss;
+    }
+
+    // Penalty phi(z) = max(z, 0)^2 of thesis eq. 3.41.
+    template <typename Number>
+    Number
+    positive_part_squared(const Number &z)
+    {
+      return z > 0 ? z * z : Number(0.);
+    }
+
+    double
+    key(const std::map<std::string, double> &kv,
+        const std::string                   &name,
+        const double                         fallback,
+        const std::string                   &where)
+    {
+      if (kv.count(name))
+        return kv.at(name);
+      AssertThrow(!std::isnan(fallback),
+                  ExcMessage(where + ": the key '" + name + "' is required."));
+      return fallback;
+    }
+
+
+
+    // (int |sigma|^p)^(1/p), thesis eq. 3.36.
+    template <int dim>
+    class StressNorm : public AutoDiffTerm<dim, StressNorm<dim>>
+    {
+    public:
+      StressNorm(const std::string &name,
+                 const double       weight,
+                 const double       p,
+                 const bool         von_mises)
+        : AutoDiffTerm<dim, StressNorm<dim>>(name, weight)
+        , p(p)
+        , von_mises(von_mises)
+      {}
+      std::vector<typename ObjectiveTerm<dim>::Integral>
+      integrals() const override
+      {
+        return {{}};
+      }
+      template <typename N>
+      N
+      j(unsigned int,
+        const IntegrandContext<dim> &c,
+        const Tensor<1, dim, N> &,
+        const Tensor<1, dim, N> &,
+        const Tensor<2, dim, N> &g,
+        const N                 &l,
+        const N                 &m) const
+      {
+        using std::pow;
+        const N s2 =
+          stress_measure_squared<dim, N>(stress<dim, N>(c, g, l, m), von_mises);
+        return s2 > 0 ? N(pow(s2, 0.5 * p)) : N(0.);
+      }
+      double
+      combine(const std::vector<double> &I,
+              std::vector<double>       *grad) const override
+      {
+        const double v = std::pow(std::max(I[0], 0.), 1. / p);
+        if (grad)
+          *grad = {I[0] > 0 ? v / (p * I[0]) : 0.};
+        return v;
+      }
+
+    private:
+      const double p;
+      const bool   von_mises;
+    };
+
+    // int f(grad u) : grad u, twice the stored energy for linear elasticity
+    // (the work of the loads at equilibrium under homogeneous supports).
+    template <int dim>
+    class Compliance : public AutoDiffTerm<dim, Compliance<dim>>
+    {
+    public:
+      using AutoDiffTerm<dim, Compliance<dim>>::AutoDiffTerm;
+      std::vector<typename ObjectiveTerm<dim>::Integral>
+      integrals() const override
+      {
+        return {{}};
+      }
+      template <typename N>
+      N
+      j(unsigned int,
+        const IntegrandContext<dim> &c,
+        const Tensor<1, dim, N> &,
+        const Tensor<1, dim, N> &,
+        const Tensor<2, dim, N> &g,
+        const N                 &l,
+        const N                 &m) const
+      {
+        return scalar_product(stress<dim, N>(c, g, l, m), g);
+      }
+      double
+      combine(const std::vector<double> &I,
+              std::vector<double>       *grad) const override
+      {
+        if (grad)
+          *grad = {1.};
+        return I[0];
+      }
+    };
+
+    // Volume, or its upper-bound penalty phi(V - V_t) (eqs. 3.40-3.41).
+    template <int dim>
+    class Volume : public AutoDiffTerm<dim, Volume<dim>>
+    {
+    public:
+      Volume(const std::string &name, const double weight, const double bound)
+        : AutoDiffTerm<dim, Volume<dim>>(name, weight)
+        , bound(bound)
+      {}
+      std::vector<typename ObjectiveTerm<dim>::Integral>
+      integrals() const override
+      {
+        return {{}};
+      }
+      template <typename N>
+      N
+      j(unsigned int,
+        const IntegrandContext<dim> &,
+        const Tensor<1, dim, N> &,
+        const Tensor<1, dim, N> &,
+        const Tensor<2, dim, N> &,
+        const N &,
+        const N &) const
+      {
+        return N(1.);
+      }
+      double
+      combine(const std::vector<double> &I,
+              std::vector<double>       *grad) const override
+      {
+        if (std::isnan(bound))
+          {
+            if (grad)
+              *grad = {1.};
+            return I[0];
+          }
+        const double z = I[0] - bound;
+        if (grad)
+          *grad = {z > 0 ? 2. * z : 0.};
+        return positive_part_squared(z);
+      }
+
+    private:
+      const double bound; ///< NaN: the plain volume
+    };
+
+    // int phi(|sigma| - s_t), eq. 3.42.
+    template <int dim>
+    class StressBound : public AutoDiffTerm<dim, StressBound<dim>>
+    {
+    public:
+      StressBound(const std::string &name,
+                  const double       weight,
+                  const double       bound,
+                  const bool         von_mises)
+        : AutoDiffTerm<dim, StressBound<dim>>(name, weight)
+        , bound(bound)
+        , von_mises(von_mises)
+      {}
+      std::vector<typename ObjectiveTerm<dim>::Integral>
+      integrals() const override
+      {
+        return {{}};
+      }
+      template <typename N>
+      N
+      j(unsigned int,
+        const IntegrandContext<dim> &c,
+        const Tensor<1, dim, N> &,
+        const Tensor<1, dim, N> &,
+        const Tensor<2, dim, N> &g,
+        const N                 &l,
+        const N                 &m) const
+      {
+        using std::sqrt;
+        const N s2 =
+          stress_measure_squared<dim, N>(stress<dim, N>(c, g, l, m), von_mises);
+        if (!(s2 > bound * bound))
+          return N(0.);
+        return positive_part_squared<N>(N(sqrt(s2)) - N(bound));
+      }
+      double
+      combine(const std::vector<double> &I,
+              std::vector<double>       *grad) const override
+      {
+        if (grad)
+          *grad = {1.};
+        return I[0];
+      }
+
+    private:
+      const double bound;
+      const bool   von_mises;
+    };
+
+    // int |x + u - x_trg|^2 over the volume or the boundary (eq. 3.37).
+    template <int dim>
+    class Target : public AutoDiffTerm<dim, Target<dim>>
+    {
+    public:
+      Target(const std::string                          &name,
+             const double                                weight,
+             const bool                                  boundary,
+             const std::set<types::boundary_id>         &ids,
+             const std::shared_ptr<FunctionParser<dim>> &expression)
+        : AutoDiffTerm<dim, Target<dim>>(name, weight)
+        , boundary(boundary)
+        , ids(ids)
+        , expression(expression)
+      {}
+      std::vector<typename ObjectiveTerm<dim>::Integral>
+      integrals() const override
+      {
+        typename ObjectiveTerm<dim>::Integral i;
+        i.boundary     = boundary;
+        i.boundary_ids = ids;
+        return {i};
+      }
+      bool
+      needs_reference_run() const override
+      {
+        return !expression;
+      }
+      template <typename N>
+      N
+      j(unsigned int,
+        const IntegrandContext<dim> &c,
+        const Tensor<1, dim, N>     &x,
+        const Tensor<1, dim, N>     &u,
+        const Tensor<2, dim, N> &,
+        const N &,
+        const N &) const
+      {
+        Tensor<1, dim> target = c.target;
+        if (expression)
+          {
+            Vector<double> v(dim);
+            expression->set_time(c.time);
+            expression->vector_value(c.X, v);
+            for (unsigned int d = 0; d < dim; ++d)
+              target[d] = v[d];
+          }
+        N r = 0;
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            const N e = x[d] + u[d] - N(target[d]);
+            r += e * e;
+          }
+        return r;
+      }
+      double
+      combine(const std::vector<double> &I,
+              std::vector<double>       *grad) const override
+      {
+        if (grad)
+          *grad = {1.};
+        return I[0];
+      }
+
+    private:
+      const bool                           boundary;
+      const std::set<types::boundary_id>   ids;
+      std::shared_ptr<FunctionParser<dim>> expression;
+    };
+
+    // Center of mass of the deformed body: distance to a target (eq. 3.38)
+    // or minus its height (eq. 3.39, last coordinate).
+    template <int dim>
+    class CenterOfMass : public AutoDiffTerm<dim, CenterOfMass<dim>>
+    {
+    public:
+      CenterOfMass(const std::string    &name,
+                   const double          weight,
+                   const bool            height,
+                   const Tensor<1, dim> &target)
+        : AutoDiffTerm<dim, CenterOfMass<dim>>(name, weight)
+        , height(height)
+        , target(target)
+      {}
+      std::vector<typename ObjectiveTerm<dim>::Integral>
+      integrals() const override
+      {
+        return std::vector<typename ObjectiveTerm<dim>::Integral>(dim + 1);
+      }
+      // k = 0: mass; k = 1..dim: first moments of the deformed positions.
+      template <typename N>
+      N
+      j(unsigned int                 k,
+        const IntegrandContext<dim> &c,
+        const Tensor<1, dim, N>     &x,
+        const Tensor<1, dim, N>     &u,
+        const Tensor<2, dim, N> &,
+        const N &,
+        const N &) const
+      {
+        return k == 0 ? N(c.density) : N(c.density) * (x[k - 1] + u[k - 1]);
+      }
+      double
+      combine(const std::vector<double> &I,
+              std::vector<double>       *grad) const override
+      {
+        const double m = I[0];
+        if (height)
+          {
+            if (grad)
+              {
+                grad->assign(dim + 1, 0.);
+                (*grad)[0]   = I[dim] / (m * m);
+                (*grad)[dim] = -1. / m;
+              }
+            return -I[dim] / m;
+          }
+        double value = 0;
+        if (grad)
+          grad->assign(dim + 1, 0.);
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            const double e = I[d + 1] / m - target[d];
+            value += e * e;
+            if (grad)
+              {
+                (*grad)[d + 1] = 2. * e / m;
+                (*grad)[0] -= 2. * e * I[d + 1] / (m * m);
+              }
+          }
+        return value;
+      }
+
+    private:
+      const bool           height;
+      const Tensor<1, dim> target;
+    };
+  } // namespace
+
+
+
+  void
+  ObjectiveParameters::declare(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Objective");
+    {
+      prm.declare_entry(
+        "Terms",
+        "",
+        Patterns::Anything(),
+        "Records 'name : key=value, ...' separated by ';', all with an "
+        "optional weight (default 1): 'stress : p=2' (L^p norm of the "
+        "Frobenius stress, eq. 3.36), 'von mises : p=6', 'compliance', "
+        "'volume', 'volume bound : bound=V' (eq. 3.40), 'stress bound : "
+        "bound=s' and 'von mises bound : bound=s' (eq. 3.42), 'target' and "
+        "'boundary target : boundary=id' (eq. 3.37, see Target), 'center "
+        "of mass : x=.., y=.., z=..' (eq. 3.38), 'height' (eq. 3.39).");
+      prm.declare_entry("Time weighting",
+                        "integral",
+                        Patterns::Selection("integral|final"),
+                        "Transient runs: integrate the terms over time "
+                        "(trapezoidal rule, eq. 3.14) or take the final step.");
+      prm.declare_entry(
+        "Target",
+        "",
+        Patterns::Anything(),
+        "Target deformed position of the material point (X, Y[, Z]) of the "
+        "mesh as read, expressions in x, y[, z], t. Empty: the deformed "
+        "positions of a reference run (the mesh without Design/Shape "
+        "perturbation, with Reference bodies).");
+      prm.declare_entry(
+        "Reference bodies",
+        "",
+        Patterns::Anything(),
+        "Material records (as Material/Bodies) of the reference run; empty: "
+        "Material/Bodies. Material recovery starts from Material/Bodies and "
+        "seeks these.");
+    }
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  ObjectiveParameters::parse(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Objective");
+    terms            = prm.get("Terms");
+    time_weighting   = prm.get("Time weighting");
+    target           = prm.get("Target");
+    reference_bodies = prm.get("Reference bodies");
+    prm.leave_subsection();
+  }
+
+
+
+  template <int dim>
+  Objective<dim>::Objective(const Parameters &parameters)
+    : parameters(parameters)
+  {
+    const std::string                    entry = "Objective/Terms";
+    std::shared_ptr<FunctionParser<dim>> target;
+    if (!parameters.target.empty())
+      target = make_function<dim>(split_top_level(parameters.target, ','),
+                                  std::vector<bool>(dim, true),
+                                  {},
+                                  "Objective/Target");
+    const double none = std::numeric_limits<double>::quiet_NaN();
+    for (const auto &record : split_top_level(parameters.terms, ';'))
+      {
+        if (Utilities::trim(record).empty())
+          continue;
+        const auto        colon = record.find(':');
+        const std::string name  = Utilities::trim(record.substr(0, colon));
+        const auto        kv    = parse_key_values(
+          colon == std::string::npos ? "" : record.substr(colon + 1), entry);
+        const std::string where = entry + ", term '" + name + "'";
+        const double      w     = key(kv, "weight", 1., where);
+        std::unique_ptr<ObjectiveTerm<dim>> t;
+        if (name == "stress" || name == "von mises")
+          {
+            const double p = key(kv, "p", 2., where);
+            AssertThrow(p >= 2,
+                        ExcMessage(where + ": p must be at least 2 (got " +
+                                   std::to_string(p) + ")."));
+            t = std::make_unique<StressNorm<dim>>(name,
+                                                  w,
+                                                  p,
+                                                  name == "von mises");
+          }
+        else if (name == "compliance")
+          t = std::make_unique<Compliance<dim>>(name, w);
+        else if (name == "volume")
+          t = std::make_unique<Volume<dim>>(name, w, none);
+        else if (name == "volume bound")
+          t = std::make_unique<Volume<dim>>(name,
+                                            w,
+                                            key(kv, "bound", none, where));
+        else if (name == "stress bound" || name == "von mises bound")
+          t = std::make_unique<StressBound<dim>>(name,
+                                                 w,
+                                                 key(kv, "bound", none, where),
+                                                 name == "von mises bound");
+        else if (name == "target" || name == "boundary target")
+          {
+            std::set<types::boundary_id> ids;
+            if (kv.count("boundary"))
+              ids.insert(static_cast<types::boundary_id>(kv.at("boundary")));
+            t = std::make_unique<Target<dim>>(
+              name, w, name == "boundary target", ids, target);
+          }
+        else if (name == "center of mass" || name == "height")
+          {
+            Tensor<1, dim> c;
+            const char    *axes[3] = {"x", "y", "z"};
+            if (name == "center of mass")
+              for (unsigned int d = 0; d < dim; ++d)
+                c[d] = key(kv, axes[d], none, where);
+            t =
+              std::make_unique<CenterOfMass<dim>>(name, w, name == "height", c);
+          }
+        else
+          AssertThrow(false,
+                      ExcMessage(entry + ": unknown term '" + name +
+                                 "' (see --print-parameters for the list)."));
+        term_list.push_back(std::move(t));
+      }
+    AssertThrow(!term_list.empty(),
+                ExcMessage(entry + " is empty: give at least one term."));
+  }
+
+
+
+  template <int dim>
+  double
+  Objective<dim>::step_weight(const unsigned int i,
+                              const unsigned int n,
+                              const double       dt) const
+  {
+    if (parameters.time_weighting == "final")
+      return i == n ? 1. : 0.;
+    return (i == 0 || i == n) ? 0.5 * dt : dt;
+  }
+
+
+
+  template <int dim>
+  bool
+  Objective<dim>::needs_reference_run() const
+  {
+    for (const auto &t : term_list)
+      if (t->needs_reference_run())
+        return true;
+    return false;
+  }
+
+  template class ObjectiveTerm<2>;
+  template class ObjectiveTerm<3>;
+  template class Objective<2>;
+  template class Objective<3>;
+} // namespace forma

@@ -1,0 +1,1211 @@
+// The adjoint layer of the elasticity simulator (thesis ch. 3.3-3.8): design
+// vectors, objectives, static and BDF transient adjoints, and the parameter
+// derivative products p^T d_q h of every force.
+
+#include <deal.II/base/timer.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/mapping_fe_field.h>
+#include <deal.II/grid/grid_tools.h>
+#include <deal.II/numerics/vector_tools.h>
+
+#include <forma/base/records.h>
+#include <forma/base/run_context.h>
+#include <forma/physics/bdf.h>
+
+#include "simulator_impl.h"
+
+namespace forma
+{
+  namespace
+  {
+    // Blocks in the order they appear in a design vector.
+    const std::vector<std::string> block_order = {"shape",
+                                                  "cell material",
+                                                  "material",
+                                                  "damping",
+                                                  "loads",
+                                                  "initial displacement",
+                                                  "initial velocity"};
+
+    // Product (A : B) of the rank-one gradient e_c (x) g with a tensor M:
+    // sum_l M[c][l] g[l].
+    template <int dim>
+    inline double
+    row_dot(const Tensor<2, dim> &M,
+            const unsigned int    c,
+            const Tensor<1, dim> &g)
+    {
+      return M[c] * g;
+    }
+
+    // H_kl = sum_ij G_ij A_ijkl.
+    template <int dim>
+    Tensor<2, dim>
+    contract_left(const Tensor<2, dim> &G, const Tensor<4, dim> &A)
+    {
+      Tensor<2, dim> H;
+      for (unsigned int i = 0; i < dim; ++i)
+        for (unsigned int j = 0; j < dim; ++j)
+          if (G[i][j] != 0)
+            H += G[i][j] * A[i][j];
+      return H;
+    }
+
+    // Shape-derivative kernel of an integrand of grad u transported with the
+    // domain: d/d eps grad u = -grad u grad theta, so
+    //   D : (-grad u grad theta) = -sum_l (sum_k D_kl gu_kc) dN_l
+    // for theta = N e_c; returned as rows c of the tensor W_cl.
+    template <int dim>
+    Tensor<2, dim>
+    transport_kernel(const Tensor<2, dim> &D, const Tensor<2, dim> &grad_u)
+    {
+      return -transpose(grad_u) * D;
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  struct ElasticitySimulator<dim>::Impl::PhysicalGradient
+  {
+    Vector_t                           shape; ///< on shape DoFs, condensed
+    std::vector<std::array<double, 2>> lame, damping; ///< per active cell
+    std::vector<double>                loads;
+    Tensor<1, dim>                     initial_u, initial_v;
+  };
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::build_design_layout()
+  {
+    layout.blocks.clear();
+    unsigned int offset       = 0;
+    const bool   is_transient = p.problem == "transient";
+    for (const auto &name : block_order)
+      {
+        if (!p.design.has(name))
+          continue;
+        unsigned int size = 0;
+        if (name == "shape")
+          size = shape_dof_handler.n_dofs();
+        else if (name == "cell material")
+          size = 2 * tria->n_global_active_cells();
+        else if (name == "material" || name == "damping")
+          size = 2 * all_ids.size();
+        else if (name == "loads")
+          size = tractions.size() + pressures.size() + (body_force ? 1 : 0) +
+                 (gravity.norm() > 0 ? 1 : 0);
+        else
+          size = dim;
+        AssertThrow(size > 0,
+                    ExcMessage("Design/Parameters: 'loads' needs tractions, "
+                               "pressures, a body force or gravity."));
+        AssertThrow(is_transient ||
+                      (name != "damping" && name.find("initial") != 0),
+                    ExcMessage("Design/Parameters: '" + name +
+                               "' needs a transient problem."));
+        layout.blocks.push_back({name, offset, size});
+        offset += size;
+      }
+
+    // The starting design: the mesh moved by the shape perturbation, the
+    // materials of Material/Bodies, unit load scales, no offsets.
+    design.assign(layout.size(), 0.);
+    if (const auto *b = layout.find("shape"))
+      if (!p.design.shape_perturbation.empty())
+        {
+          Vector_t delta(shape_owned, comm);
+          VectorTools::interpolate(
+            reference_mapping[0],
+            shape_dof_handler,
+            *make_function<dim>(split_top_level(p.design.shape_perturbation,
+                                                ','),
+                                std::vector<bool>(dim, true),
+                                constants,
+                                "Design/Shape perturbation"),
+            delta);
+          shape_constraints.set_zero(delta);
+          std::vector<double> local(b->size, 0.);
+          for (const auto i : shape_owned)
+            local[i] = delta(i);
+          Utilities::MPI::sum(local, comm, local);
+          std::copy(local.begin(), local.end(), design.begin() + b->offset);
+        }
+    auto pair_of = [&](const MaterialProperties &m, const bool elastic) {
+      if (!elastic)
+        return std::array<double, 2>{{m.damping_shear, m.damping_bulk}};
+      return p.design.young_poisson ?
+               std::array<double, 2>{{m.youngs_modulus, m.poisson_ratio}} :
+               std::array<double, 2>{{m.lambda, m.mu}};
+    };
+    if (const auto *b = layout.find("cell material"))
+      {
+        std::vector<double> local(b->size, 0.);
+        for (const auto &cell : tria->active_cell_iterators())
+          if (cell->is_locally_owned())
+            {
+              const auto v = pair_of(bodies.at(cell->material_id()), true);
+              local[2 * cell->global_active_cell_index()]     = v[0];
+              local[2 * cell->global_active_cell_index() + 1] = v[1];
+            }
+        Utilities::MPI::sum(local, comm, local);
+        std::copy(local.begin(), local.end(), design.begin() + b->offset);
+      }
+    unsigned int k = 0;
+    for (const auto id : all_ids)
+      {
+        for (const std::string name : {"material", "damping"})
+          if (const auto *b = layout.find(name))
+            {
+              const auto v = pair_of(bodies.at(id), name == "material");
+              design[b->offset + 2 * k]     = v[0];
+              design[b->offset + 2 * k + 1] = v[1];
+            }
+        ++k;
+      }
+    if (const auto *b = layout.find("loads"))
+      std::fill(design.begin() + b->offset,
+                design.begin() + b->offset + b->size,
+                1.);
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::apply_design(const std::vector<double> &q)
+  {
+    AssertThrow(q.size() == layout.size(),
+                ExcMessage("the design vector has " + std::to_string(q.size()) +
+                           " entries; the design space has " +
+                           std::to_string(layout.size()) + "."));
+    design = q;
+    reset_physical_parameters("");
+
+    // Material pairs from the design, checked for admissibility.
+    auto lame_of = [&](const double a, const double b, const std::string &w) {
+      std::array<double, 2> l = {{a, b}};
+      if (p.design.young_poisson)
+        {
+          AssertThrow(a > 0 && b > -1 && b < 0.5,
+                      ExcMessage(w + ": inadmissible E = " + fmt(a) +
+                                 ", nu = " + fmt(b) +
+                                 " (need E > 0, -1 < nu < 0.5)."));
+          l = lame_from_young_poisson(a, b);
+        }
+      AssertThrow(l[1] > 0 && l[0] + 2. * l[1] / dim > 0,
+                  ExcMessage(w + ": inadmissible lambda = " + fmt(l[0]) +
+                             ", mu = " + fmt(l[1]) + "."));
+      return l;
+    };
+    std::map<types::material_id, unsigned int> body_index;
+    for (const auto id : all_ids)
+      body_index.emplace(id, body_index.size());
+
+    for (const auto &b : layout.blocks)
+      {
+        const double *v = q.data() + b.offset;
+        if (b.name == "shape")
+          {
+            Vector_t x(shape_owned, comm);
+            for (const auto i : shape_owned)
+              x(i) = v[i];
+            x.compress(VectorOperation::insert);
+            shape_constraints.set_zero(x); // fixed vertices do not move
+            shape_constraints.distribute(x);
+            Vector_t X(shape_owned, comm);
+            X = shape_reference;
+            x += X;
+            shape_ghost = x;
+          }
+        else if (b.name == "cell material")
+          {
+            for (const auto &cell : tria->active_cell_iterators())
+              if (!cell->is_artificial())
+                {
+                  const auto g = cell->global_active_cell_index();
+                  cell_lame[cell->active_cell_index()] =
+                    lame_of(v[2 * g],
+                            v[2 * g + 1],
+                            "Design (cell material), cell " +
+                              std::to_string(g));
+                }
+          }
+        else if (b.name == "material" || b.name == "damping")
+          {
+            std::map<types::material_id, std::array<double, 2>> per_body;
+            for (const auto &[id, k] : body_index)
+              {
+                const std::string w =
+                  "Design (" + b.name + "), material id " + std::to_string(id);
+                if (b.name == "material")
+                  per_body[id] = lame_of(v[2 * k], v[2 * k + 1], w);
+                else
+                  {
+                    AssertThrow(v[2 * k] >= 0 && v[2 * k + 1] >= 0,
+                                ExcMessage(w + ": damping must be >= 0."));
+                    per_body[id] = {{v[2 * k], v[2 * k + 1]}};
+                  }
+              }
+            for (const auto &cell : tria->active_cell_iterators())
+              if (!cell->is_artificial())
+                (b.name == "material" ?
+                   cell_lame :
+                   cell_damping_coefficients)[cell->active_cell_index()] =
+                  per_body.at(cell->material_id());
+          }
+        else if (b.name == "loads")
+          {
+            unsigned int k = 0;
+            for (; k < surface_load_scale.size(); ++k)
+              surface_load_scale[k] = v[k];
+            if (body_force)
+              body_force_scale = v[k++];
+            if (gravity.norm() > 0)
+              gravity_scale = v[k++];
+          }
+        else
+          for (unsigned int d = 0; d < dim; ++d)
+            (b.name == "initial displacement" ? initial_displacement_offset :
+                                                initial_velocity_offset)[d] =
+              v[d];
+      }
+
+    // A shape that inverts a cell has no meaning: say so instead of solving.
+    if (layout.find("shape"))
+      {
+        hp::FEValues<dim> fv(mapping, fe, quadrature, update_jacobians);
+        for (const auto &cell : dof_handler.active_cell_iterators())
+          if (cell->is_locally_owned())
+            {
+              fv.reinit(cell);
+              const auto &v = fv.get_present_fe_values();
+              for (unsigned int q = 0; q < v.n_quadrature_points; ++q)
+                AssertThrow(determinant(Tensor<2, dim>(v.jacobian(q))) > 0,
+                            ExcMessage("the design inverts the cell at " +
+                                       fmt(Tensor<1, dim>(cell->center())) +
+                                       " of the mesh as read."));
+            }
+      }
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::solve_forward(const bool quiet_run)
+  {
+    Timer timer;
+    quiet        = quiet_run;
+    store_states = true;
+    force_scale  = 0;
+    steps.clear();
+    if (p.problem == "static")
+      solve_static();
+    else
+      solve_transient();
+    quiet = false;
+    forward_seconds += timer.wall_time();
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::set_step_state(const unsigned int i)
+  {
+    if (p.problem == "static")
+      {
+        transient = false;
+        time      = p.end_time;
+        u         = u_states[0];
+        u_ghost   = u;
+        return;
+      }
+    transient            = true;
+    const unsigned int n = u_states.size() - 1;
+    dt                   = p.end_time / n;
+    time                 = i * dt;
+    u                    = u_states[i];
+    u_ghost              = u;
+    if (i == 0)
+      {
+        inertia_factor = 0;
+        w_ghost        = 0;
+        u_old_ghost    = u;
+        return;
+      }
+    const auto   bdf = bdf_coefficients_at_step(p.bdf_order, i);
+    const double bdt = bdf.beta * dt;
+    Vector_t     w(owned, comm);
+    for (unsigned int j = 0; j < bdf.alpha.size(); ++j)
+      {
+        w.add(bdf.alpha[j], u_states[i - 1 - j]);
+        w.add(bdf.alpha[j] * bdt, v_states[i - 1 - j]);
+      }
+    w_ghost        = w;
+    u_old_ghost    = u_states[i - 1];
+    inertia_factor = 1. / (bdt * bdt);
+  }
+
+
+
+  template <int dim>
+  std::vector<std::vector<double>>
+  ElasticitySimulator<dim>::Impl::objective_integrals(const Objective<dim> &J,
+                                                      const unsigned int    i)
+  {
+    set_step_state(i);
+    // accumulate() with no outputs leaves the integrals in `objective_cache`.
+    accumulate(J, nullptr, nullptr, nullptr, nullptr);
+    auto I = objective_cache;
+    for (auto &v : I)
+      Utilities::MPI::sum(v, comm, v);
+    return I;
+  }
+
+
+
+  template <int dim>
+  double
+  ElasticitySimulator<dim>::Impl::objective_value(const Objective<dim> &J)
+  {
+    const unsigned int n         = u_states.size() - 1;
+    double             value     = 0;
+    const bool         is_static = p.problem == "static";
+    for (unsigned int i = 0; i <= n; ++i)
+      {
+        const double sw = is_static ? 1. : J.step_weight(i, n, p.end_time / n);
+        if (sw == 0)
+          continue;
+        const auto I = objective_integrals(J, i);
+        for (unsigned int t = 0; t < J.terms().size(); ++t)
+          value +=
+            sw * J.terms()[t]->weight * J.terms()[t]->combine(I[t], nullptr);
+      }
+    return value;
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::accumulate(
+    const Objective<dim>                   &J,
+    const std::vector<std::vector<double>> *weights,
+    const Vector_t                         *adjoint,
+    Vector_t                               *dJ_du,
+    PhysicalGradient                       *g)
+  {
+    const FEValuesExtractors::Vector disp(0);
+    const bool                       values_only = !weights && !adjoint;
+    objective_cache.clear();
+    for (const auto &t : J.terms())
+      objective_cache.emplace_back(t->integrals().size(), 0.);
+
+    Vector_t adjoint_ghost, reference_ghost;
+    if (adjoint)
+      {
+        adjoint_ghost.reinit(owned, relevant, comm);
+        adjoint_ghost = *adjoint;
+      }
+    const bool has_reference = !reference_states.empty();
+    if (has_reference)
+      {
+        reference_ghost.reinit(owned, relevant, comm);
+        const unsigned int i =
+          p.problem == "static" ?
+            0 :
+            static_cast<unsigned int>(std::round(time / std::max(dt, 1e-300)));
+        reference_ghost =
+          reference_states[std::min<std::size_t>(i,
+                                                 reference_states.size() - 1)];
+      }
+
+    Scratch<dim> s(mapping, reference_mapping, fe, quadrature, face_quadrature);
+    hp::FECollection<dim> shape_collection(*shape_fe);
+    const UpdateFlags     shape_flags = update_values | update_gradients;
+    hp::FEValues<dim>     shape_values(mapping,
+                                   shape_collection,
+                                   quadrature,
+                                   shape_flags);
+    hp::FEFaceValues<dim> shape_face_values(mapping,
+                                            shape_collection,
+                                            face_quadrature,
+                                            shape_flags);
+    const bool            want_shape = g && layout.find("shape");
+    const unsigned int    ns         = shape_fe->n_dofs_per_cell();
+    Vector<double>        local_shape(ns), local_u;
+    std::vector<types::global_dof_index> shape_dofs(ns), dofs;
+    std::vector<Tensor<1, dim>>          ref_u, adj_u, u_vals;
+    std::vector<Tensor<2, dim>>          adj_grad, grads, grads_old;
+
+    // Objective integrand contributions at one point (volume or face).
+    IntegrandValue<dim> r;
+    auto                objective_point =
+      [&](const FEValuesBase<dim>                              &fv,
+          const FEValuesBase<dim>                              *sv,
+          const unsigned int                                    q,
+          const IntegrandContext<dim>                          &ctx,
+          const Material<dim>                                  &mat,
+          const std::vector<unsigned int>                      &term_integrals,
+          const bool                                            boundary,
+          const typename DoFHandler<dim>::active_cell_iterator &cell) {
+        const double JxW = fv.JxW(q);
+        for (unsigned int t = 0, idx = 0; t < J.terms().size(); ++t)
+          {
+            const auto &term = *J.terms()[t];
+            const auto  ints = term.integrals();
+            for (unsigned int k = 0; k < ints.size(); ++k, ++idx)
+              {
+                if (!term_integrals[idx])
+                  continue;
+                const double w = weights ? (*weights)[t][k] : 0.;
+                if (!values_only && w == 0)
+                  continue;
+                term.integrand(k,
+                               ctx,
+                               fv.quadrature_point(q),
+                               u_vals[q],
+                               grads[q],
+                               mat.properties().lambda,
+                               mat.properties().mu,
+                               !values_only,
+                               r);
+                if (values_only)
+                  {
+                    objective_cache[t][k] += r.value * JxW;
+                    continue;
+                  }
+                if (dJ_du)
+                  for (unsigned int i = 0; i < local_u.size(); ++i)
+                    {
+                      const unsigned int c =
+                        fv.get_fe().system_to_component_index(i).first;
+                      local_u(i) +=
+                        w *
+                        (r.d_u[c] * fv.shape_value(i, q) +
+                         row_dot(r.d_grad_u, c, fv.shape_grad(i, q))) *
+                        JxW;
+                    }
+                if (!g)
+                  continue;
+                if (sv)
+                  {
+                    // eqs. 3.31/3.34 (surface divergence on faces)
+                    Tensor<2, dim> W = transport_kernel(r.d_grad_u, grads[q]);
+                    for (unsigned int d = 0; d < dim; ++d)
+                      W[d][d] += r.value;
+                    for (unsigned int a = 0; a < ns; ++a)
+                      {
+                        const unsigned int c =
+                          shape_fe->system_to_component_index(a).first;
+                        const Tensor<1, dim> dN = sv->shape_grad(a, q);
+                        double               v =
+                          row_dot(W, c, dN) + r.d_x[c] * sv->shape_value(a, q);
+                        if (boundary)
+                          v -= r.value * fv.normal_vector(q)[c] *
+                               (dN * fv.normal_vector(q));
+                        local_shape(a) += w * v * JxW;
+                      }
+                  }
+                auto &l = g->lame[cell->active_cell_index()];
+                l[0] += w * r.d_lambda * JxW;
+                l[1] += w * r.d_mu * JxW;
+              }
+          }
+      };
+
+    // Which integrals live on the volume, which on a boundary id.
+    std::vector<unsigned int> volume_mask, any_boundary;
+    for (const auto &t : J.terms())
+      for (const auto &i : t->integrals())
+        {
+          volume_mask.push_back(!i.boundary);
+          any_boundary.push_back(i.boundary);
+        }
+    const bool has_boundary_terms =
+      std::find(any_boundary.begin(), any_boundary.end(), 1u) !=
+      any_boundary.end();
+
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        if (!cell->is_locally_owned())
+          continue;
+        s.fe_values.reinit(cell);
+        const FEValues<dim> &fv  = s.fe_values.get_present_fe_values();
+        const auto          &cfe = fv.get_fe();
+        const unsigned int   n   = cfe.n_dofs_per_cell();
+        const unsigned int   nq  = fv.n_quadrature_points;
+        dofs.resize(n);
+        cell->get_dof_indices(dofs);
+        local_u.reinit(dJ_du ? n : 0);
+        local_shape = 0;
+        const typename DoFHandler<dim>::active_cell_iterator shape_cell(
+          &*tria, cell->level(), cell->index(), &shape_dof_handler);
+        const FEValues<dim> *sv = nullptr;
+        if (want_shape)
+          {
+            shape_values.reinit(shape_cell, cell->active_fe_index(), 0, 0);
+            sv = &shape_values.get_present_fe_values();
+            shape_cell->get_dof_indices(shape_dofs);
+          }
+
+        const Material<dim> mat  = cell_material(cell);
+        const Damping<dim>  damp = cell_damping(cell);
+        const double        rho  = mat.properties().density;
+        grads.resize(nq);
+        u_vals.resize(nq);
+        fv[disp].get_function_gradients(u_ghost, grads);
+        fv[disp].get_function_values(u_ghost, u_vals);
+        reference_points(cell, s);
+
+        IntegrandContext<dim> ctx;
+        ctx.density      = rho;
+        ctx.time         = time;
+        ctx.model        = p.model;
+        ctx.plane_stress = p.plane_stress;
+        if (has_reference)
+          {
+            ref_u.resize(nq);
+            fv[disp].get_function_values(reference_ghost, ref_u);
+          }
+        for (unsigned int q = 0; q < nq; ++q)
+          {
+            ctx.X = s.X[q];
+            if (has_reference)
+              ctx.target = Tensor<1, dim>(s.X[q]) + ref_u[q];
+            objective_point(fv, sv, q, ctx, mat, volume_mask, false, cell);
+          }
+
+        // p^T d_q h of the volume forces (eq. 3.24 and the material forms).
+        if (adjoint)
+          {
+            adj_grad.resize(nq);
+            adj_u.resize(nq);
+            fv[disp].get_function_gradients(adjoint_ghost, adj_grad);
+            fv[disp].get_function_values(adjoint_ghost, adj_u);
+            s.u.assign(nq, Tensor<1, dim>());
+            s.w.assign(nq, Tensor<1, dim>());
+            grads_old.assign(nq, Tensor<2, dim>());
+            if (transient)
+              {
+                fv[disp].get_function_values(w_ghost, s.w);
+                s.u = u_vals;
+                fv[disp].get_function_gradients(u_old_ghost, grads_old);
+              }
+            const Damping<dim> unit_shear(1., 0.), unit_bulk(0., 1.);
+            for (unsigned int q = 0; q < nq; ++q)
+              {
+                const double          JxW = fv.JxW(q);
+                const Tensor<2, dim> &G   = adj_grad[q];
+                Tensor<2, dim>        P   = mat.stress(grads[q]);
+                Tensor<4, dim>        A   = mat.tangent(grads[q]);
+                Tensor<2, dim>        H_old;
+                if (transient)
+                  {
+                    P += damp.stress(grads[q], grads_old[q], dt);
+                    A += damp.tangent(grads[q], grads_old[q], dt);
+                    H_old = contract_left(
+                      G, damp.tangent_old(grads[q], grads_old[q], dt));
+                  }
+                const Tensor<1, dim> f =
+                  volume_force(rho, s.X[q], s.u[q], s.w[q]);
+                if (want_shape)
+                  {
+                    const Tensor<2, dim> H = contract_left(G, A);
+                    Tensor<2, dim>       V = transport_kernel(H, grads[q]) +
+                                       transport_kernel(H_old, grads_old[q]) -
+                                       transpose(G) * P;
+                    const double div_term = scalar_product(P, G) + f * adj_u[q];
+                    for (unsigned int d = 0; d < dim; ++d)
+                      V[d][d] += div_term;
+                    for (unsigned int a = 0; a < ns; ++a)
+                      local_shape(a) +=
+                        row_dot(V,
+                                shape_fe->system_to_component_index(a).first,
+                                sv->shape_grad(a, q)) *
+                        JxW;
+                  }
+                const auto dP = mat.stress_lame_derivatives(grads[q]);
+                auto      &l  = g->lame[cell->active_cell_index()];
+                l[0] += scalar_product(dP[0], G) * JxW;
+                l[1] += scalar_product(dP[1], G) * JxW;
+                if (transient)
+                  {
+                    auto &dd = g->damping[cell->active_cell_index()];
+                    dd[0] +=
+                      scalar_product(
+                        unit_shear.stress(grads[q], grads_old[q], dt), G) *
+                      JxW;
+                    dd[1] +=
+                      scalar_product(
+                        unit_bulk.stress(grads[q], grads_old[q], dt), G) *
+                      JxW;
+                  }
+                // Load scales: d/ds of -int s b . p.
+                unsigned int k = surface_load_scale.size();
+                if (body_force)
+                  {
+                    Vector<double> b(dim);
+                    body_force->vector_value(s.X[q], b);
+                    double bp = 0;
+                    for (unsigned int d = 0; d < dim; ++d)
+                      bp += b[d] * adj_u[q][d];
+                    g->loads[k++] -= bp * JxW;
+                  }
+                if (gravity.norm() > 0)
+                  g->loads[k++] -= rho * (gravity * adj_u[q]) * JxW;
+              }
+          }
+
+        // Faces: boundary objective integrals and surface loads.
+        if (cell->at_boundary() && (has_boundary_terms || adjoint))
+          for (const auto face : cell->face_indices())
+            {
+              if (!cell->face(face)->at_boundary())
+                continue;
+              const types::boundary_id  id = cell->face(face)->boundary_id();
+              std::vector<unsigned int> mask(any_boundary.size(), 0);
+              bool                      any = false;
+              unsigned int              idx = 0;
+              for (const auto &t : J.terms())
+                for (const auto &i : t->integrals())
+                  {
+                    mask[idx] = i.boundary && (i.boundary_ids.empty() ||
+                                               i.boundary_ids.count(id));
+                    any |= mask[idx++] != 0;
+                  }
+              const bool load = adjoint && loaded(id);
+              if (!any && !load)
+                continue;
+              s.face_values.reinit(cell, face);
+              const FEFaceValues<dim> &ff =
+                s.face_values.get_present_fe_values();
+              const FEFaceValues<dim> *sf = nullptr;
+              if (want_shape)
+                {
+                  shape_face_values.reinit(
+                    shape_cell, face, cell->active_fe_index(), 0, 0);
+                  sf = &shape_face_values.get_present_fe_values();
+                }
+              reference_face_points(cell, face, s);
+              const unsigned int nf = ff.n_quadrature_points;
+              grads.resize(nf);
+              u_vals.resize(nf);
+              ff[disp].get_function_gradients(u_ghost, grads);
+              ff[disp].get_function_values(u_ghost, u_vals);
+              if (any)
+                {
+                  if (has_reference)
+                    {
+                      ref_u.resize(nf);
+                      ff[disp].get_function_values(reference_ghost, ref_u);
+                    }
+                  for (unsigned int q = 0; q < nf; ++q)
+                    {
+                      ctx.X      = s.X[q];
+                      ctx.normal = ff.normal_vector(q);
+                      if (has_reference)
+                        ctx.target = Tensor<1, dim>(s.X[q]) + ref_u[q];
+                      objective_point(ff, sf, q, ctx, mat, mask, true, cell);
+                    }
+                }
+              if (!load)
+                continue;
+              adj_u.resize(nf);
+              ff[disp].get_function_values(adjoint_ghost, adj_u);
+              Vector<double> val(dim);
+              for (unsigned int q = 0; q < nf; ++q)
+                {
+                  const double          JxW = ff.JxW(q);
+                  const Tensor<1, dim> &n   = ff.normal_vector(q);
+                  Tensor<1, dim>        traction;
+                  double                pressure = 0;
+                  for (unsigned int k = 0; k < tractions.size(); ++k)
+                    if (tractions[k].first == id)
+                      {
+                        tractions[k].second->vector_value(s.X[q], val);
+                        double tp = 0;
+                        for (unsigned int d = 0; d < dim; ++d)
+                          {
+                            traction[d] += surface_load_scale[k] * val[d];
+                            tp += val[d] * adj_u[q][d];
+                          }
+                        g->loads[k] -= tp * JxW;
+                      }
+                  for (unsigned int k = 0; k < pressures.size(); ++k)
+                    if (pressures[k].first == id)
+                      {
+                        const double pk = pressures[k].second->value(s.X[q]);
+                        const unsigned int m = tractions.size() + k;
+                        pressure += surface_load_scale[m] * pk;
+                        g->loads[m] += pk * (n * adj_u[q]) * JxW;
+                      }
+                  if (!want_shape)
+                    continue;
+                  // -int t.p ds and int P n.p ds on the moving surface:
+                  // d(ds) = div_S theta ds, d(n ds) = (div theta n -
+                  // grad theta^T n) ds.
+                  const double tp = traction * adj_u[q];
+                  const double np = n * adj_u[q];
+                  for (unsigned int a = 0; a < ns; ++a)
+                    {
+                      const unsigned int c =
+                        shape_fe->system_to_component_index(a).first;
+                      const Tensor<1, dim> dN    = sf->shape_grad(a, q);
+                      const double         div   = dN[c];
+                      const double         div_s = div - n[c] * (dN * n);
+                      local_shape(a) +=
+                        (-tp * div_s +
+                         pressure * (np * div - n[c] * (adj_u[q] * dN))) *
+                        JxW;
+                    }
+                }
+            }
+
+        if (dJ_du)
+          constraints_zero.distribute_local_to_global(local_u, dofs, *dJ_du);
+        if (want_shape)
+          shape_constraints.distribute_local_to_global(local_shape,
+                                                       shape_dofs,
+                                                       g->shape);
+      }
+    if (dJ_du)
+      dJ_du->compress(VectorOperation::add);
+    if (want_shape)
+      g->shape.compress(VectorOperation::add);
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::mass_and_damping_products(
+    const Vector_t    &z,
+    const Vector_t    *adjoint_next,
+    const unsigned int next,
+    Vector_t          &result)
+  {
+    // C^T [M z + (d f(u^next, u^{next-1}) / d u^{next-1})^T p_next]
+    result = 0;
+    Vector_t z_ghost(owned, relevant, comm), a_ghost, u_next, u_prev;
+    z_ghost = z;
+    if (adjoint_next)
+      {
+        a_ghost.reinit(owned, relevant, comm);
+        a_ghost = *adjoint_next;
+        u_next.reinit(owned, relevant, comm);
+        u_next = u_states[next];
+        u_prev.reinit(owned, relevant, comm);
+        u_prev = u_states[next - 1];
+      }
+    const FEValuesExtractors::Vector     disp(0);
+    hp::FEValues<dim>                    hp_fv(mapping,
+                            fe,
+                            quadrature,
+                            update_values | update_gradients |
+                              update_JxW_values);
+    std::vector<Tensor<1, dim>>          zq;
+    std::vector<Tensor<2, dim>>          gn, gp, ga;
+    std::vector<types::global_dof_index> dofs;
+    Vector<double>                       local;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          hp_fv.reinit(cell);
+          const auto        &fv  = hp_fv.get_present_fe_values();
+          const auto        &cfe = fv.get_fe();
+          const unsigned int n   = cfe.n_dofs_per_cell(),
+                             nq  = fv.n_quadrature_points;
+          dofs.resize(n);
+          cell->get_dof_indices(dofs);
+          local.reinit(n);
+          const double       rho    = bodies.at(cell->material_id()).density;
+          const Damping<dim> damp   = cell_damping(cell);
+          const bool         damped = adjoint_next && damp.active();
+          zq.resize(nq);
+          fv[disp].get_function_values(z_ghost, zq);
+          if (damped)
+            {
+              gn.resize(nq);
+              gp.resize(nq);
+              ga.resize(nq);
+              fv[disp].get_function_gradients(u_next, gn);
+              fv[disp].get_function_gradients(u_prev, gp);
+              fv[disp].get_function_gradients(a_ghost, ga);
+            }
+          for (unsigned int q = 0; q < nq; ++q)
+            {
+              Tensor<2, dim> H;
+              if (damped)
+                H = contract_left(ga[q], damp.tangent_old(gn[q], gp[q], dt));
+              for (unsigned int i = 0; i < n; ++i)
+                {
+                  const unsigned int c = cfe.system_to_component_index(i).first;
+                  local(i) += (rho * zq[q][c] * fv.shape_value(i, q) +
+                               row_dot(H, c, fv.shape_grad(i, q))) *
+                              fv.JxW(q);
+                }
+            }
+          constraints_zero.distribute_local_to_global(local, dofs, result);
+        }
+    result.compress(VectorOperation::add);
+  }
+
+
+
+  template <int dim>
+  double
+  ElasticitySimulator<dim>::Impl::compute_gradient(const Objective<dim> &J,
+                                                   std::vector<double>  &dJ)
+  {
+    Timer              timer;
+    const unsigned int n         = u_states.size() - 1;
+    const bool         is_static = p.problem == "static";
+    const double       step      = is_static ? 0. : p.end_time / n;
+
+    PhysicalGradient g;
+    g.shape.reinit(shape_owned, comm);
+    g.lame.assign(tria->n_active_cells(), {{0., 0.}});
+    g.damping.assign(tria->n_active_cells(), {{0., 0.}});
+    g.loads.assign(tractions.size() + pressures.size() + 2, 0.);
+
+    // dJ/dI of every integral at step i, scaled by the step weight.
+    double value           = 0;
+    auto   weights_at_step = [&](const unsigned int i) {
+      const double sw = is_static ? 1. : J.step_weight(i, n, step);
+      std::vector<std::vector<double>> w;
+      const auto                       I = sw != 0 ? objective_integrals(J, i) :
+                                                       std::vector<std::vector<double>>();
+      for (unsigned int t = 0; t < J.terms().size(); ++t)
+        {
+          std::vector<double> d(J.terms()[t]->integrals().size(), 0.);
+          if (sw != 0)
+            {
+              value +=
+                sw * J.terms()[t]->weight * J.terms()[t]->combine(I[t], &d);
+              for (auto &x : d)
+                x *= sw * J.terms()[t]->weight;
+            }
+          w.push_back(d);
+        }
+      return w;
+    };
+
+    Vector_t dJ_du(owned, comm), rhs(owned, comm);
+    if (is_static)
+      {
+        const auto w = weights_at_step(0);
+        accumulate(J, &w, nullptr, &dJ_du, nullptr);
+        rhs = dJ_du;
+        rhs *= -1.;
+        // The Jacobian of the converged Newton step is still assembled;
+        // static tangents are symmetric, so it is its own transpose.
+        Vector_t lambda(owned, comm);
+        linear_solver.solve_reusing(jacobian, lambda, rhs);
+        constraints_zero.distribute(lambda);
+        accumulate(J, &w, &lambda, nullptr, &g);
+      }
+    else
+      {
+        // Backward BDF sweep (thesis eqs. 3.16-3.22 for u^i alone: the
+        // velocities are eliminated through v^i = (u^i + sum_j a_j u^{i-j}) /
+        // (beta dt)). lambda_i is the adjoint of the step residual R_i,
+        // y_i = mu_i / M the adjoint of the velocity update.
+        const unsigned int    m = p.bdf_order;
+        std::vector<Vector_t> lambda(n + 2), y(n + 2);
+        auto                  beta_dt = [&](const unsigned int k) {
+          return bdf_coefficients_at_step(m, k).beta * step;
+        };
+        auto alpha = [&](const unsigned int k, const unsigned int j) {
+          const auto c = bdf_coefficients_at_step(m, k);
+          return j <= c.alpha.size() ? c.alpha[j - 1] : 0.;
+        };
+        Vector_t z(owned, comm), products(owned, comm);
+        for (unsigned int i = n; i >= 1; --i)
+          {
+            const double bi = beta_dt(i);
+            z               = 0;
+            for (unsigned int k = i + 1; k <= std::min(n, i + m); ++k)
+              {
+                const double a = alpha(k, k - i);
+                if (a == 0)
+                  continue;
+                z.add(a / (beta_dt(k) * bi), lambda[k]);
+                z.add(a, y[k]);
+              }
+            const auto w = weights_at_step(i);
+            dJ_du        = 0;
+            accumulate(J, &w, nullptr, &dJ_du, nullptr);
+            mass_and_damping_products(z,
+                                      i < n ? &lambda[i + 1] : nullptr,
+                                      i + 1,
+                                      products);
+            rhs = dJ_du;
+            rhs += products;
+            rhs *= -1.;
+
+            // (M / (beta dt)^2 + K_i)^T lambda_i = rhs, at the stored state.
+            set_step_state(i);
+            make_constraints(time);
+            transpose_matrix = true;
+            assemble(u, true, nullptr);
+            transpose_matrix = false;
+            lambda[i].reinit(owned, comm);
+            linear_solver.solve(jacobian, lambda[i], rhs, fe.max_degree() > 1);
+            constraints_zero.distribute(lambda[i]);
+
+            y[i].reinit(owned, comm);
+            y[i].add(1. / (bi * bi), lambda[i]);
+            for (unsigned int k = i + 1; k <= std::min(n, i + m); ++k)
+              {
+                const double a = alpha(k, k - i);
+                if (a != 0)
+                  y[i].add(a / (beta_dt(k) * bi), lambda[k]);
+              }
+            set_step_state(i);
+            accumulate(J, &w, &lambda[i], nullptr, &g);
+          }
+
+        // Step 0: the initial conditions (eq. 3.21).
+        const auto w = weights_at_step(0);
+        dJ_du        = 0;
+        accumulate(J, &w, nullptr, &dJ_du, &g);
+        z = 0;
+        Vector_t zv(owned, comm);
+        for (unsigned int k = 1; k <= std::min(n, m); ++k)
+          {
+            z.add(alpha(k, k), y[k]);
+            zv.add(alpha(k, k) / beta_dt(k), lambda[k]);
+          }
+        mass_and_damping_products(z, &lambda[1], 1, products);
+        dJ_du += products;
+        // dJ/dv^0 = M zv on every DoF (v^0 is not constrained).
+        Vector_t dJ_dv(owned, comm), raw(owned, comm);
+        {
+          AffineConstraints<double> none;
+          none.close();
+          std::swap(none, constraints_zero);
+          mass_and_damping_products(zv, nullptr, 0, dJ_dv);
+          std::swap(none, constraints_zero);
+        }
+        for (unsigned int c = 0; c < dim; ++c)
+          {
+            std::vector<bool> mask(dim, false);
+            mask[c] = true;
+            for (const auto i :
+                 DoFTools::extract_dofs(dof_handler, ComponentMask(mask)))
+              if (owned.is_element(i))
+                {
+                  g.initial_u[c] += dJ_du(i);
+                  g.initial_v[c] += dJ_dv(i);
+                }
+          }
+        memory_of_states = 0;
+        for (const auto &v : u_states)
+          memory_of_states += 2 * v.memory_consumption();
+      }
+
+    // Pull the physical gradient back to the design blocks.
+    dJ.assign(layout.size(), 0.);
+    std::map<types::material_id, unsigned int> body_index;
+    for (const auto id : all_ids)
+      body_index.emplace(id, body_index.size());
+    for (const auto &b : layout.blocks)
+      {
+        double *d = dJ.data() + b.offset;
+        if (b.name == "shape")
+          {
+            for (const auto i : shape_owned)
+              d[i] = g.shape(i);
+          }
+        else if (b.name == "cell material" || b.name == "material" ||
+                 b.name == "damping")
+          {
+            for (const auto &cell : tria->active_cell_iterators())
+              {
+                if (!cell->is_locally_owned())
+                  continue;
+                const unsigned int    c = cell->active_cell_index();
+                std::array<double, 2> v =
+                  b.name == "damping" ? g.damping[c] : g.lame[c];
+                const unsigned int slot = b.name == "cell material" ?
+                                            cell->global_active_cell_index() :
+                                            body_index.at(cell->material_id());
+                if (b.name != "damping" && p.design.young_poisson)
+                  {
+                    const double E  = design[b.offset + 2 * slot];
+                    const double nu = design[b.offset + 2 * slot + 1];
+                    double       jac[2][2];
+                    lame_from_young_poisson(E, nu, jac);
+                    v = {{v[0] * jac[0][0] + v[1] * jac[1][0],
+                          v[0] * jac[0][1] + v[1] * jac[1][1]}};
+                  }
+                d[2 * slot] += v[0];
+                d[2 * slot + 1] += v[1];
+              }
+          }
+        else if (b.name == "loads")
+          {
+            unsigned int k = 0, j = surface_load_scale.size();
+            for (; k < surface_load_scale.size(); ++k)
+              d[k] = g.loads[k];
+            if (body_force)
+              d[k++] = g.loads[j++];
+            if (gravity.norm() > 0)
+              d[k++] = g.loads[j++];
+          }
+        else
+          for (unsigned int c = 0; c < dim; ++c)
+            d[c] =
+              (b.name == "initial displacement" ? g.initial_u : g.initial_v)[c];
+      }
+    Utilities::MPI::sum(dJ, comm, dJ);
+    adjoint_seconds += timer.wall_time();
+    return value;
+  }
+
+
+
+  // ---------------------------------------------------------------- facade
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::prepare(RunContext *context)
+  {
+    if (!impl->prepared)
+      {
+        impl->prepared = true;
+        if (impl->p.adaptivity != "none")
+          impl->run(context); // adapt the mesh to the starting design
+        else
+          impl->setup_system();
+        impl->build_design_layout();
+        impl->apply_design(impl->design);
+      }
+  }
+
+  template <int dim>
+  const DesignLayout &
+  ElasticitySimulator<dim>::design_layout() const
+  {
+    return impl->layout;
+  }
+
+  template <int dim>
+  const std::vector<double> &
+  ElasticitySimulator<dim>::design() const
+  {
+    return impl->design;
+  }
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::set_design(const std::vector<double> &q)
+  {
+    impl->apply_design(q);
+  }
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::set_objective(
+    const std::shared_ptr<const Objective<dim>> &J)
+  {
+    impl->objective = J;
+    impl->reference_states.clear();
+    if (!J->needs_reference_run())
+      return;
+    // The reference run: the mesh as read, with the reference materials.
+    const auto saved = impl->design;
+    impl->reset_physical_parameters(J->parameters.reference_bodies);
+    impl->shape_ghost = impl->shape_reference;
+    impl->solve_forward(true);
+    impl->reference_states = impl->u_states;
+    impl->apply_design(saved);
+  }
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::solve_design()
+  {
+    impl->solve_forward(true);
+  }
+
+  template <int dim>
+  double
+  ElasticitySimulator<dim>::objective() const
+  {
+    AssertThrow(impl->objective, ExcMessage("no objective set"));
+    return impl->objective_value(*impl->objective);
+  }
+
+  template <int dim>
+  double
+  ElasticitySimulator<dim>::gradient(std::vector<double> &dJ) const
+  {
+    AssertThrow(impl->objective, ExcMessage("no objective set"));
+    return impl->compute_gradient(*impl->objective, dJ);
+  }
+
+  template <int dim>
+  double
+  ElasticitySimulator<dim>::cell_size() const
+  {
+    return GridTools::minimal_cell_diameter(*impl->tria);
+  }
+
+  template <int dim>
+  nlohmann::json
+  ElasticitySimulator<dim>::adjoint_statistics() const
+  {
+    return {{"forward_seconds", impl->forward_seconds},
+            {"adjoint_seconds", impl->adjoint_seconds},
+            {"stored_state_bytes", impl->memory_of_states}};
+  }
+
+  template void
+  ElasticitySimulator<2>::prepare(RunContext *);
+  template void
+  ElasticitySimulator<3>::prepare(RunContext *);
+  template const DesignLayout &
+  ElasticitySimulator<2>::design_layout() const;
+  template const DesignLayout &
+  ElasticitySimulator<3>::design_layout() const;
+  template const std::vector<double> &
+  ElasticitySimulator<2>::design() const;
+  template const std::vector<double> &
+  ElasticitySimulator<3>::design() const;
+  template void
+  ElasticitySimulator<2>::set_design(const std::vector<double> &);
+  template void
+  ElasticitySimulator<3>::set_design(const std::vector<double> &);
+  template void
+  ElasticitySimulator<2>::set_objective(
+    const std::shared_ptr<const Objective<2>> &);
+  template void
+  ElasticitySimulator<3>::set_objective(
+    const std::shared_ptr<const Objective<3>> &);
+  template void
+  ElasticitySimulator<2>::solve_design();
+  template void
+  ElasticitySimulator<3>::solve_design();
+  template double
+  ElasticitySimulator<2>::objective() const;
+  template double
+  ElasticitySimulator<3>::objective() const;
+  template double
+  ElasticitySimulator<2>::gradient(std::vector<double> &) const;
+  template double
+  ElasticitySimulator<3>::gradient(std::vector<double> &) const;
+  template double
+  ElasticitySimulator<2>::cell_size() const;
+  template double
+  ElasticitySimulator<3>::cell_size() const;
+  template nlohmann::json
+  ElasticitySimulator<2>::adjoint_statistics() const;
+  template nlohmann::json
+  ElasticitySimulator<3>::adjoint_statistics() const;
+} // namespace forma

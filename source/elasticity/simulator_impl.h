@@ -1,0 +1,345 @@
+// Private to the elasticity simulator and its adjoint (not installed).
+#ifndef forma_elasticity_simulator_impl_h
+#define forma_elasticity_simulator_impl_h
+
+#include <deal.II/base/function_parser.h>
+#include <deal.II/base/quadrature.h>
+#include <deal.II/distributed/tria_base.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/hp/fe_collection.h>
+#include <deal.II/hp/fe_values.h>
+#include <deal.II/hp/mapping_collection.h>
+#include <deal.II/hp/q_collection.h>
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/trilinos_vector.h>
+#include <deal.II/lac/vector.h>
+
+#include <forma/adjoint/design.h>
+#include <forma/adjoint/objective.h>
+#include <forma/elasticity/simulator.h>
+#include <forma/physics/damping.h>
+#include <forma/physics/material.h>
+#include <forma/solvers/linear_solver.h>
+
+#include <array>
+#include <deque>
+#include <map>
+#include <set>
+#include <string>
+
+namespace forma
+{
+  using namespace dealii;
+  using Vector_t = TrilinosWrappers::MPI::Vector;
+
+  namespace internal
+  {
+    inline std::string
+    fmt(const double v, const int precision = 6)
+    {
+      std::ostringstream s;
+      s << std::setprecision(precision) << v;
+      return s.str();
+    }
+
+    template <int dim>
+    std::string
+    fmt(const Tensor<1, dim> &v, const int precision = 6)
+    {
+      std::string s = "(";
+      for (unsigned int d = 0; d < dim; ++d)
+        s += (d ? ", " : "") + fmt(v[d], precision);
+      return s + ")";
+    }
+
+    template <int dim>
+    nlohmann::json
+    to_json(const Tensor<1, dim> &v)
+    {
+      nlohmann::json j = nlohmann::json::array();
+      for (unsigned int d = 0; d < dim; ++d)
+        j.push_back(v[d]);
+      return j;
+    }
+
+    template <int dim>
+    Point<dim>
+    parse_point(const std::string &text, const std::string &entry)
+    {
+      const auto parts = split_top_level(text, ',');
+      AssertThrow(parts.size() == dim,
+                  ExcMessage("'" + entry + "': the point '" + text +
+                             "' needs " + std::to_string(dim) +
+                             " coordinates."));
+      Point<dim> p;
+      for (unsigned int d = 0; d < dim; ++d)
+        p[d] = Utilities::string_to_double(parts[d]);
+      return p;
+    }
+
+    // Per-thread assembly workspace.
+    template <int dim>
+    struct Scratch
+    {
+      Scratch(const hp::MappingCollection<dim> &mapping,
+              const hp::MappingCollection<dim> &reference_mapping,
+              const hp::FECollection<dim>      &fe,
+              const hp::QCollection<dim>       &q,
+              const hp::QCollection<dim - 1>   &fq)
+        : fe_values(mapping,
+                    fe,
+                    q,
+                    update_values | update_gradients | update_JxW_values |
+                      update_quadrature_points)
+        , face_values(mapping,
+                      fe,
+                      fq,
+                      update_values | update_gradients | update_JxW_values |
+                        update_quadrature_points | update_normal_vectors)
+        , reference_values(reference_mapping, fe, q, update_quadrature_points)
+        , reference_face_values(reference_mapping,
+                                fe,
+                                fq,
+                                update_quadrature_points)
+      {}
+      Scratch(const Scratch &o)
+        : Scratch(o.fe_values.get_mapping_collection(),
+                  o.reference_values.get_mapping_collection(),
+                  o.fe_values.get_fe_collection(),
+                  o.fe_values.get_quadrature_collection(),
+                  o.face_values.get_quadrature_collection())
+      {}
+
+      hp::FEValues<dim>           fe_values;
+      hp::FEFaceValues<dim>       face_values;
+      hp::FEValues<dim>           reference_values;
+      hp::FEFaceValues<dim>       reference_face_values;
+      std::vector<Tensor<2, dim>> grad_u, grad_u_old;
+      std::vector<Tensor<1, dim>> u, w;
+      std::vector<Tensor<2, dim>> B; ///< A : grad phi_i, per shape function
+      std::vector<Point<dim>>     X; ///< positions on the mesh as read
+    };
+
+    struct CopyData
+    {
+      FullMatrix<double>                   matrix;
+      dealii::Vector<double>               residual;
+      std::vector<types::global_dof_index> dofs;
+      bool                                 admissible = true;
+    };
+  } // namespace internal
+  using namespace internal;
+
+
+
+  template <int dim>
+  class ElasticitySimulator<dim>::Impl
+  {
+  public:
+    Impl(const ElasticityParameters &p, const MPI_Comm comm);
+
+    void
+    run(RunContext *context);
+
+    // setup
+    void
+    build_loads();
+    void
+    setup_system();
+    void
+    make_constraints(const double time);
+    void
+    compute_null_space();
+
+    void
+    setup_shape();
+    void
+    reset_physical_parameters(const std::string &bodies);
+
+    // Per-cell laws from the per-cell parameters.
+    Material<dim>
+    cell_material(
+      const typename DoFHandler<dim>::active_cell_iterator &c) const;
+    Damping<dim>
+    cell_damping(const typename DoFHandler<dim>::active_cell_iterator &c) const;
+    /// Force density per unit volume at a point: inertia minus body loads.
+    Tensor<1, dim>
+    volume_force(const double          rho,
+                 const Point<dim>     &X,
+                 const Tensor<1, dim> &u,
+                 const Tensor<1, dim> &w) const;
+    /// Surface load (traction plus pressure on the normal) on boundary `id`.
+    Tensor<1, dim>
+    surface_load(const types::boundary_id id,
+                 const Point<dim>        &X,
+                 const Tensor<1, dim>    &normal) const;
+    /// Material coordinates X of the quadrature points of a cell / face.
+    void
+    reference_points(const typename DoFHandler<dim>::active_cell_iterator &c,
+                     Scratch<dim> &s) const;
+    void
+    reference_face_points(
+      const typename DoFHandler<dim>::active_cell_iterator &c,
+      const unsigned int                                    face,
+      Scratch<dim>                                         &s) const;
+    /// Whether the residual has surface loads on boundary `id`.
+    bool
+    loaded(const types::boundary_id id) const;
+
+    // solving
+    bool
+    assemble(const Vector_t &u_owned, const bool with_matrix, Vector_t *raw);
+    std::pair<unsigned int, unsigned int>
+    newton(const double time, const std::string &where);
+    void
+    add_uniform(Vector_t &x, const Tensor<1, dim> &value);
+    void
+    solve_static();
+    void
+    solve_transient();
+    void
+    refine_mesh();
+
+    // postprocessing
+    void
+    record_step(const unsigned int step,
+                const double       time,
+                const unsigned int newton_its,
+                const unsigned int linear_its);
+    void
+    write_output(const unsigned int step, const double time);
+    void
+    print_progress(const std::string &head) const;
+    void
+    compute_reactions();
+    Tensor<1, dim>
+    point_value(const Point<dim> &p) const;
+
+    // adjoint layer (adjoint.cc)
+    struct PhysicalGradient;
+    void
+    build_design_layout();
+    void
+    apply_design(const std::vector<double> &q);
+    void
+    solve_forward(const bool quiet);
+    void
+    set_step_state(const unsigned int i);
+    std::vector<std::vector<double>>
+    objective_integrals(const Objective<dim> &J, const unsigned int i);
+    double
+    objective_value(const Objective<dim> &J);
+    void
+    accumulate(const Objective<dim>                   &J,
+               const std::vector<std::vector<double>> *weights,
+               const Vector_t                         *adjoint,
+               Vector_t                               *dJ_du,
+               PhysicalGradient                       *gradient);
+    void
+    mass_and_damping_products(const Vector_t    &z,
+                              const Vector_t    *adjoint_next,
+                              const unsigned int next_step,
+                              Vector_t          &result);
+    double
+    compute_gradient(const Objective<dim> &J, std::vector<double> &dJ);
+
+    const ElasticityParameters p;
+    const MPI_Comm             comm;
+    RunContext                *context = nullptr;
+
+    std::unique_ptr<parallel::TriangulationBase<dim>> tria;
+    bool                                              simplex = false;
+    hp::FECollection<dim>                             fe;
+    hp::QCollection<dim>                              quadrature;
+    hp::QCollection<dim - 1>                          face_quadrature;
+    hp::MappingCollection<dim>                        mapping;
+    DoFHandler<dim>                                   dof_handler;
+    IndexSet                                          owned, relevant;
+    AffineConstraints<double>      constraints_zero, constraints_bc;
+    TrilinosWrappers::SparseMatrix jacobian;
+    Vector_t                       u, u_ghost, residual;
+    Vector_t                       w_ghost, u_old_ghost, v; // transient state
+    std::deque<Vector_t>           u_history, v_history;    // [0] = step i-1
+
+    std::map<types::material_id, MaterialProperties> bodies;  ///< as given
+    std::set<types::material_id>                     all_ids; ///< of the mesh
+    std::map<types::material_id, MaterialProperties>
+    parse_bodies(const std::string &text, const std::string &entry) const;
+    std::map<std::string, double> constants;
+    struct Dirichlet
+    {
+      types::boundary_id                   id;
+      std::vector<bool>                    mask;
+      std::shared_ptr<FunctionParser<dim>> function;
+    };
+    std::vector<Dirichlet> dirichlet;
+    std::vector<
+      std::pair<types::boundary_id, std::shared_ptr<FunctionParser<dim>>>>
+                                         tractions, pressures;
+    std::shared_ptr<FunctionParser<dim>> body_force;
+    Tensor<1, dim>                       gravity;
+    std::vector<Point<dim>>              points;
+
+    // Shape field (thesis ch. 3.7.1): a vector Q1/P1 field holding the
+    // positions of the design; the mapping of every integral reads it.
+    // reference_mapping is the mesh as read: loads, boundary values and
+    // targets are functions of those material coordinates.
+    std::unique_ptr<FESystem<dim>> shape_fe;
+    DoFHandler<dim>                shape_dof_handler;
+    IndexSet                       shape_owned, shape_relevant;
+    AffineConstraints<double>      shape_constraints; ///< hanging + fixed
+    Vector_t                       shape_reference; ///< X of the mesh, ghosted
+    Vector_t                       shape_ghost;     ///< design x, ghosted
+    hp::MappingCollection<dim>     reference_mapping;
+
+    // Per-cell physical parameters (by active_cell_index): the Lame pair
+    // given to Material (before any plane-stress reduction), damping.
+    std::vector<std::array<double, 2>> cell_lame, cell_damping_coefficients;
+    // Load scales: tractions and pressures in record order, body force,
+    // gravity; uniform initial-condition offsets.
+    std::vector<double> surface_load_scale;
+    double              body_force_scale = 1, gravity_scale = 1;
+    Tensor<1, dim>      initial_displacement_offset, initial_velocity_offset;
+
+    // Design vector layout and the states an adjoint pass reads.
+    DesignLayout                          layout;
+    std::vector<double>                   design;
+    bool                                  store_states = false;
+    std::vector<Vector_t>                 u_states, v_states; ///< per step
+    std::vector<Vector_t>                 reference_states;   ///< target run
+    std::shared_ptr<const Objective<dim>> objective;
+    bool                                  transpose_matrix = false;
+    bool                                  quiet            = false;
+    bool                                  prepared         = false;
+    std::vector<std::vector<double>>      objective_cache; ///< last integrals
+    double                                memory_of_states = 0;
+    double adjoint_seconds = 0, forward_seconds = 0;
+
+    LinearSolver linear_solver;
+
+    // State read by assemble().
+    bool   transient      = false;
+    double time           = 0;
+    double dt             = 0;
+    double inertia_factor = 0; ///< 1 / (beta dt)^2
+    double force_scale    = 0; ///< largest initial residual seen (tolerance)
+
+    std::vector<typename ElasticitySimulator<dim>::StepRecord>  steps;
+    std::vector<typename ElasticitySimulator<dim>::CycleRecord> cycles;
+    std::map<types::boundary_id, Tensor<1, dim>>                reactions;
+    double max_von_mises = 0, max_frobenius = 0;
+    std::vector<std::pair<double, std::string>> pvd_records;
+    std::function<void(unsigned int)>           cycle_callback;
+    Vector<float>                               estimated_error;
+    double assembly_seconds = 0, solver_seconds = 0;
+  };
+
+
+
+} // namespace forma
+
+#endif
