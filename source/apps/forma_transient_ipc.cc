@@ -11,6 +11,7 @@
 #include <forma/base/run_context.h>
 #include <forma/elasticity/parameters.h>
 #include <forma/elasticity/simulator.h>
+#include <forma/elasticity/taylor_test.h>
 
 #include <cmath>
 #include <iomanip>
@@ -73,32 +74,11 @@ namespace
                 std::to_string(b.size) + ")";
     context.print("design: " + blocks);
 
-    const auto   q      = simulator.design();
-    const auto   theta  = forma::random_direction(simulator.design_layout(),
-                                               q,
-                                               simulator.cell_size(),
-                                               check);
-    unsigned int row    = 0;
-    const auto   result = forma::taylor_test(
-      [&](const std::vector<double> &x) {
-        simulator.set_design(x);
-        simulator.solve_design();
-        const double J = simulator.objective();
-        context.log("  row " + std::to_string(row++) +
-                    ": J = " + significant(J, 16));
-        return J;
-      },
-      [&](const std::vector<double> &x, std::vector<double> &dJ) {
-        simulator.set_design(x);
-        simulator.solve_design();
-        return simulator.gradient(dJ);
-      },
-      q,
-      theta,
-      check);
+    const auto result = forma::taylor_test(
+      simulator, check, [&](const std::string &line) { context.log(line); });
 
-    context.print("J = " + significant(result.value, 8) + ", dJ . theta = " +
-                  significant(result.directional_derivative, 8));
+    context.print("J = " + significant(result.value, 6) + ", dJ . theta = " +
+                  significant(result.directional_derivative, 6));
     for (unsigned int k = 0; k < result.epsilons.size(); ++k)
       context.log("  epsilon " + significant(result.epsilons[k], 4) +
                   ": J = " + significant(result.values[k], 16) +

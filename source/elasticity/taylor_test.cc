@@ -1,0 +1,50 @@
+#include <forma/elasticity/taylor_test.h>
+
+#include <sstream>
+
+namespace forma
+{
+  template <int dim>
+  GradientCheckResult
+  taylor_test(ElasticitySimulator<dim>                      &simulator,
+              const GradientCheckParameters                 &parameters,
+              const std::function<void(const std::string &)> &log)
+  {
+    const std::vector<double> q     = simulator.design();
+    const std::vector<double> theta = random_direction(
+      simulator.design_layout(), q, simulator.cell_size(), parameters);
+    auto result = taylor_test(
+      [&](const std::vector<double> &x) {
+        simulator.set_design(x);
+        simulator.solve_design();
+        const double J = simulator.objective();
+        if (log)
+          {
+            std::ostringstream s;
+            s.precision(16);
+            s << "  Taylor test: J = " << J;
+            log(s.str());
+          }
+        return J;
+      },
+      [&](const std::vector<double> &x, std::vector<double> &dJ) {
+        simulator.set_design(x);
+        simulator.solve_design();
+        return simulator.gradient(dJ);
+      },
+      q,
+      theta,
+      parameters);
+    simulator.set_design(q);
+    return result;
+  }
+
+  template GradientCheckResult
+  taylor_test(ElasticitySimulator<2> &,
+              const GradientCheckParameters &,
+              const std::function<void(const std::string &)> &);
+  template GradientCheckResult
+  taylor_test(ElasticitySimulator<3> &,
+              const GradientCheckParameters &,
+              const std::function<void(const std::string &)> &);
+} // namespace forma
