@@ -4,6 +4,8 @@
 #include <forma/adjoint/design.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 namespace forma
 {
@@ -50,6 +52,18 @@ namespace forma
         "Displacement of the vertices of the initial design from the mesh as "
         "read, one expression per component in x, y (, z); used to start a "
         "shape recovery away from the true shape. Empty: none.");
+      prm.declare_entry("Min scaled Jacobian",
+                        "1e-3",
+                        Patterns::Double(0, 1),
+                        "A shape whose scaled Jacobian (det J over the "
+                        "product of the column lengths, at the quadrature "
+                        "points) falls below this somewhere is rejected as "
+                        "inverted or degenerate (thesis ch. 3.9).");
+      prm.declare_entry("Shape bound",
+                        "0",
+                        Patterns::Double(0),
+                        "Largest displacement of a vertex from the mesh as "
+                        "read, per coordinate, for optimizers; 0: none.");
     }
     prm.leave_subsection();
   }
@@ -70,10 +84,12 @@ namespace forma
                       ExcMessage("Design/Parameters lists '" + b + "' twice."));
           blocks.push_back(b);
         }
-      young_poisson      = prm.get("Material parameterization") == "E-nu";
-      fixed_boundaries   = prm.get("Fixed boundaries");
-      symmetry_planes    = prm.get("Symmetry planes");
-      shape_perturbation = prm.get("Shape perturbation");
+      young_poisson       = prm.get("Material parameterization") == "E-nu";
+      fixed_boundaries    = prm.get("Fixed boundaries");
+      symmetry_planes     = prm.get("Symmetry planes");
+      shape_perturbation  = prm.get("Shape perturbation");
+      min_scaled_jacobian = prm.get_double("Min scaled Jacobian");
+      shape_bound         = prm.get_double("Shape bound");
     }
     prm.leave_subsection();
   }
@@ -103,5 +119,60 @@ namespace forma
       if (b.name == name)
         return &b;
     return nullptr;
+  }
+
+
+  std::vector<double>
+  design_scales(const DesignLayout        &layout,
+                const std::vector<double> &q0,
+                const double               length)
+  {
+    std::vector<double> s(q0.size(), 1.);
+    for (const auto &b : layout.blocks)
+      for (unsigned int i = b.offset; i < b.offset + b.size; ++i)
+        if (b.name == "shape")
+          s[i] = length;
+        else if (b.name == "material" || b.name == "cell material" ||
+                 b.name == "damping")
+          s[i] = q0[i] != 0 ? std::abs(q0[i]) : 1.;
+    return s;
+  }
+
+
+
+  void
+  design_bounds(const DesignLayout        &layout,
+                const std::vector<double> &q0,
+                const bool                 young_poisson,
+                const double               shape_bound,
+                std::vector<double>       &lower,
+                std::vector<double>       &upper)
+  {
+    const double inf = std::numeric_limits<double>::infinity();
+    lower.assign(q0.size(), -inf);
+    upper.assign(q0.size(), inf);
+    for (const auto &b : layout.blocks)
+      for (unsigned int i = b.offset; i < b.offset + b.size; ++i)
+        {
+          const bool second = (i - b.offset) % 2 == 1;
+          if (b.name == "shape")
+            {
+              lower[i] = q0[i] - shape_bound;
+              upper[i] = q0[i] + shape_bound;
+            }
+          else if (b.name == "damping")
+            lower[i] = 0;
+          else if ((b.name == "material" || b.name == "cell material") &&
+                   young_poisson && second)
+            {
+              lower[i] = -0.5;
+              upper[i] = 0.49;
+            }
+          else if (b.name == "material" || b.name == "cell material")
+            {
+              lower[i] = 1e-3 * std::abs(q0[i]);
+              upper[i] = 1e3 * std::abs(q0[i]);
+            }
+        }
   }
 } // namespace forma

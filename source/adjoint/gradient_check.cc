@@ -88,7 +88,8 @@ namespace forma
                              "' is not in Design/Parameters."));
     std::mt19937                           generator(parameters.seed);
     std::uniform_real_distribution<double> uniform(-1., 1.);
-    std::vector<double>                    theta(q.size(), 0.);
+    const std::vector<double> scale = design_scales(layout, q, length);
+    std::vector<double>       theta(q.size(), 0.);
     for (const auto &b : layout.blocks)
       {
         const bool on =
@@ -97,15 +98,8 @@ namespace forma
         for (unsigned int i = b.offset; i < b.offset + b.size; ++i)
           {
             const double r = uniform(generator); // drawn for every entry
-            if (!on)
-              continue;
-            if (b.name == "shape")
-              theta[i] = length * r;
-            else if (b.name == "material" || b.name == "cell material" ||
-                     b.name == "damping")
-              theta[i] = std::abs(q[i]) * r;
-            else
-              theta[i] = r;
+            if (on)
+              theta[i] = scale[i] * r;
           }
       }
     return theta;

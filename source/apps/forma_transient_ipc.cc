@@ -12,9 +12,12 @@
 #include <forma/elasticity/parameters.h>
 #include <forma/elasticity/simulator.h>
 #include <forma/elasticity/taylor_test.h>
+#include <forma/optimization/optimizer.h>
 
 #include <cmath>
+#include <fstream>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 namespace
@@ -74,8 +77,10 @@ namespace
                 std::to_string(b.size) + ")";
     context.print("design: " + blocks);
 
-    const auto result = forma::taylor_test(
-      simulator, check, [&](const std::string &line) { context.log(line); });
+    const auto result =
+      forma::taylor_test(simulator, check, [&](const std::string &line) {
+        context.log(line);
+      });
 
     context.print("J = " + significant(result.value, 6) + ", dJ . theta = " +
                   significant(result.directional_derivative, 6));
@@ -104,6 +109,120 @@ namespace
                                    fixed(result.min_rate, 2) +
                                    " < 1.9 (table in summary.json)."));
   }
+
+  // Values of the small (non-shape) design blocks, e.g. recovered materials.
+  std::string
+  describe_design(const forma::DesignLayout &layout,
+                  const std::vector<double> &q,
+                  nlohmann::json            &json)
+  {
+    std::string text;
+    for (const auto &b : layout.blocks)
+      {
+        if (b.name == "shape" || b.name == "cell material")
+          continue;
+        std::vector<double> v(q.begin() + b.offset,
+                              q.begin() + b.offset + b.size);
+        json[b.name] = v;
+        text += (text.empty() ? "" : "; ") + b.name + ":";
+        for (const double x : v)
+          text += " " + significant(x, 6);
+      }
+    return text;
+  }
+
+  template <int dim>
+  void
+  optimize(const forma::ElasticityParameters   &parameters,
+           const forma::OptimizationParameters &settings,
+           forma::RunContext                   &context)
+  {
+    forma::ElasticitySimulator<dim> simulator(parameters,
+                                              context.communicator());
+    simulator.prepare(&context);
+    const auto &layout = simulator.design_layout();
+    AssertThrow(layout.size() > 0,
+                dealii::ExcMessage("Design/Parameters is empty: there is "
+                                   "nothing to optimize."));
+    simulator.set_objective(
+      std::make_shared<const forma::Objective<dim>>(parameters.objective));
+
+    // The simulator keeps the last solved design; solve only when q moves.
+    std::vector<double> solved;
+    auto                ensure = [&](const std::vector<double> &q) {
+      if (!solved.empty() && q == solved)
+        return;
+      solved.clear();
+      simulator.set_design(q);
+      simulator.solve_design();
+      solved = q;
+    };
+
+    forma::DesignModel model;
+    model.initial = simulator.design();
+    model.scale =
+      forma::design_scales(layout, model.initial, simulator.cell_size());
+    forma::design_bounds(layout,
+                         model.initial,
+                         parameters.design.young_poisson,
+                         parameters.design.shape_bound > 0 ?
+                           parameters.design.shape_bound :
+                           std::numeric_limits<double>::infinity(),
+                         model.lower,
+                         model.upper);
+    model.value = [&](const std::vector<double> &q) {
+      ensure(q);
+      return simulator.objective();
+    };
+    model.gradient = [&](const std::vector<double> &q,
+                         std::vector<double>       &dJ) {
+      ensure(q);
+      return simulator.gradient(dJ);
+    };
+    nlohmann::json history = nlohmann::json::array();
+    model.accepted =
+      [&](const unsigned int k, const std::vector<double> &q, const double J) {
+        ensure(q);
+        simulator.write_state(k, context);
+        nlohmann::json entry = {{"iteration", k}, {"objective", J}};
+        nlohmann::json values;
+        const auto     text = describe_design(layout, q, values);
+        if (!values.empty())
+          entry["design"] = values;
+        if (!text.empty())
+          context.log("  design: " + text);
+        history.push_back(entry);
+        context.summary["history"] = history;
+      };
+
+    const auto result = forma::optimize(model, settings, context);
+
+    const double J0 = result.history.front(), J1 = result.history.back();
+    context.print("stopped after " + std::to_string(result.history.size() - 1) +
+                  " iterations: " + result.stop_reason);
+    context.print("objective " + significant(J0, 6) + " -> " +
+                  significant(J1, 6) + " (ratio " + significant(J1 / J0, 4) +
+                  ")");
+    nlohmann::json final_values;
+    const auto     text = describe_design(layout, result.design, final_values);
+    if (!text.empty())
+      context.print("final design: " + text);
+    context.summary["optimization"] = {{"initial_objective", J0},
+                                       {"final_objective", J1},
+                                       {"ratio", J1 / J0},
+                                       {"iterations",
+                                        result.history.size() - 1},
+                                       {"stop_reason", result.stop_reason},
+                                       {"final_design", final_values}};
+    context.summary["adjoint"]      = simulator.adjoint_statistics();
+    if (context.is_root())
+      {
+        std::ofstream csv(context.path("history.csv"));
+        csv << "iteration,objective\n";
+        for (unsigned int k = 0; k < result.history.size(); ++k)
+          csv << k << ',' << std::setprecision(12) << result.history[k] << '\n';
+      }
+  }
 } // namespace
 
 int
@@ -116,10 +235,11 @@ main(int argc, char **argv)
                     "adjoint gradients of objectives with respect to shape, "
                     "materials, damping, loads and initial conditions. IPC "
                     "contact arrives in a later version.";
-  app.modes       = {"simulate", "verify gradient"};
+  app.modes       = {"simulate", "verify gradient", "optimize"};
   app.declare_parameters = [](dealii::ParameterHandler &prm) {
     forma::ElasticityParameters::declare(prm);
     forma::GradientCheckParameters::declare(prm);
+    forma::OptimizationParameters::declare(prm);
   };
   app.run = [](dealii::ParameterHandler &prm,
                const std::string        &dir,
@@ -133,6 +253,16 @@ main(int argc, char **argv)
           simulate<2>(parameters, context);
         else
           simulate<3>(parameters, context);
+        return;
+      }
+    if (mode == "optimize")
+      {
+        forma::OptimizationParameters settings;
+        settings.parse(prm);
+        if (parameters.dim == 2)
+          optimize<2>(parameters, settings, context);
+        else
+          optimize<3>(parameters, settings, context);
         return;
       }
     forma::GradientCheckParameters check;

@@ -273,21 +273,49 @@ namespace forma
               v[d];
       }
 
-    // A shape that inverts a cell has no meaning: say so instead of solving.
+    // A shape that inverts or flattens a cell has no meaning: say so
+    // instead of solving.
     if (layout.find("shape"))
       {
         hp::FEValues<dim> fv(mapping, fe, quadrature, update_jacobians);
+        double            worst = 1;
+        Point<dim>        where;
         for (const auto &cell : dof_handler.active_cell_iterators())
           if (cell->is_locally_owned())
             {
               fv.reinit(cell);
               const auto &v = fv.get_present_fe_values();
               for (unsigned int q = 0; q < v.n_quadrature_points; ++q)
-                AssertThrow(determinant(Tensor<2, dim>(v.jacobian(q))) > 0,
-                            ExcMessage("the design inverts the cell at " +
-                                       fmt(Tensor<1, dim>(cell->center())) +
-                                       " of the mesh as read."));
+                {
+                  const Tensor<2, dim> J       = v.jacobian(q);
+                  double               lengths = 1;
+                  for (unsigned int k = 0; k < dim; ++k)
+                    {
+                      double c = 0;
+                      for (unsigned int i = 0; i < dim; ++i)
+                        c += J[i][k] * J[i][k];
+                      lengths *= std::sqrt(c);
+                    }
+                  const double sj = determinant(J) / lengths;
+                  if (sj < worst)
+                    {
+                      worst = sj;
+                      where = cell->center();
+                    }
+                }
             }
+        const double global = Utilities::MPI::min(worst, comm);
+        AssertThrow(global >= p.design.min_scaled_jacobian,
+                    ExcMessage(
+                      "the design " +
+                      std::string(global <= 0 ? "inverts" : "degenerates") +
+                      " a cell (scaled Jacobian " + fmt(global, 3) +
+                      " < Design/Min scaled Jacobian = " +
+                      fmt(p.design.min_scaled_jacobian, 3) + ")" +
+                      (worst == global ? " near " + fmt(Tensor<1, dim>(where)) +
+                                           " of the mesh as read" :
+                                         std::string()) +
+                      "."));
       }
   }
 
@@ -1151,6 +1179,18 @@ namespace forma
   }
 
   template <int dim>
+  void
+  ElasticitySimulator<dim>::write_state(const unsigned int index,
+                                        RunContext        &context)
+  {
+    impl->context = &context;
+    impl->set_step_state(impl->u_states.size() - 1);
+    if (impl->transient)
+      impl->v = impl->v_states.back();
+    impl->write_output(index, index);
+  }
+
+  template <int dim>
   double
   ElasticitySimulator<dim>::cell_size() const
   {
@@ -1200,6 +1240,10 @@ namespace forma
   ElasticitySimulator<2>::gradient(std::vector<double> &) const;
   template double
   ElasticitySimulator<3>::gradient(std::vector<double> &) const;
+  template void
+  ElasticitySimulator<2>::write_state(const unsigned int, RunContext &);
+  template void
+  ElasticitySimulator<3>::write_state(const unsigned int, RunContext &);
   template double
   ElasticitySimulator<2>::cell_size() const;
   template double

@@ -6,8 +6,8 @@ namespace forma
 {
   template <int dim>
   GradientCheckResult
-  taylor_test(ElasticitySimulator<dim>                      &simulator,
-              const GradientCheckParameters                 &parameters,
+  taylor_test(ElasticitySimulator<dim>                       &simulator,
+              const GradientCheckParameters                  &parameters,
               const std::function<void(const std::string &)> &log)
   {
     const std::vector<double> q     = simulator.design();

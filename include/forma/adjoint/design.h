@@ -32,6 +32,8 @@ namespace forma
     std::string              fixed_boundaries;
     std::string              symmetry_planes;
     std::string              shape_perturbation;
+    double                   min_scaled_jacobian = 1e-3;
+    double                   shape_bound         = 0; ///< 0: free
 
     static void
     declare(dealii::ParameterHandler &prm);
@@ -63,6 +65,30 @@ namespace forma
     const DesignBlock *
     find(const std::string &name) const;
   };
+  /**
+   * Per-entry scales of a design vector: a length (a cell size) for shape
+   * entries, the magnitude of the starting value for materials and damping
+   * (or 1 where that is zero), 1 otherwise. Optimizers and Taylor tests
+   * move designs in these units.
+   */
+  std::vector<double>
+  design_scales(const DesignLayout        &layout,
+                const std::vector<double> &q0,
+                const double               length);
+
+  /**
+   * Admissible box around a starting design: E within 1e-3..1e3 of its
+   * start and nu within [-0.5, 0.49]; lambda, mu within 1e-3..1e3 of their
+   * start; damping >= 0; loads and initial conditions free; shape entries
+   * within `shape_bound` of the mesh (infinite: free).
+   */
+  void
+  design_bounds(const DesignLayout        &layout,
+                const std::vector<double> &q0,
+                const bool                 young_poisson,
+                const double               shape_bound,
+                std::vector<double>       &lower,
+                std::vector<double>       &upper);
 } // namespace forma
 
 #endif

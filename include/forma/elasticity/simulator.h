@@ -141,6 +141,11 @@ namespace forma
     double
     gradient(std::vector<double> &dJ) const;
 
+    /// Write the last solved state (final step) as VTU number `index` of
+    /// the output series, on the current design's shape.
+    void
+    write_state(const unsigned int index, RunContext &context);
+
     /// Smallest cell diameter of the mesh (a length scale for designs).
     double
     cell_size() const;

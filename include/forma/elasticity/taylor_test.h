@@ -17,8 +17,8 @@ namespace forma
    */
   template <int dim>
   GradientCheckResult
-  taylor_test(ElasticitySimulator<dim>                      &simulator,
-              const GradientCheckParameters                 &parameters,
+  taylor_test(ElasticitySimulator<dim>                       &simulator,
+              const GradientCheckParameters                  &parameters,
               const std::function<void(const std::string &)> &log = {});
 } // namespace forma
 

@@ -1,0 +1,340 @@
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/utilities.h>
+
+#include <forma/base/application.h>
+#include <forma/base/run_context.h>
+#include <forma/optimization/optimizer.h>
+
+#include <ROL_Bounds.hpp>
+#include <ROL_Objective.hpp>
+#include <ROL_OptimizationProblem.hpp>
+#include <ROL_OptimizationSolver.hpp>
+#include <ROL_StatusTest.hpp>
+#include <ROL_StdVector.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+namespace forma
+{
+  using namespace dealii;
+
+  void
+  OptimizationParameters::declare(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Optimization");
+    prm.declare_entry("Max iterations",
+                      "50",
+                      Patterns::Integer(0),
+                      "Accepted L-BFGS iterations at most.");
+    prm.declare_entry("Relative decrease",
+                      "1e-3",
+                      Patterns::Double(0),
+                      "epsilon_r of thesis ch. 2.5: stop when J fell by less "
+                      "than this times |J0| over 'Decrease window' "
+                      "iterations.");
+    prm.declare_entry("Decrease window",
+                      "2",
+                      Patterns::Integer(1),
+                      "m of thesis ch. 2.5.");
+    prm.declare_entry("Gradient tolerance",
+                      "1e-6",
+                      Patterns::Double(0),
+                      "Stop when the (scaled) gradient norm fell below this "
+                      "fraction of the first one.");
+    prm.declare_entry("Memory",
+                      "10",
+                      Patterns::Integer(1),
+                      "L-BFGS memory (pairs).");
+    prm.declare_entry("Resume",
+                      "false",
+                      Patterns::Bool(),
+                      "Continue a killed run from "
+                      "<Output directory>/optimization.checkpoint.json.");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  OptimizationParameters::parse(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Optimization");
+    max_iterations     = prm.get_integer("Max iterations");
+    relative_decrease  = prm.get_double("Relative decrease");
+    decrease_window    = prm.get_integer("Decrease window");
+    gradient_tolerance = prm.get_double("Gradient tolerance");
+    memory             = prm.get_integer("Memory");
+    resume             = prm.get_bool("Resume");
+    prm.leave_subsection();
+  }
+
+
+
+  namespace
+  {
+    std::string
+    fmt(const double x, const int digits = 6)
+    {
+      std::ostringstream s;
+      s << std::setprecision(digits) << x;
+      return s.str();
+    }
+
+    // State shared by the ROL objective and the status test.
+    struct Run
+    {
+      const DesignModel            &model;
+      const OptimizationParameters &parameters;
+      RunContext                   &context;
+      std::vector<double>           z_accepted;
+      std::vector<double>           history;
+      double                        gnorm0 = 0;
+      std::string                   stop_reason;
+      std::string                   checkpoint;
+
+      std::vector<double>
+      design(const std::vector<double> &z) const
+      {
+        std::vector<double> q(model.initial);
+        for (unsigned int i = 0; i < q.size(); ++i)
+          q[i] += model.scale[i] * z[i];
+        return q;
+      }
+    };
+
+    class Objective : public ROL::Objective<double>
+    {
+    public:
+      explicit Objective(Run &run)
+        : run(run)
+      {}
+
+      double
+      value(const ROL::Vector<double> &x, double &) override
+      {
+        const auto &z =
+          *dynamic_cast<const ROL::StdVector<double> &>(x).getVector();
+        try
+          {
+            const double J = run.model.value(run.design(z));
+            last_z         = z;
+            last_J         = J;
+            return J;
+          }
+        catch (const std::exception &e)
+          {
+            // A failed trial: an inverted or degenerate design, or a forward
+            // solve that did not converge. A huge value makes the line
+            // search shorten the step.
+            run.context.log("  rejected trial step: " + error_message(e));
+            return failed_value();
+          }
+      }
+
+      void
+      gradient(ROL::Vector<double>       &g,
+               const ROL::Vector<double> &x,
+               double &) override
+      {
+        const auto &z =
+          *dynamic_cast<const ROL::StdVector<double> &>(x).getVector();
+        auto &gz = *dynamic_cast<ROL::StdVector<double> &>(g).getVector();
+        std::vector<double> dJ;
+        last_J = run.model.gradient(run.design(z), dJ);
+        last_z = z;
+        for (unsigned int i = 0; i < gz.size(); ++i)
+          gz[i] = dJ[i] * run.model.scale[i]; // chain rule through q(z)
+      }
+
+      void
+      update(const ROL::Vector<double> &x, bool flag, int iter) override
+      {
+        if (!flag || iter < 0)
+          return;
+        const auto &z =
+          *dynamic_cast<const ROL::StdVector<double> &>(x).getVector();
+        if (iter > 0 && z == run.z_accepted)
+          return;
+        if (z != last_z)
+          value(x, dummy);
+        run.z_accepted       = z;
+        const unsigned int k = run.history.size();
+        run.history.push_back(last_J);
+        run.model.accepted(k, run.design(z), last_J);
+        const double J0 = run.history.front();
+        run.context.print(
+          "[iteration " + std::to_string(k) + "/" +
+          std::to_string(run.parameters.max_iterations) +
+          "] J = " + fmt(last_J) +
+          (k > 0 ? ", J/J0 = " + fmt(last_J / J0, 4) : std::string()));
+        // Resume point: the last accepted design.
+        if (run.context.is_root())
+          {
+            nlohmann::json c;
+            c["iteration"]        = k;
+            c["z"]                = z;
+            c["history"]          = run.history;
+            const std::string tmp = run.checkpoint + ".tmp";
+            std::ofstream(tmp) << c.dump();
+            std::filesystem::rename(tmp, run.checkpoint);
+          }
+      }
+
+      double
+      failed_value() const
+      {
+        return 1e30 *
+               (1. + std::abs(run.history.empty() ? 0. : run.history.front()));
+      }
+
+    private:
+      Run                &run;
+      std::vector<double> last_z;
+      double              last_J = 0, dummy = 0;
+    };
+
+    // The stopping rule of thesis ch. 2.5 and the iteration limit.
+    class StatusTest : public ROL::StatusTest<double>
+    {
+    public:
+      explicit StatusTest(Run &run)
+        : ROL::StatusTest<double>(1e-300, 1e-300, 1000000)
+        , run(run)
+      {}
+
+      bool
+      check(ROL::AlgorithmState<double> &state) override
+      {
+        const auto        &h = run.history;
+        const unsigned int k = h.empty() ? 0 : h.size() - 1;
+        if (run.gnorm0 == 0)
+          run.gnorm0 = state.gnorm;
+        if (k >= run.parameters.max_iterations)
+          run.stop_reason = "maximum number of iterations";
+        else if (state.gnorm <= run.parameters.gradient_tolerance * run.gnorm0)
+          run.stop_reason = "gradient tolerance";
+        else if (state.iter > 0 && state.snorm <= 1e-12)
+          run.stop_reason = "the step vanished";
+        else if (h.size() > run.parameters.decrease_window &&
+                 h[h.size() - 1 - run.parameters.decrease_window] - h.back() <
+                   run.parameters.relative_decrease * std::abs(h.front()))
+          run.stop_reason = "relative decrease below " +
+                            fmt(run.parameters.relative_decrease) + " over " +
+                            std::to_string(run.parameters.decrease_window) +
+                            " iterations";
+        return run.stop_reason.empty();
+      }
+
+    private:
+      Run &run;
+    };
+  } // namespace
+
+
+
+  OptimizationResult
+  optimize(const DesignModel            &model,
+           const OptimizationParameters &parameters,
+           RunContext                   &context)
+  {
+    const unsigned int n = model.initial.size();
+    AssertThrow(model.scale.size() == n && model.lower.size() == n &&
+                  model.upper.size() == n,
+                ExcInternalError());
+    Run run{model, parameters, context, {}, {}, 0, {}, {}};
+    run.checkpoint = (std::filesystem::path(context.directory()).parent_path() /
+                      "optimization.checkpoint.json")
+                       .string();
+
+    auto z = ROL::makePtr<std::vector<double>>(n, 0.);
+    if (parameters.resume)
+      {
+        std::ifstream in(run.checkpoint);
+        AssertThrow(in,
+                    ExcMessage("Optimization/Resume: there is no checkpoint '" +
+                               run.checkpoint + "' to resume from."));
+        nlohmann::json c;
+        try
+          {
+            in >> c;
+            *z = c.at("z").get<std::vector<double>>();
+            // The history before the resumed iterate; that one is recorded
+            // again as the first iterate of this run.
+            run.history = c.at("history").get<std::vector<double>>();
+            run.history.pop_back();
+          }
+        catch (const std::exception &e)
+          {
+            AssertThrow(false,
+                        ExcMessage("Optimization/Resume: the checkpoint '" +
+                                   run.checkpoint +
+                                   "' is unreadable: " + e.what()));
+          }
+        AssertThrow(z->size() == n,
+                    ExcMessage("Optimization/Resume: the checkpoint holds a "
+                               "design of another size."));
+        context.print("resuming from iteration " +
+                      std::to_string(run.history.size()));
+      }
+
+    // Bounds in z.
+    auto lo = ROL::makePtr<std::vector<double>>(n),
+         hi = ROL::makePtr<std::vector<double>>(n);
+    for (unsigned int i = 0; i < n; ++i)
+      {
+        const double s = model.scale[i];
+        (*lo)[i]       = std::isfinite(model.lower[i]) ?
+                           (model.lower[i] - model.initial[i]) / s :
+                           ROL::ROL_NINF<double>();
+        (*hi)[i]       = std::isfinite(model.upper[i]) ?
+                           (model.upper[i] - model.initial[i]) / s :
+                           ROL::ROL_INF<double>();
+      }
+
+    ROL::ParameterList list;
+    list.sublist("General").set("Output Level", 1);
+    list.sublist("General").sublist("Secant").set("Type",
+                                                  "Limited-Memory BFGS");
+    list.sublist("General").sublist("Secant").set(
+      "Maximum Storage", static_cast<int>(parameters.memory));
+    list.sublist("Step").set("Type", "Line Search");
+    list.sublist("Step")
+      .sublist("Line Search")
+      .sublist("Descent Method")
+      .set("Type", "Quasi-Newton Method");
+    list.sublist("Step")
+      .sublist("Line Search")
+      .sublist("Line-Search Method")
+      .set("Type", "Backtracking");
+    list.sublist("Step")
+      .sublist("Line Search")
+      .set("Function Evaluation Limit", 30);
+    // The forma status test decides; ROL's own tests are switched off.
+    list.sublist("Status Test").set("Gradient Tolerance", 1e-300);
+    list.sublist("Status Test").set("Step Tolerance", 1e-300);
+    list.sublist("Status Test").set("Iteration Limit", 1000000);
+
+    auto objective = ROL::makePtr<Objective>(run);
+    auto x         = ROL::makePtr<ROL::StdVector<double>>(z);
+    auto bounds    = ROL::makePtr<ROL::Bounds<double>>(
+      ROL::makePtr<ROL::StdVector<double>>(lo),
+      ROL::makePtr<ROL::StdVector<double>>(hi));
+    ROL::OptimizationProblem<double> problem(objective, x, bounds);
+    ROL::OptimizationSolver<double>  solver(problem, list);
+    std::ostringstream               rol_output;
+    solver.solve(rol_output, ROL::makePtr<StatusTest>(run), true);
+    context.log(rol_output.str());
+
+    OptimizationResult result;
+    result.design  = run.design(run.z_accepted);
+    result.history = run.history;
+    result.stop_reason =
+      run.stop_reason.empty() ? "ROL stopped" : run.stop_reason;
+    return result;
+  }
+} // namespace forma
