@@ -113,6 +113,7 @@ namespace
   // Values of the small (non-shape) design blocks, e.g. recovered materials.
   std::string
   describe_design(const forma::DesignLayout &layout,
+                  const std::vector<double> &q0,
                   const std::vector<double> &q,
                   nlohmann::json            &json)
   {
@@ -120,7 +121,20 @@ namespace
     for (const auto &b : layout.blocks)
       {
         if (b.name == "shape" || b.name == "cell material")
-          continue;
+          {
+            // Shape: largest vertex displacement from the mesh as read;
+            // cell materials: largest change from the start.
+            const bool shape = b.name == "shape";
+            double     m     = 0;
+            for (unsigned int i = b.offset; i < b.offset + b.size; ++i)
+              m = std::max(m, std::abs(q[i] - (shape ? 0. : q0[i])));
+            const std::string what =
+              shape ? "max vertex offset from the mesh" : "max change";
+            json[b.name + ": " + what] = m;
+            text += (text.empty() ? "" : "; ") + b.name + ": " + what + " " +
+                    significant(m, 3);
+            continue;
+          }
         std::vector<double> v(q.begin() + b.offset,
                               q.begin() + b.offset + b.size);
         json[b.name] = v;
@@ -185,8 +199,10 @@ namespace
         ensure(q);
         simulator.write_state(k, context);
         nlohmann::json entry = {{"iteration", k}, {"objective", J}};
+      for (const auto &[name, value] : simulator.objective_terms())
+        entry["terms"][name] = value;
         nlohmann::json values;
-        const auto     text = describe_design(layout, q, values);
+        const auto     text = describe_design(layout, model.initial, q, values);
         if (!values.empty())
           entry["design"] = values;
         if (!text.empty())
@@ -204,7 +220,7 @@ namespace
                   significant(J1, 6) + " (ratio " + significant(J1 / J0, 4) +
                   ")");
     nlohmann::json final_values;
-    const auto     text = describe_design(layout, result.design, final_values);
+    const auto     text = describe_design(layout, model.initial, result.design, final_values);
     if (!text.empty())
       context.print("final design: " + text);
     context.summary["optimization"] = {{"initial_objective", J0},

@@ -403,6 +403,7 @@ namespace forma
     const unsigned int n         = u_states.size() - 1;
     double             value     = 0;
     const bool         is_static = p.problem == "static";
+    term_values.assign(J.terms().size(), 0.);
     for (unsigned int i = 0; i <= n; ++i)
       {
         const double sw = is_static ? 1. : J.step_weight(i, n, p.end_time / n);
@@ -410,8 +411,12 @@ namespace forma
           continue;
         const auto I = objective_integrals(J, i);
         for (unsigned int t = 0; t < J.terms().size(); ++t)
-          value +=
-            sw * J.terms()[t]->weight * J.terms()[t]->combine(I[t], nullptr);
+          {
+            const double v = sw * J.terms()[t]->weight *
+                             J.terms()[t]->combine(I[t], nullptr);
+            term_values[t] += v;
+            value += v;
+          }
       }
     return value;
   }
@@ -1191,6 +1196,16 @@ namespace forma
   }
 
   template <int dim>
+  std::vector<std::pair<std::string, double>>
+  ElasticitySimulator<dim>::objective_terms() const
+  {
+    std::vector<std::pair<std::string, double>> r;
+    for (unsigned int t = 0; t < impl->term_values.size(); ++t)
+      r.emplace_back(impl->objective->terms()[t]->name, impl->term_values[t]);
+    return r;
+  }
+
+  template <int dim>
   double
   ElasticitySimulator<dim>::cell_size() const
   {
@@ -1244,6 +1259,10 @@ namespace forma
   ElasticitySimulator<2>::write_state(const unsigned int, RunContext &);
   template void
   ElasticitySimulator<3>::write_state(const unsigned int, RunContext &);
+  template std::vector<std::pair<std::string, double>>
+  ElasticitySimulator<2>::objective_terms() const;
+  template std::vector<std::pair<std::string, double>>
+  ElasticitySimulator<3>::objective_terms() const;
   template double
   ElasticitySimulator<2>::cell_size() const;
   template double

@@ -317,6 +317,7 @@ namespace forma
     bool                                  prepared         = false;
     std::vector<std::vector<double>>      objective_cache; ///< last integrals
     double                                memory_of_states = 0;
+    std::vector<double> term_values; ///< weighted terms of the last J
     double adjoint_seconds = 0, forward_seconds = 0;
 
     LinearSolver linear_solver;

@@ -137,6 +137,10 @@ namespace forma
     double
     objective() const;
 
+    /// The weighted terms of the last objective() value, by name.
+    std::vector<std::pair<std::string, double>>
+    objective_terms() const;
+
     /// J and dJ/dq at the last solved design, by the adjoint method.
     double
     gradient(std::vector<double> &dJ) const;
