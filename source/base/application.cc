@@ -67,12 +67,16 @@ namespace forma
     print_usage(const ApplicationDescription &app)
     {
       std::cout
-        << "Usage: " << app.name << " FILE.prm\n"
+        << "Usage: " << app.name
+        << " FILE.prm [--set 'Section/Entry=value' ...]\n"
         << "       " << app.name << " --print-parameters\n"
         << "       " << app.name << " --help\n\n"
         << app.description << "\n\n"
         << "FILE.prm is a deal.II parameter file; it may 'include' other "
            "files, and a later 'set' overrides an earlier one.\n"
+        << "--set overrides one entry after FILE.prm is read, e.g. --set "
+           "'Output directory=results/run2' or --set "
+           "'Optimization/Max iterations=10'.\n"
         << "--print-parameters lists every parameter with its "
            "documentation and default value.\n";
     }
@@ -95,7 +99,7 @@ namespace forma
     dealii::ParameterHandler prm;
     declare_common(prm, app);
 
-    if (argc != 2)
+    if (argc < 2 || argc % 2 != 0)
       {
         if (root)
           print_usage(app);
@@ -133,6 +137,36 @@ namespace forma
       {
         report("in parameter file '" + arg + "': " + error_message(exc));
         return 1;
+      }
+    // Command-line overrides: --set 'Section/Sub/Entry=value'.
+    for (int k = 2; k + 1 < argc; k += 2)
+      {
+        const std::string flag = argv[k], assignment = argv[k + 1];
+        const auto        eq   = assignment.find('=');
+        if (flag != "--set" || eq == std::string::npos)
+          {
+            report("expected --set 'Section/Entry=value' after the "
+                   "parameter file, got '" +
+                   flag + " " + assignment + "'.");
+            return 1;
+          }
+        auto path = dealii::Utilities::split_string_list(
+          assignment.substr(0, eq), '/');
+        const std::string value =
+          dealii::Utilities::trim(assignment.substr(eq + 1));
+        try
+          {
+            for (unsigned int i = 0; i + 1 < path.size(); ++i)
+              prm.enter_subsection(path[i]);
+            prm.set(path.back(), value);
+            for (unsigned int i = 0; i + 1 < path.size(); ++i)
+              prm.leave_subsection();
+          }
+        catch (const std::exception &exc)
+          {
+            report("--set '" + assignment + "': " + error_message(exc));
+            return 1;
+          }
       }
 
     std::unique_ptr<RunContext> context;

@@ -98,6 +98,27 @@ main()
            "subsection Boundary conditions\n set Traction = 1 : 0, -50\nend\n"
            "subsection Solver\n set Max Newton iterations = 3\nend\n",
     good);
+  expect_failure("inverted_design",
+                 base + "set Mode = verify gradient\n"
+                        "subsection Design\n set Parameters = shape\n"
+                        " set Shape perturbation = 0, -2*y\nend\n"
+                        "subsection Objective\n set Terms = compliance\nend\n",
+                 good);
+  expect_failure("empty_design",
+                 base + "set Mode = optimize\n"
+                        "subsection Objective\n set Terms = compliance\nend\n",
+                 good);
+  expect_failure("unknown_objective",
+                 base + "set Mode = optimize\n"
+                        "subsection Design\n set Parameters = material\nend\n"
+                        "subsection Objective\n set Terms = stres : p=2\nend\n",
+                 good);
+  expect_failure("resume_without_checkpoint",
+                 base + "set Mode = optimize\n"
+                        "subsection Design\n set Parameters = material\nend\n"
+                        "subsection Objective\n set Terms = compliance\nend\n"
+                        "subsection Optimization\n set Resume = true\nend\n",
+                 good);
   dealii::deallog << "failed run recorded in failed-run/summary.json: "
                   << (read("results/failed-run/summary.json")
                             .find("\"status\": \"failed\"") !=
