@@ -8,6 +8,7 @@
 #include <forma/adjoint/gradient_check.h>
 #include <forma/adjoint/objective.h>
 #include <forma/base/application.h>
+#include <forma/base/plot.h>
 #include <forma/base/run_context.h>
 #include <forma/elasticity/parameters.h>
 #include <forma/elasticity/simulator.h>
@@ -199,8 +200,8 @@ namespace
         ensure(q);
         simulator.write_state(k, context);
         nlohmann::json entry = {{"iteration", k}, {"objective", J}};
-      for (const auto &[name, value] : simulator.objective_terms())
-        entry["terms"][name] = value;
+        for (const auto &[name, value] : simulator.objective_terms())
+          entry["terms"][name] = value;
         nlohmann::json values;
         const auto     text = describe_design(layout, model.initial, q, values);
         if (!values.empty())
@@ -220,7 +221,8 @@ namespace
                   significant(J1, 6) + " (ratio " + significant(J1 / J0, 4) +
                   ")");
     nlohmann::json final_values;
-    const auto     text = describe_design(layout, model.initial, result.design, final_values);
+    const auto     text =
+      describe_design(layout, model.initial, result.design, final_values);
     if (!text.empty())
       context.print("final design: " + text);
     context.summary["optimization"] = {{"initial_objective", J0},
@@ -237,6 +239,10 @@ namespace
         csv << "iteration,objective\n";
         for (unsigned int k = 0; k < result.history.size(); ++k)
           csv << k << ',' << std::setprecision(12) << result.history[k] << '\n';
+        forma::write_history_plot(context.path("convergence.png"),
+                                  result.history,
+                                  "objective history",
+                                  "iteration");
       }
   }
 } // namespace

@@ -142,7 +142,7 @@ namespace forma
     for (int k = 2; k + 1 < argc; k += 2)
       {
         const std::string flag = argv[k], assignment = argv[k + 1];
-        const auto        eq   = assignment.find('=');
+        const auto        eq = assignment.find('=');
         if (flag != "--set" || eq == std::string::npos)
           {
             report("expected --set 'Section/Entry=value' after the "
@@ -150,8 +150,8 @@ namespace forma
                    flag + " " + assignment + "'.");
             return 1;
           }
-        auto path = dealii::Utilities::split_string_list(
-          assignment.substr(0, eq), '/');
+        auto path =
+          dealii::Utilities::split_string_list(assignment.substr(0, eq), '/');
         const std::string value =
           dealii::Utilities::trim(assignment.substr(eq + 1));
         try

@@ -336,6 +336,7 @@ namespace forma
       solve_transient();
     quiet = false;
     forward_seconds += timer.wall_time();
+    ++forward_solves;
   }
 
 
@@ -412,8 +413,8 @@ namespace forma
         const auto I = objective_integrals(J, i);
         for (unsigned int t = 0; t < J.terms().size(); ++t)
           {
-            const double v = sw * J.terms()[t]->weight *
-                             J.terms()[t]->combine(I[t], nullptr);
+            const double v =
+              sw * J.terms()[t]->weight * J.terms()[t]->combine(I[t], nullptr);
             term_values[t] += v;
             value += v;
           }
@@ -1037,9 +1038,14 @@ namespace forma
                   g.initial_v[c] += dJ_dv(i);
                 }
           }
+        // Forward states (u, v per step) and adjoint states (lambda, y).
         memory_of_states = 0;
-        for (const auto &v : u_states)
-          memory_of_states += 2 * v.memory_consumption();
+        for (unsigned int i = 0; i <= n; ++i)
+          memory_of_states += u_states[i].memory_consumption() +
+                              v_states[i].memory_consumption() +
+                              (i > 0 ? lambda[i].memory_consumption() +
+                                         y[i].memory_consumption() :
+                                       0);
       }
 
     // Pull the physical gradient back to the design blocks.
@@ -1098,6 +1104,7 @@ namespace forma
       }
     Utilities::MPI::sum(dJ, comm, dJ);
     adjoint_seconds += timer.wall_time();
+    ++gradients;
     return value;
   }
 
@@ -1216,9 +1223,17 @@ namespace forma
   nlohmann::json
   ElasticitySimulator<dim>::adjoint_statistics() const
   {
-    return {{"forward_seconds", impl->forward_seconds},
-            {"adjoint_seconds", impl->adjoint_seconds},
-            {"stored_state_bytes", impl->memory_of_states}};
+    const auto &m = *impl;
+    return {{"n_dofs", m.dof_handler.n_dofs()},
+            {"forward_solves", m.forward_solves},
+            {"gradients", m.gradients},
+            {"forward_seconds", m.forward_seconds},
+            {"adjoint_seconds", m.adjoint_seconds},
+            {"seconds_per_forward_solve",
+             m.forward_seconds / std::max(1u, m.forward_solves)},
+            {"seconds_per_gradient",
+             m.adjoint_seconds / std::max(1u, m.gradients)},
+            {"stored_state_bytes", m.memory_of_states}};
   }
 
   template void

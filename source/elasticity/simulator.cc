@@ -554,6 +554,7 @@ namespace forma
         if (with_matrix)
           c.matrix.reinit(n, n);
         c.admissible = true;
+        c.energy     = 0;
 
         const Material<dim> mat    = cell_material(cell);
         const Damping<dim>  damp   = cell_damping(cell);
@@ -597,6 +598,16 @@ namespace forma
             const Tensor<1, dim> f = volume_force(rho, s.X[q], s.u[q], s.w[q]);
 
             const double JxW = fv.JxW(q);
+            if (!dynamic)
+              {
+                // Pi = int W(grad u) + f . u - int t . u (dead loads): the
+                // merit function of the static Newton line search.
+                Tensor<1, dim> u_q;
+                for (unsigned int i = 0; i < n; ++i)
+                  u_q[cfe.system_to_component_index(i).first] +=
+                    u_ghost(c.dofs[i]) * fv.shape_value(i, q);
+                c.energy += (mat.energy_density(s.grad_u[q]) + f * u_q) * JxW;
+              }
             for (unsigned int i = 0; i < n; ++i)
               {
                 const unsigned int ci = cfe.system_to_component_index(i).first;
@@ -655,18 +666,23 @@ namespace forma
                           cfe.system_to_component_index(i).first;
                         c.residual(i) -=
                           t[ci] * ff.shape_value(i, q) * ff.JxW(q);
+                        if (!dynamic)
+                          c.energy -= t[ci] * u_ghost(c.dofs[i]) *
+                                      ff.shape_value(i, q) * ff.JxW(q);
                       }
                   }
               }
       };
 
-    bool admissible = true;
-    auto copier     = [&](const CopyData &c) {
+    bool   admissible = true;
+    double energy     = 0;
+    auto   copier     = [&](const CopyData &c) {
       if (!c.admissible)
         {
           admissible = false;
           return;
         }
+      energy += c.energy;
       if (with_matrix && transpose_matrix)
         {
           FullMatrix<double> t(c.matrix.n(), c.matrix.m());
@@ -711,7 +727,8 @@ namespace forma
     residual.compress(VectorOperation::add);
     if (raw)
       raw->compress(VectorOperation::add);
-    admissible = Utilities::MPI::min(admissible ? 1 : 0, comm) == 1;
+    admissible       = Utilities::MPI::min(admissible ? 1 : 0, comm) == 1;
+    potential_energy = Utilities::MPI::sum(energy, comm);
     assembly_seconds += timer.wall_time();
     return admissible;
   }
@@ -753,6 +770,16 @@ namespace forma
         solver_seconds += timer.wall_time();
         constraints_zero.distribute(du);
 
+        // Static problems are minimizations of the potential energy: its
+        // Armijo condition accepts the long Newton steps that a residual
+        // norm merit would cut (large rotations). Where the energy change
+        // is at round-off level, or with inertia/damping, the residual
+        // norm decides.
+        const double energy0 = potential_energy;
+        const double slope   = residual * du;
+        const bool   energy_merit =
+          !transient && slope < -1e-10 * (std::abs(energy0) + 1e-300);
+
         double step     = 1.;
         bool   accepted = false;
         for (unsigned int h = 0; h <= p.max_line_search_halvings;
@@ -764,7 +791,9 @@ namespace forma
               continue; // inverted: shorter step
             const double trial_norm = residual.l2_norm();
             if (trial_norm <= tolerance ||
-                trial_norm < (1. - 1e-4 * step) * norm)
+                (energy_merit ?
+                   potential_energy <= energy0 + 1e-4 * step * slope :
+                   trial_norm < (1. - 1e-4 * step) * norm))
               {
                 u        = trial;
                 norm     = trial_norm;

@@ -130,6 +130,7 @@ namespace forma
       dealii::Vector<double>               residual;
       std::vector<types::global_dof_index> dofs;
       bool                                 admissible = true;
+      double energy = 0; ///< static potential energy of the cell
     };
   } // namespace internal
   using namespace internal;
@@ -314,11 +315,13 @@ namespace forma
     std::shared_ptr<const Objective<dim>> objective;
     bool                                  transpose_matrix = false;
     bool                                  quiet            = false;
-    bool                                  prepared         = false;
-    std::vector<std::vector<double>>      objective_cache; ///< last integrals
-    double                                memory_of_states = 0;
+    double potential_energy = 0; ///< of the last static assembly
+    bool   prepared         = false;
+    std::vector<std::vector<double>> objective_cache; ///< last integrals
+    double                           memory_of_states = 0;
     std::vector<double> term_values; ///< weighted terms of the last J
-    double adjoint_seconds = 0, forward_seconds = 0;
+    double              adjoint_seconds = 0, forward_seconds = 0;
+    unsigned int        forward_solves = 0, gradients = 0;
 
     LinearSolver linear_solver;
 

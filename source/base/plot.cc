@@ -1,0 +1,296 @@
+#include <deal.II/base/exceptions.h>
+
+#include <forma/base/plot.h>
+
+#include <zlib.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <iomanip>
+#include <map>
+#include <sstream>
+
+namespace forma
+{
+  namespace
+  {
+    // A 5x7 bitmap font for the characters the plots use.
+    const std::map<char, std::array<std::uint8_t, 7>> &
+    font()
+    {
+      static const std::map<char, std::array<std::uint8_t, 7>> glyphs = {
+        {'0', {0x0E, 0x11, 0x13, 0x15, 0x19, 0x11, 0x0E}},
+        {'1', {0x04, 0x0C, 0x04, 0x04, 0x04, 0x04, 0x0E}},
+        {'2', {0x0E, 0x11, 0x01, 0x02, 0x04, 0x08, 0x1F}},
+        {'3', {0x1F, 0x02, 0x04, 0x02, 0x01, 0x11, 0x0E}},
+        {'4', {0x02, 0x06, 0x0A, 0x12, 0x1F, 0x02, 0x02}},
+        {'5', {0x1F, 0x10, 0x1E, 0x01, 0x01, 0x11, 0x0E}},
+        {'6', {0x06, 0x08, 0x10, 0x1E, 0x11, 0x11, 0x0E}},
+        {'7', {0x1F, 0x01, 0x02, 0x04, 0x08, 0x08, 0x08}},
+        {'8', {0x0E, 0x11, 0x11, 0x0E, 0x11, 0x11, 0x0E}},
+        {'9', {0x0E, 0x11, 0x11, 0x0F, 0x01, 0x02, 0x0C}},
+        {'.', {0, 0, 0, 0, 0, 0x0C, 0x0C}},
+        {'-', {0, 0, 0, 0x1F, 0, 0, 0}},
+        {'+', {0, 0x04, 0x04, 0x1F, 0x04, 0x04, 0}},
+        {'/', {0, 0x01, 0x02, 0x04, 0x08, 0x10, 0}},
+        {'(', {0x02, 0x04, 0x08, 0x08, 0x08, 0x04, 0x02}},
+        {')', {0x08, 0x04, 0x02, 0x02, 0x02, 0x04, 0x08}},
+        {'J', {0x07, 0x02, 0x02, 0x02, 0x02, 0x12, 0x0C}},
+        {'a', {0, 0, 0x0E, 0x01, 0x0F, 0x11, 0x0F}},
+        {'b', {0x10, 0x10, 0x16, 0x19, 0x11, 0x11, 0x1E}},
+        {'c', {0, 0, 0x0E, 0x10, 0x10, 0x11, 0x0E}},
+        {'d', {0x01, 0x01, 0x0D, 0x13, 0x11, 0x11, 0x0F}},
+        {'e', {0, 0, 0x0E, 0x11, 0x1F, 0x10, 0x0E}},
+        {'g', {0, 0x0F, 0x11, 0x11, 0x0F, 0x01, 0x0E}},
+        {'h', {0x10, 0x10, 0x16, 0x19, 0x11, 0x11, 0x11}},
+        {'i', {0x04, 0, 0x0C, 0x04, 0x04, 0x04, 0x0E}},
+        {'j', {0x02, 0, 0x06, 0x02, 0x02, 0x12, 0x0C}},
+        {'l', {0x0C, 0x04, 0x04, 0x04, 0x04, 0x04, 0x0E}},
+        {'m', {0, 0, 0x1A, 0x15, 0x15, 0x11, 0x11}},
+        {'n', {0, 0, 0x16, 0x19, 0x11, 0x11, 0x11}},
+        {'o', {0, 0, 0x0E, 0x11, 0x11, 0x11, 0x0E}},
+        {'p', {0, 0, 0x1E, 0x11, 0x1E, 0x10, 0x10}},
+        {'r', {0, 0, 0x16, 0x19, 0x10, 0x10, 0x10}},
+        {'s', {0, 0, 0x0E, 0x10, 0x0E, 0x01, 0x1E}},
+        {'t', {0x08, 0x08, 0x1C, 0x08, 0x08, 0x09, 0x06}},
+        {'u', {0, 0, 0x11, 0x11, 0x11, 0x13, 0x0D}},
+        {'v', {0, 0, 0x11, 0x11, 0x11, 0x0A, 0x04}},
+        {'y', {0, 0, 0x11, 0x11, 0x0F, 0x01, 0x0E}}};
+      return glyphs;
+    }
+
+    struct Image
+    {
+      Image(const int w, const int h)
+        : width(w)
+        , height(h)
+        , rgb(3 * w * h, 255)
+      {}
+
+      void
+      set(const int x, const int y, const std::array<std::uint8_t, 3> &c)
+      {
+        if (x < 0 || y < 0 || x >= width || y >= height)
+          return;
+        std::copy(c.begin(), c.end(), rgb.begin() + 3 * (y * width + x));
+      }
+
+      void
+      line(double                             x0,
+           double                             y0,
+           double                             x1,
+           double                             y1,
+           const std::array<std::uint8_t, 3> &c,
+           const int                          thickness = 1)
+      {
+        const int n =
+          1 + static_cast<int>(std::max(std::abs(x1 - x0), std::abs(y1 - y0)));
+        for (int k = 0; k <= n; ++k)
+          {
+            const double x = x0 + (x1 - x0) * k / n, y = y0 + (y1 - y0) * k / n;
+            for (int dx = 0; dx < thickness; ++dx)
+              for (int dy = 0; dy < thickness; ++dy)
+                set(static_cast<int>(std::lround(x)) + dx - thickness / 2,
+                    static_cast<int>(std::lround(y)) + dy - thickness / 2,
+                    c);
+          }
+      }
+
+      // Text at (x, y) = top left, `scale` pixels per font pixel; vertical
+      // text runs upwards.
+      void
+      text(const std::string &s,
+           int                x,
+           int                y,
+           const int          scale,
+           const bool         vertical = false)
+      {
+        for (const char ch : s)
+          {
+            const auto it = font().find(ch);
+            if (it != font().end())
+              for (int r = 0; r < 7; ++r)
+                for (int col = 0; col < 5; ++col)
+                  if (it->second[r] & (0x10 >> col))
+                    for (int a = 0; a < scale; ++a)
+                      for (int b = 0; b < scale; ++b)
+                        {
+                          const int px = col * scale + a, py = r * scale + b;
+                          if (vertical)
+                            set(x + py, y - px, {0, 0, 0});
+                          else
+                            set(x + px, y + py, {0, 0, 0});
+                        }
+            (vertical ? y : x) += (vertical ? -6 : 6) * scale;
+          }
+      }
+
+      static int
+      text_width(const std::string &s, const int scale)
+      {
+        return 6 * scale * static_cast<int>(s.size());
+      }
+
+      void
+      write_png(const std::string &file_name) const
+      {
+        std::vector<unsigned char> raw;
+        raw.reserve((3 * width + 1) * height);
+        for (int y = 0; y < height; ++y)
+          {
+            raw.push_back(0); // no filter
+            raw.insert(raw.end(),
+                       rgb.begin() + 3 * y * width,
+                       rgb.begin() + 3 * (y + 1) * width);
+          }
+        uLongf                     size = compressBound(raw.size());
+        std::vector<unsigned char> packed(size);
+        AssertThrow(
+          compress2(packed.data(), &size, raw.data(), raw.size(), 9) == Z_OK,
+          dealii::ExcMessage("zlib failed to compress a plot"));
+        packed.resize(size);
+
+        std::ofstream out(file_name, std::ios::binary);
+        AssertThrow(out,
+                    dealii::ExcMessage("cannot write the plot '" + file_name +
+                                       "'"));
+        const unsigned char signature[8] = {137, 80, 78, 71, 13, 10, 26, 10};
+        out.write(reinterpret_cast<const char *>(signature), 8);
+        auto chunk = [&](const char                       *type,
+                         const std::vector<unsigned char> &data) {
+          auto be32 = [&](const std::uint32_t v) {
+            const unsigned char b[4] = {static_cast<unsigned char>(v >> 24),
+                                        static_cast<unsigned char>(v >> 16),
+                                        static_cast<unsigned char>(v >> 8),
+                                        static_cast<unsigned char>(v)};
+            out.write(reinterpret_cast<const char *>(b), 4);
+          };
+          be32(data.size());
+          out.write(type, 4);
+          out.write(reinterpret_cast<const char *>(data.data()), data.size());
+          uLong crc = crc32(0, reinterpret_cast<const Bytef *>(type), 4);
+          crc       = crc32(crc, data.data(), data.size());
+          be32(crc);
+        };
+        std::vector<unsigned char> header(13, 0);
+        for (int k = 0; k < 4; ++k)
+          {
+            header[k]     = (width >> (24 - 8 * k)) & 255;
+            header[4 + k] = (height >> (24 - 8 * k)) & 255;
+          }
+        header[8] = 8; // bit depth
+        header[9] = 2; // RGB
+        chunk("IHDR", header);
+        chunk("IDAT", packed);
+        chunk("IEND", {});
+      }
+
+      int                        width, height;
+      std::vector<unsigned char> rgb;
+    };
+
+    // A "nice" tick spacing for a range shown with at most ~8 ticks.
+    double
+    nice_step(const double range)
+    {
+      const double raw  = range / 8;
+      const double base = std::pow(10., std::floor(std::log10(raw)));
+      for (const double m : {1., 2., 5., 10.})
+        if (m * base >= raw)
+          return m * base;
+      return 10 * base;
+    }
+
+    std::string
+    label(const double v)
+    {
+      std::ostringstream s;
+      s << std::setprecision(3) << v;
+      return s.str();
+    }
+  } // namespace
+
+
+
+  void
+  write_history_plot(const std::string         &file_name,
+                     const std::vector<double> &values,
+                     const std::string         &title,
+                     const std::string         &x_label)
+  {
+    if (values.empty())
+      return;
+    const bool logarithmic =
+      values.front() > 0 &&
+      std::all_of(values.begin(), values.end(), [](double v) { return v > 0; });
+    std::vector<double> y;
+    for (const double v : values)
+      y.push_back(logarithmic ? std::log10(v / values.front()) : v);
+
+    double lo = *std::min_element(y.begin(), y.end());
+    double hi = *std::max_element(y.begin(), y.end());
+    double step;
+    if (logarithmic)
+      {
+        lo   = std::floor(lo - 1e-9);
+        hi   = std::max(std::ceil(hi - 1e-9), lo + 1);
+        step = std::max(1., std::ceil((hi - lo) / 8));
+      }
+    else
+      {
+        if (hi - lo < 1e-12 * (std::abs(hi) + 1e-300))
+          {
+            lo -= 0.5 * std::abs(lo) + 1;
+            hi += 0.5 * std::abs(hi) + 1;
+          }
+        step = nice_step(hi - lo);
+        lo   = step * std::floor(lo / step);
+        hi   = step * std::ceil(hi / step);
+      }
+    const double n_x = std::max<double>(1, values.size() - 1);
+
+    Image     img(800, 500);
+    const int left = 110, right = 770, top = 50, bottom = 430;
+    auto      px = [&](double i) { return left + (right - left) * i / n_x; };
+    auto      py = [&](double v) {
+      return bottom - (bottom - top) * (v - lo) / (hi - lo);
+    };
+    const std::array<std::uint8_t, 3> grid{215, 215, 215}, axis{0, 0, 0},
+      blue{31, 90, 180};
+
+    for (double v = lo; v <= hi + 1e-9 * step; v += step)
+      {
+        img.line(left, py(v), right, py(v), grid);
+        const std::string t =
+          logarithmic ? "1e" + std::to_string(static_cast<int>(v)) : label(v);
+        img.text(t, left - 10 - Image::text_width(t, 2), py(v) - 7, 2);
+      }
+    const double xs = std::max(1., nice_step(n_x));
+    for (double i = 0; i <= n_x + 1e-9; i += xs)
+      {
+        img.line(px(i), top, px(i), bottom, grid);
+        const std::string t = label(i);
+        img.text(t, px(i) - Image::text_width(t, 2) / 2, bottom + 10, 2);
+      }
+    img.line(left, top, left, bottom, axis, 2);
+    img.line(left, bottom, right, bottom, axis, 2);
+    for (unsigned int i = 0; i + 1 < y.size(); ++i)
+      img.line(px(i), py(y[i]), px(i + 1), py(y[i + 1]), blue, 3);
+    for (unsigned int i = 0; i < y.size(); ++i)
+      for (int d = -3; d <= 3; ++d)
+        img.line(px(i) - 3, py(y[i]) + d, px(i) + 3, py(y[i]) + d, blue);
+
+    img.text(title, (800 - Image::text_width(title, 3)) / 2, 12, 3);
+    img.text(x_label,
+             (left + right - Image::text_width(x_label, 2)) / 2,
+             465,
+             2);
+    const std::string y_label = logarithmic ? "J/J0 (log)" : "J";
+    img.text(
+      y_label, 14, (top + bottom + Image::text_width(y_label, 2)) / 2, 2, true);
+    img.write_png(file_name);
+  }
+} // namespace forma
