@@ -35,6 +35,22 @@ namespace forma
     public:
       using ObjectiveTerm<dim>::ObjectiveTerm;
 
+      // Default: one volume integral, J = I.
+      std::vector<typename ObjectiveTerm<dim>::Integral>
+      integrals() const override
+      {
+        return {{}};
+      }
+
+      double
+      combine(const std::vector<double> &I,
+              std::vector<double>       *grad) const override
+      {
+        if (grad)
+          *grad = {1.};
+        return I[0];
+      }
+
       void
       integrand(const unsigned int           k,
                 const IntegrandContext<dim> &c,
@@ -147,11 +163,6 @@ namespace forma
         , p(p)
         , von_mises(von_mises)
       {}
-      std::vector<typename ObjectiveTerm<dim>::Integral>
-      integrals() const override
-      {
-        return {{}};
-      }
       template <typename N>
       N
       j(unsigned int,
@@ -189,11 +200,6 @@ namespace forma
     {
     public:
       using AutoDiffTerm<dim, Compliance<dim>>::AutoDiffTerm;
-      std::vector<typename ObjectiveTerm<dim>::Integral>
-      integrals() const override
-      {
-        return {{}};
-      }
       template <typename N>
       N
       j(unsigned int,
@@ -206,14 +212,6 @@ namespace forma
       {
         return scalar_product(stress<dim, N>(c, g, l, m), g);
       }
-      double
-      combine(const std::vector<double> &I,
-              std::vector<double>       *grad) const override
-      {
-        if (grad)
-          *grad = {1.};
-        return I[0];
-      }
     };
 
     // Volume, or its upper-bound penalty phi(V - V_t) (eqs. 3.40-3.41).
@@ -225,11 +223,6 @@ namespace forma
         : AutoDiffTerm<dim, Volume<dim>>(name, weight)
         , bound(bound)
       {}
-      std::vector<typename ObjectiveTerm<dim>::Integral>
-      integrals() const override
-      {
-        return {{}};
-      }
       template <typename N>
       N
       j(unsigned int,
@@ -275,11 +268,6 @@ namespace forma
         , bound(bound)
         , von_mises(von_mises)
       {}
-      std::vector<typename ObjectiveTerm<dim>::Integral>
-      integrals() const override
-      {
-        return {{}};
-      }
       template <typename N>
       N
       j(unsigned int,
@@ -296,14 +284,6 @@ namespace forma
         if (!(s2 > bound * bound))
           return N(0.);
         return positive_part_squared<N>(N(sqrt(s2)) - N(bound));
-      }
-      double
-      combine(const std::vector<double> &I,
-              std::vector<double>       *grad) const override
-      {
-        if (grad)
-          *grad = {1.};
-        return I[0];
       }
 
     private:
@@ -365,14 +345,6 @@ namespace forma
             r += e * e;
           }
         return r;
-      }
-      double
-      combine(const std::vector<double> &I,
-              std::vector<double>       *grad) const override
-      {
-        if (grad)
-          *grad = {1.};
-        return I[0];
       }
 
     private:

@@ -933,7 +933,7 @@ namespace forma
     if (is_static)
       {
         const auto w = weights_at_step(0);
-        accumulate(J, &w, nullptr, &dJ_du, nullptr);
+        accumulate(J, &w, nullptr, &dJ_du, &g); // objective partials
         rhs = dJ_du;
         rhs *= -1.;
         // The Jacobian of the converged Newton step is still assembled;
@@ -941,7 +941,7 @@ namespace forma
         Vector_t lambda(owned, comm);
         linear_solver.solve_reusing(jacobian, lambda, rhs);
         constraints_zero.distribute(lambda);
-        accumulate(J, &w, &lambda, nullptr, &g);
+        accumulate(J, nullptr, &lambda, nullptr, &g); // p^T d_q h
       }
     else
       {
@@ -973,7 +973,7 @@ namespace forma
               }
             const auto w = weights_at_step(i);
             dJ_du        = 0;
-            accumulate(J, &w, nullptr, &dJ_du, nullptr);
+            accumulate(J, &w, nullptr, &dJ_du, &g);
             mass_and_damping_products(z,
                                       i < n ? &lambda[i + 1] : nullptr,
                                       i + 1,
@@ -1001,7 +1001,7 @@ namespace forma
                   y[i].add(a / (beta_dt(k) * bi), lambda[k]);
               }
             set_step_state(i);
-            accumulate(J, &w, &lambda[i], nullptr, &g);
+            accumulate(J, nullptr, &lambda[i], nullptr, &g);
           }
 
         // Step 0: the initial conditions (eq. 3.21).
@@ -1018,7 +1018,7 @@ namespace forma
         mass_and_damping_products(z, &lambda[1], 1, products);
         dJ_du += products;
         // dJ/dv^0 = M zv on every DoF (v^0 is not constrained).
-        Vector_t dJ_dv(owned, comm), raw(owned, comm);
+        Vector_t dJ_dv(owned, comm);
         {
           AffineConstraints<double> none;
           none.close();
@@ -1026,18 +1026,8 @@ namespace forma
           mass_and_damping_products(zv, nullptr, 0, dJ_dv);
           std::swap(none, constraints_zero);
         }
-        for (unsigned int c = 0; c < dim; ++c)
-          {
-            std::vector<bool> mask(dim, false);
-            mask[c] = true;
-            for (const auto i :
-                 DoFTools::extract_dofs(dof_handler, ComponentMask(mask)))
-              if (owned.is_element(i))
-                {
-                  g.initial_u[c] += dJ_du(i);
-                  g.initial_v[c] += dJ_dv(i);
-                }
-          }
+        g.initial_u = component_sums(dJ_du); // adjoint of add_uniform()
+        g.initial_v = component_sums(dJ_dv);
         // Forward states (u, v per step) and adjoint states (lambda, y).
         memory_of_states = 0;
         for (unsigned int i = 0; i <= n; ++i)

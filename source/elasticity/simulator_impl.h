@@ -196,8 +196,15 @@ namespace forma
     assemble(const Vector_t &u_owned, const bool with_matrix, Vector_t *raw);
     std::pair<unsigned int, unsigned int>
     newton(const double time, const std::string &where);
+    /// Component (0..dim-1) of every locally owned DoF.
+    std::vector<unsigned int>
+    owned_components() const;
+    /// x += the uniform vector `value`, and its transpose: the sums of the
+    /// owned entries of x per component.
     void
     add_uniform(Vector_t &x, const Tensor<1, dim> &value);
+    Tensor<1, dim>
+    component_sums(const Vector_t &x) const;
     void
     solve_static();
     void
