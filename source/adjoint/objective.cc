@@ -420,6 +420,42 @@ namespace forma
       const bool           height;
       const Tensor<1, dim> target;
     };
+    // Placeholder of a regularization term (see ObjectiveTerm).
+    template <int dim>
+    class RegularizationTerm : public ObjectiveTerm<dim>
+    {
+    public:
+      RegularizationTerm(const std::string &name,
+                         const double       weight,
+                         const typename ObjectiveTerm<dim>::Regularization r,
+                         const double                                      p)
+        : ObjectiveTerm<dim>(name, weight)
+      {
+        this->regularization = r;
+        this->exponent       = p;
+      }
+      std::vector<typename ObjectiveTerm<dim>::Integral>
+      integrals() const override
+      {
+        return {};
+      }
+      void
+      integrand(const unsigned int,
+                const IntegrandContext<dim> &,
+                const Tensor<1, dim> &,
+                const Tensor<1, dim> &,
+                const Tensor<2, dim> &,
+                const double,
+                const double,
+                const bool,
+                IntegrandValue<dim> &) const override
+      {}
+      double
+      combine(const std::vector<double> &, std::vector<double> *) const override
+      {
+        return 0;
+      }
+    };
   } // namespace
 
 
@@ -439,7 +475,9 @@ namespace forma
         "'volume', 'volume bound : bound=V' (eq. 3.40), 'stress bound : "
         "bound=s' and 'von mises bound : bound=s' (eq. 3.42), 'target' and "
         "'boundary target : boundary=id' (eq. 3.37, see Target), 'center "
-        "of mass : x=.., y=.., z=..' (eq. 3.38), 'height' (eq. 3.39).");
+        "of mass : x=.., y=.., z=..' (eq. 3.38), 'height' (eq. 3.39), "
+        "'boundary smoothing : p=2' (eq. 3.43, needs the shape block) and "
+        "'material smoothing' (eq. 3.44, on per-cell Lame parameters).");
       prm.declare_entry("Time weighting",
                         "integral",
                         Patterns::Selection("integral|final"),
@@ -533,6 +571,18 @@ namespace forma
               ids.insert(static_cast<types::boundary_id>(kv.at("boundary")));
             t = std::make_unique<Target<dim>>(
               name, w, name == "boundary target", ids, target);
+          }
+        else if (name == "boundary smoothing" || name == "material smoothing")
+          {
+            using R        = typename ObjectiveTerm<dim>::Regularization;
+            const double p = key(kv, "p", 2., where);
+            AssertThrow(p >= 1, ExcMessage(where + ": p must be at least 1."));
+            t = std::make_unique<RegularizationTerm<dim>>(
+              name,
+              w,
+              name == "boundary smoothing" ? R::boundary_smoothing :
+                                             R::material_smoothing,
+              p);
           }
         else if (name == "center of mass" || name == "height")
           {

@@ -419,7 +419,161 @@ namespace forma
             value += v;
           }
       }
+    const auto r = regularization(J, nullptr);
+    for (unsigned int t = 0; t < r.size(); ++t)
+      {
+        term_values[t] += r[t];
+        value += r[t];
+      }
     return value;
+  }
+
+
+
+  template <int dim>
+  std::vector<double>
+  ElasticitySimulator<dim>::Impl::regularization(const Objective<dim> &J,
+                                                 PhysicalGradient     *g)
+  {
+    using R = typename ObjectiveTerm<dim>::Regularization;
+    std::vector<double> values(J.terms().size(), 0.);
+    for (unsigned int t = 0; t < J.terms().size(); ++t)
+      {
+        const auto &term = *J.terms()[t];
+        double      v    = 0;
+        if (term.regularization == R::material_smoothing)
+          {
+            // eq. 3.44 over ordered pairs (cell, face neighbor), from the
+            // owned cell's side; neighbors may be ghosts or finer cells.
+            auto pair = [&](const auto &a, const auto &b) {
+              const auto &la = cell_lame[a->active_cell_index()];
+              const auto &lb = cell_lame[b->active_cell_index()];
+              for (unsigned int k = 0; k < 2; ++k)
+                {
+                  const double r = 1. - lb[k] / la[k];
+                  v += term.weight * r * r;
+                  if (g)
+                    {
+                      g->lame[a->active_cell_index()][k] +=
+                        term.weight * 2. * r * lb[k] / (la[k] * la[k]);
+                      g->lame[b->active_cell_index()][k] -=
+                        term.weight * 2. * r / la[k];
+                    }
+                }
+            };
+            for (const auto &cell : dof_handler.active_cell_iterators())
+              if (cell->is_locally_owned())
+                for (const auto f : cell->face_indices())
+                  {
+                    if (cell->at_boundary(f))
+                      continue;
+                    if (cell->face(f)->has_children())
+                      for (unsigned int c = 0;
+                           c < cell->face(f)->n_active_descendants();
+                           ++c)
+                        pair(cell, cell->neighbor_child_on_subface(f, c));
+                    else
+                      pair(cell, cell->neighbor(f));
+                  }
+          }
+        else if (term.regularization == R::boundary_smoothing)
+          {
+            AssertThrow(layout.find("shape"),
+                        ExcMessage("Objective/Terms: 'boundary smoothing' "
+                                   "needs the shape block in "
+                                   "Design/Parameters."));
+            // eq. 3.43: boundary vertices and their neighbours along
+            // boundary edges, from owned and ghost cells; each vertex is
+            // counted by the rank that owns its first coordinate.
+            std::map<unsigned int, std::set<unsigned int>> neighbours;
+            std::map<unsigned int, std::array<types::global_dof_index, dim>>
+              dofs;
+            for (const auto &cell : shape_dof_handler.active_cell_iterators())
+              if (!cell->is_artificial() && cell->at_boundary())
+                for (const auto f : cell->face_indices())
+                  {
+                    if (!cell->at_boundary(f))
+                      continue;
+                    const auto face = cell->face(f);
+                    for (unsigned int v = 0; v < face->n_vertices(); ++v)
+                      for (unsigned int d = 0; d < dim; ++d)
+                        dofs[face->vertex_index(v)][d] =
+                          face->vertex_dof_index(v, d);
+                    if (dim == 2)
+                      {
+                        neighbours[face->vertex_index(0)].insert(
+                          face->vertex_index(1));
+                        neighbours[face->vertex_index(1)].insert(
+                          face->vertex_index(0));
+                      }
+                    else
+                      for (unsigned int l = 0; l < face->n_lines(); ++l)
+                        {
+                          const auto line = face->line(l);
+                          neighbours[line->vertex_index(0)].insert(
+                            line->vertex_index(1));
+                          neighbours[line->vertex_index(1)].insert(
+                            line->vertex_index(0));
+                        }
+                  }
+            auto position = [&](const unsigned int vertex) {
+              Tensor<1, dim> x;
+              for (unsigned int d = 0; d < dim; ++d)
+                x[d] = shape_ghost(dofs.at(vertex)[d]);
+              return x;
+            };
+            const double p_exp = term.exponent;
+            for (const auto &[i, ns] : neighbours)
+              {
+                if (!shape_owned.is_element(dofs.at(i)[0]))
+                  continue;
+                const Tensor<1, dim> xi = position(i);
+                Tensor<1, dim>       A, sum_e;
+                double               L = 0;
+                for (const auto j : ns)
+                  {
+                    const Tensor<1, dim> e = xi - position(j);
+                    A += e;
+                    L += e.norm();
+                    sum_e += e / e.norm();
+                  }
+                const Tensor<1, dim> s_i = A / L;
+                const double         s2  = s_i.norm_square();
+                v += term.weight * std::pow(s2, 0.5 * p_exp);
+                if (!g || s2 == 0)
+                  continue;
+                // dJ/ds, then ds = dA / L - A dL / L^2.
+                const Tensor<1, dim> gs =
+                  term.weight * p_exp * std::pow(s2, 0.5 * p_exp - 1) * s_i;
+                const double   gA = gs * A / (L * L);
+                Tensor<1, dim> gi = double(ns.size()) * gs / L - gA * sum_e;
+                std::vector<types::global_dof_index> indices;
+                Vector<double> local(dim * (ns.size() + 1));
+                for (unsigned int d = 0; d < dim; ++d)
+                  {
+                    indices.push_back(dofs.at(i)[d]);
+                    local(d) = gi[d];
+                  }
+                for (const auto j : ns)
+                  {
+                    const Tensor<1, dim> e  = xi - position(j);
+                    const Tensor<1, dim> gj = -gs / L + gA * e / e.norm();
+                    for (unsigned int d = 0; d < dim; ++d)
+                      {
+                        local(indices.size()) = gj[d];
+                        indices.push_back(dofs.at(j)[d]);
+                      }
+                  }
+                shape_constraints.distribute_local_to_global(local,
+                                                             indices,
+                                                             g->shape);
+              }
+            if (g)
+              g->shape.compress(VectorOperation::add);
+          }
+        values[t] = Utilities::MPI::sum(v, comm);
+      }
+    return values;
   }
 
 
@@ -1038,6 +1192,9 @@ namespace forma
                                        0);
       }
 
+    for (const double r : regularization(J, &g))
+      value += r;
+
     // Pull the physical gradient back to the design blocks.
     dJ.assign(layout.size(), 0.);
     std::map<types::material_id, unsigned int> body_index;
@@ -1054,9 +1211,10 @@ namespace forma
         else if (b.name == "cell material" || b.name == "material" ||
                  b.name == "damping")
           {
+            // Ghost cells carry the regularization's share of their owner.
             for (const auto &cell : tria->active_cell_iterators())
               {
-                if (!cell->is_locally_owned())
+                if (cell->is_artificial())
                   continue;
                 const unsigned int    c = cell->active_cell_index();
                 std::array<double, 2> v =

@@ -254,6 +254,10 @@ namespace forma
                               Vector_t          &result);
     double
     compute_gradient(const Objective<dim> &J, std::vector<double> &dJ);
+    /// The regularization terms of J (weighted, in term order; zero for
+    /// other terms), their gradient added to `g` when given.
+    std::vector<double>
+    regularization(const Objective<dim> &J, PhysicalGradient *g);
 
     const ElasticityParameters p;
     const MPI_Comm             comm;

@@ -86,6 +86,21 @@ namespace forma
       return false;
     }
 
+    /**
+     * Regularization terms are functions of the design alone, evaluated by
+     * the simulator that knows the mesh topology: `boundary smoothing`
+     * (thesis eq. 3.43, exponent `p`) and `material smoothing` (eq. 3.44).
+     * They have no integrals and are not integrated in time.
+     */
+    enum class Regularization
+    {
+      none,
+      boundary_smoothing,
+      material_smoothing
+    };
+    Regularization regularization = Regularization::none;
+    double         exponent       = 2; ///< p of boundary smoothing
+
     const std::string name;
     const double      weight;
   };
