@@ -630,6 +630,20 @@ namespace forma
     std::vector<Tensor<1, dim>>          ref_u, adj_u, u_vals;
     std::vector<Tensor<2, dim>>          adj_grad, grads, grads_old;
 
+    // Which integrals live on the volume, which on a boundary id.
+    std::vector<unsigned int> volume_mask, any_boundary, n_integrals;
+    for (const auto &t : J.terms())
+      for (const auto &i : t->integrals())
+        {
+          volume_mask.push_back(!i.boundary);
+          any_boundary.push_back(i.boundary);
+        }
+    for (const auto &t : J.terms())
+      n_integrals.push_back(t->integrals().size());
+    const bool has_boundary_terms =
+      std::find(any_boundary.begin(), any_boundary.end(), 1u) !=
+      any_boundary.end();
+
     // Objective integrand contributions at one point (volume or face).
     IntegrandValue<dim> r;
     auto                objective_point =
@@ -645,8 +659,7 @@ namespace forma
         for (unsigned int t = 0, idx = 0; t < J.terms().size(); ++t)
           {
             const auto &term = *J.terms()[t];
-            const auto  ints = term.integrals();
-            for (unsigned int k = 0; k < ints.size(); ++k, ++idx)
+            for (unsigned int k = 0; k < n_integrals[t]; ++k, ++idx)
               {
                 if (!term_integrals[idx])
                   continue;
@@ -706,17 +719,6 @@ namespace forma
           }
       };
 
-    // Which integrals live on the volume, which on a boundary id.
-    std::vector<unsigned int> volume_mask, any_boundary;
-    for (const auto &t : J.terms())
-      for (const auto &i : t->integrals())
-        {
-          volume_mask.push_back(!i.boundary);
-          any_boundary.push_back(i.boundary);
-        }
-    const bool has_boundary_terms =
-      std::find(any_boundary.begin(), any_boundary.end(), 1u) !=
-      any_boundary.end();
 
     for (const auto &cell : dof_handler.active_cell_iterators())
       {

@@ -3,9 +3,8 @@
 // reductions, the recovered parameters within 1%, the volume bounds kept.
 // Each runs as a user would run it, with its output redirected.
 
-#include <nlohmann/json.hpp>
-
 #include "../tests.h"
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <cstdlib>
@@ -18,18 +17,16 @@ using nlohmann::json;
 json
 run(const std::string &name, const std::string &extra = "")
 {
-  const std::string prm =
-    std::string(FORMA_SOURCE_DIR) + "/parameter_files/transient_ipc/" + name +
-    ".prm";
+  const std::string prm = std::string(FORMA_SOURCE_DIR) +
+                          "/parameter_files/transient_ipc/" + name + ".prm";
   const int status = std::system((std::string(FORMA_APP) + " " + prm +
                                   " --set 'Output directory=" + name + "'" +
                                   extra + " > " + name + ".stdout 2>&1")
                                    .c_str());
-  json s;
+  json      s;
   std::ifstream(name + "/summary.json") >> s;
   dealii::deallog << name << ": exit code " << WEXITSTATUS(status)
-                  << ", status " << s["status"].get<std::string>()
-                  << std::endl;
+                  << ", status " << s["status"].get<std::string>() << std::endl;
   return s;
 }
 
@@ -74,10 +71,9 @@ main()
   {
     const auto s = run("bridge_shape_recovery");
     check("objective reduced below 1e-5 of its start", ratio(s) < 1e-5);
-    const double offset =
-      s["optimization"]["final_design"]
-       ["shape: max vertex offset from the mesh"]
-         .get<double>();
+    const double offset = s["optimization"]["final_design"]
+                           ["shape: max vertex offset from the mesh"]
+                             .get<double>();
     check("vertices within 1% of the perturbation (0.1) of the true shape",
           offset < 1e-3);
   }
@@ -109,8 +105,8 @@ main()
     run("bridge_material_recovery", " --set 'Optimization/Max iterations=4'");
     const auto s =
       run("bridge_material_recovery", " --set 'Optimization/Resume=true'");
-    std::ifstream      in("bridge_material_recovery.stdout");
-    const std::string  out((std::istreambuf_iterator<char>(in)),
+    std::ifstream     in("bridge_material_recovery.stdout");
+    const std::string out((std::istreambuf_iterator<char>(in)),
                           std::istreambuf_iterator<char>());
     check("resumed from iteration 4",
           out.find("resuming from iteration 4") != std::string::npos);
