@@ -59,6 +59,13 @@ namespace forma
                         "product of the column lengths, at the quadrature "
                         "points) falls below this somewhere is rejected as "
                         "inverted or degenerate (thesis ch. 3.9).");
+      prm.declare_entry(
+        "Shape parameterization",
+        "vertices",
+        Patterns::Selection("vertices|boundary"),
+        "vertices: every vertex is a design variable (thesis ch. 3). "
+        "boundary: boundary vertices are, interior ones follow by harmonic "
+        "extension, which keeps the interior mesh smooth.");
       prm.declare_entry("Shape bound",
                         "0",
                         Patterns::Double(0),
@@ -90,6 +97,7 @@ namespace forma
       shape_perturbation  = prm.get("Shape perturbation");
       min_scaled_jacobian = prm.get_double("Min scaled Jacobian");
       shape_bound         = prm.get_double("Shape bound");
+      boundary_shape      = prm.get("Shape parameterization") == "boundary";
     }
     prm.leave_subsection();
   }

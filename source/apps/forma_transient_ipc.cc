@@ -116,6 +116,7 @@ namespace
   describe_design(const forma::DesignLayout &layout,
                   const std::vector<double> &q0,
                   const std::vector<double> &q,
+                  const double               shape_offset,
                   nlohmann::json            &json)
   {
     std::string text;
@@ -123,14 +124,15 @@ namespace
       {
         if (b.name == "shape" || b.name == "cell material")
           {
-            // Shape: largest vertex displacement from the mesh as read;
-            // cell materials: largest change from the start.
-            const bool shape = b.name == "shape";
-            double     m     = 0;
-            for (unsigned int i = b.offset; i < b.offset + b.size; ++i)
-              m = std::max(m, std::abs(q[i] - (shape ? 0. : q0[i])));
-            const std::string what =
-              shape ? "max vertex offset from the mesh" : "max change";
+            // Shape: largest vertex move from the mesh as read (of the
+            // shape the simulator holds); cell materials: largest change.
+            double m = b.name == "shape" ? shape_offset : 0.;
+            if (b.name != "shape")
+              for (unsigned int i = b.offset; i < b.offset + b.size; ++i)
+                m = std::max(m, std::abs(q[i] - q0[i]));
+            const std::string what     = b.name == "shape" ?
+                                           "max vertex offset from the mesh" :
+                                           "max change";
             json[b.name + ": " + what] = m;
             text += (text.empty() ? "" : "; ") + b.name + ": " + what + " " +
                     significant(m, 3);
@@ -203,7 +205,8 @@ namespace
         for (const auto &[name, value] : simulator.objective_terms())
           entry["terms"][name] = value;
         nlohmann::json values;
-        const auto     text = describe_design(layout, model.initial, q, values);
+        const auto     text = describe_design(
+          layout, model.initial, q, simulator.max_shape_offset(), values);
         if (!values.empty())
           entry["design"] = values;
         if (!text.empty())
@@ -220,9 +223,13 @@ namespace
     context.print("objective " + significant(J0, 6) + " -> " +
                   significant(J1, 6) + " (ratio " + significant(J1 / J0, 4) +
                   ")");
+    ensure(result.design);
     nlohmann::json final_values;
-    const auto     text =
-      describe_design(layout, model.initial, result.design, final_values);
+    const auto     text = describe_design(layout,
+                                      model.initial,
+                                      result.design,
+                                      simulator.max_shape_offset(),
+                                      final_values);
     if (!text.empty())
       context.print("final design: " + text);
     context.summary["optimization"] = {{"initial_objective", J0},

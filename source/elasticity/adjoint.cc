@@ -175,6 +175,153 @@ namespace forma
 
   template <int dim>
   void
+  ElasticitySimulator<dim>::Impl::setup_extension()
+  {
+    extension_constraints.clear();
+    extension_constraints.reinit(shape_relevant);
+    DoFTools::make_hanging_node_constraints(shape_dof_handler,
+                                            extension_constraints);
+    for (const auto i : DoFTools::extract_boundary_dofs(shape_dof_handler))
+      if (shape_relevant.is_element(i) &&
+          !extension_constraints.is_constrained(i))
+        extension_constraints.add_line(i);
+    extension_constraints.make_consistent_in_parallel(shape_owned,
+                                                      shape_relevant,
+                                                      comm);
+    extension_constraints.close();
+
+    TrilinosWrappers::SparsityPattern sp(shape_owned,
+                                         shape_owned,
+                                         shape_relevant,
+                                         comm);
+    DoFTools::make_sparsity_pattern(shape_dof_handler,
+                                    sp,
+                                    extension_constraints,
+                                    false,
+                                    Utilities::MPI::this_mpi_process(comm));
+    sp.compress();
+    extension_matrix.reinit(sp);
+    const Quadrature<dim> q =
+      tria->get_reference_cells()[0].template get_gauss_type_quadrature<dim>(2);
+    FEValues<dim>                        fv(reference_mapping[0],
+                     *shape_fe,
+                     q,
+                     update_gradients | update_JxW_values);
+    const unsigned int                   n = shape_fe->n_dofs_per_cell();
+    FullMatrix<double>                   K(n, n);
+    std::vector<types::global_dof_index> dofs(n);
+    for (const auto &cell : shape_dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          fv.reinit(cell);
+          K = 0;
+          for (unsigned int a = 0; a < n; ++a)
+            for (unsigned int b = 0; b < n; ++b)
+              if (shape_fe->system_to_component_index(a).first ==
+                  shape_fe->system_to_component_index(b).first)
+                for (unsigned int k = 0; k < q.size(); ++k)
+                  K(a, b) +=
+                    fv.shape_grad(a, k) * fv.shape_grad(b, k) * fv.JxW(k);
+          cell->get_dof_indices(dofs);
+          extension_constraints.distribute_local_to_global(K,
+                                                           dofs,
+                                                           extension_matrix);
+        }
+    extension_matrix.compress(VectorOperation::add);
+    extension_ready = true;
+  }
+
+
+
+  template <int dim>
+  Vector_t
+  ElasticitySimulator<dim>::Impl::laplacian_times(
+    const Vector_t                  &x,
+    const AffineConstraints<double> &constraints)
+  {
+    Vector_t x_ghost(shape_owned, shape_relevant, comm);
+    x_ghost = x;
+    Vector_t              result(shape_owned, comm);
+    const Quadrature<dim> q =
+      tria->get_reference_cells()[0].template get_gauss_type_quadrature<dim>(2);
+    FEValues<dim>                        fv(reference_mapping[0],
+                     *shape_fe,
+                     q,
+                     update_gradients | update_JxW_values);
+    const unsigned int                   n = shape_fe->n_dofs_per_cell();
+    Vector<double>                       local(n);
+    std::vector<types::global_dof_index> dofs(n);
+    for (const auto &cell : shape_dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          fv.reinit(cell);
+          cell->get_dof_indices(dofs);
+          local = 0;
+          for (unsigned int a = 0; a < n; ++a)
+            for (unsigned int b = 0; b < n; ++b)
+              if (shape_fe->system_to_component_index(a).first ==
+                  shape_fe->system_to_component_index(b).first)
+                for (unsigned int k = 0; k < q.size(); ++k)
+                  local(a) += fv.shape_grad(a, k) * fv.shape_grad(b, k) *
+                              fv.JxW(k) * x_ghost(dofs[b]);
+          constraints.distribute_local_to_global(local, dofs, result);
+        }
+    result.compress(VectorOperation::add);
+    return result;
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::extend(Vector_t &delta)
+  {
+    if (!extension_ready)
+      setup_extension();
+    // delta_B: the boundary entries (fixed and hanging ones follow from
+    // shape_constraints); interior entries solve the Laplace problem
+    //   A_II delta_I = -A_IB delta_B.
+    Vector_t boundary_part(delta);
+    for (const auto i : shape_owned)
+      if (!extension_constraints.is_constrained(i))
+        boundary_part(i) = 0;
+    boundary_part.compress(VectorOperation::insert);
+    shape_constraints.distribute(boundary_part);
+    Vector_t rhs = laplacian_times(boundary_part, extension_constraints);
+    rhs *= -1.;
+    Vector_t interior(shape_owned, comm);
+    extension_solver.solve_reusing(extension_matrix, interior, rhs);
+    extension_constraints.set_zero(interior);
+    delta = boundary_part;
+    delta += interior;
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::extend_transpose(Vector_t &gradient)
+  {
+    if (!extension_ready)
+      setup_extension();
+    // g_B - A_BI A_II^-1 g_I (A symmetric); interior entries become zero.
+    Vector_t g_interior(gradient);
+    extension_constraints.set_zero(g_interior);
+    Vector_t w(shape_owned, comm);
+    extension_solver.solve_reusing(extension_matrix, w, g_interior);
+    extension_constraints.set_zero(w);
+    extension_constraints.distribute(w); // hanging interior values
+    const Vector_t r = laplacian_times(w, shape_constraints);
+    for (const auto i : shape_owned)
+      gradient(i) =
+        extension_constraints.is_constrained(i) ? gradient(i) - r(i) : 0.;
+    gradient.compress(VectorOperation::insert);
+  }
+
+
+
+  template <int dim>
+  void
   ElasticitySimulator<dim>::Impl::apply_design(const std::vector<double> &q)
   {
     AssertThrow(q.size() == layout.size(),
@@ -213,6 +360,8 @@ namespace forma
             for (const auto i : shape_owned)
               x(i) = v[i];
             x.compress(VectorOperation::insert);
+            if (p.design.boundary_shape)
+              extend(x); // interior vertices follow the boundary
             shape_constraints.set_zero(x); // fixed vertices do not move
             shape_constraints.distribute(x);
             Vector_t X(shape_owned, comm);
@@ -1207,6 +1356,8 @@ namespace forma
         double *d = dJ.data() + b.offset;
         if (b.name == "shape")
           {
+            if (p.design.boundary_shape)
+              extend_transpose(g.shape);
             for (const auto i : shape_owned)
               d[i] = g.shape(i);
           }
@@ -1364,6 +1515,17 @@ namespace forma
 
   template <int dim>
   double
+  ElasticitySimulator<dim>::max_shape_offset() const
+  {
+    double m = 0;
+    for (const auto i : impl->shape_owned)
+      m =
+        std::max(m, std::abs(impl->shape_ghost(i) - impl->shape_reference(i)));
+    return Utilities::MPI::max(m, impl->comm);
+  }
+
+  template <int dim>
+  double
   ElasticitySimulator<dim>::cell_size() const
   {
     return GridTools::minimal_cell_diameter(*impl->tria);
@@ -1428,6 +1590,10 @@ namespace forma
   ElasticitySimulator<2>::objective_terms() const;
   template std::vector<std::pair<std::string, double>>
   ElasticitySimulator<3>::objective_terms() const;
+  template double
+  ElasticitySimulator<2>::max_shape_offset() const;
+  template double
+  ElasticitySimulator<3>::max_shape_offset() const;
   template double
   ElasticitySimulator<2>::cell_size() const;
   template double

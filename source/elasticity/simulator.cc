@@ -242,7 +242,8 @@ namespace forma
   ElasticitySimulator<dim>::Impl::setup_shape()
   {
     shape_dof_handler.distribute_dofs(*shape_fe);
-    shape_owned = shape_dof_handler.locally_owned_dofs();
+    extension_ready = false;
+    shape_owned     = shape_dof_handler.locally_owned_dofs();
     DoFTools::extract_locally_relevant_dofs(shape_dof_handler, shape_relevant);
 
     // Which vertices the design may move: hanging vertices follow their

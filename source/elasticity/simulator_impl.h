@@ -308,6 +308,26 @@ namespace forma
     Vector_t                       shape_ghost;     ///< design x, ghosted
     hp::MappingCollection<dim>     reference_mapping;
 
+    // Harmonic extension of boundary shape moves into the interior
+    // (Design/Shape parameterization = boundary): a vector Laplacian on the
+    // mesh as read with every boundary DoF constrained, factored once.
+    AffineConstraints<double>      extension_constraints;
+    TrilinosWrappers::SparseMatrix extension_matrix;
+    LinearSolver                   extension_solver{LinearSolver::Parameters()};
+    bool                           extension_ready = false;
+    void
+    setup_extension();
+    /// Laplacian times x, condensed with `constraints`.
+    Vector_t
+    laplacian_times(const Vector_t                  &x,
+                    const AffineConstraints<double> &constraints);
+    /// Interior entries of delta from its boundary entries.
+    void
+    extend(Vector_t &delta);
+    /// The transpose of extend() applied to a shape gradient.
+    void
+    extend_transpose(Vector_t &gradient);
+
     // Per-cell physical parameters (by active_cell_index): the Lame pair
     // given to Material (before any plane-stress reduction), damping.
     std::vector<std::array<double, 2>> cell_lame, cell_damping_coefficients;

@@ -17,6 +17,11 @@ namespace forma
    *   3.7.1) from the mesh as read, one entry per shape DoF. Vertices on
    *   `Fixed boundaries` do not move, vertices on a symmetry plane keep
    *   their normal coordinate, hanging vertices follow their parents.
+   *   With `Shape parameterization = boundary`, only the boundary entries
+   *   are design variables: interior vertices follow by harmonic extension
+   *   (a Laplace problem on the mesh as read), which keeps the interior
+   *   mesh smooth as the boundary moves; interior entries are ignored and
+   *   get zero gradient.
    * - `cell material`: (lambda, mu) or (E, nu) per active cell.
    * - `material`: (lambda, mu) or (E, nu) per material id.
    * - `damping`: (shear, bulk) damping coefficients per material id.
@@ -33,7 +38,8 @@ namespace forma
     std::string              symmetry_planes;
     std::string              shape_perturbation;
     double                   min_scaled_jacobian = 1e-3;
-    double                   shape_bound         = 0; ///< 0: free
+    double                   shape_bound         = 0;     ///< 0: free
+    bool                     boundary_shape      = false; ///< see below
 
     static void
     declare(dealii::ParameterHandler &prm);

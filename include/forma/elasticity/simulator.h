@@ -150,6 +150,11 @@ namespace forma
     void
     write_state(const unsigned int index, RunContext &context);
 
+    /// Largest coordinate change of a vertex of the current design from
+    /// the mesh as read.
+    double
+    max_shape_offset() const;
+
     /// Smallest cell diameter of the mesh (a length scale for designs).
     double
     cell_size() const;
