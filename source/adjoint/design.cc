@@ -15,7 +15,7 @@ namespace forma
   {
     const char *block_names =
       "shape|cell material|material|damping|loads|initial displacement|"
-      "initial velocity";
+      "initial velocity|initial displacement field|initial velocity field";
   }
 
   void
@@ -31,7 +31,8 @@ namespace forma
         "positions), cell material (per-cell Lame or E/nu), material (per "
         "material id), damping (shear and bulk per material id), loads (scale "
         "factors of tractions, body force, gravity), initial displacement, "
-        "initial velocity (uniform vectors).");
+        "initial velocity (uniform vectors), initial displacement field, "
+        "initial velocity field (one value per displacement DoF).");
       prm.declare_entry("Material parameterization",
                         "E-nu",
                         Patterns::Selection("E-nu|lambda-mu"),

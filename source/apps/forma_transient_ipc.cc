@@ -138,6 +138,16 @@ namespace
                     significant(m, 3);
             continue;
           }
+        if (b.size > 8)
+          {
+            double m = 0;
+            for (unsigned int i = b.offset; i < b.offset + b.size; ++i)
+              m = std::max(m, std::abs(q[i]));
+            json[b.name + ": max |value|"] = m;
+            text += (text.empty() ? "" : "; ") + b.name + ": max |value| " +
+                    significant(m, 3);
+            continue;
+          }
         std::vector<double> v(q.begin() + b.offset,
                               q.begin() + b.offset + b.size);
         json[b.name] = v;

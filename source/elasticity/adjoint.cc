@@ -25,7 +25,9 @@ namespace forma
                                                   "damping",
                                                   "loads",
                                                   "initial displacement",
-                                                  "initial velocity"};
+                                                  "initial velocity",
+                                                  "initial displacement field",
+                                                  "initial velocity field"};
 
     // Product (A : B) of the rank-one gradient e_c (x) g with a tensor M:
     // sum_l M[c][l] g[l].
@@ -72,6 +74,7 @@ namespace forma
     std::vector<std::array<double, 2>> lame, damping; ///< per active cell
     std::vector<double>                loads;
     Tensor<1, dim>                     initial_u, initial_v;
+    Vector_t initial_u_field, initial_v_field; ///< dJ/du^0, dJ/dv^0
   };
 
 
@@ -97,6 +100,8 @@ namespace forma
         else if (name == "loads")
           size = tractions.size() + pressures.size() + (body_force ? 1 : 0) +
                  (gravity.norm() > 0 ? 1 : 0);
+        else if (name.find("field") != std::string::npos)
+          size = dof_handler.n_dofs();
         else
           size = dim;
         AssertThrow(size > 0,
@@ -414,6 +419,16 @@ namespace forma
               body_force_scale = v[k++];
             if (gravity.norm() > 0)
               gravity_scale = v[k++];
+          }
+        else if (b.name.find("field") != std::string::npos)
+          {
+            Vector_t &f = b.name == "initial displacement field" ?
+                            initial_displacement_field :
+                            initial_velocity_field;
+            f.reinit(owned, comm);
+            for (const auto i : owned)
+              f(i) = v[i];
+            f.compress(VectorOperation::insert);
           }
         else
           for (unsigned int d = 0; d < dim; ++d)
@@ -1333,6 +1348,10 @@ namespace forma
         }
         g.initial_u = component_sums(dJ_du); // adjoint of add_uniform()
         g.initial_v = component_sums(dJ_dv);
+        g.initial_u_field.reinit(dJ_du);
+        g.initial_u_field = dJ_du;
+        g.initial_v_field.reinit(dJ_dv);
+        g.initial_v_field = dJ_dv;
         // Forward states (u, v per step) and adjoint states (lambda, y).
         memory_of_states = 0;
         for (unsigned int i = 0; i <= n; ++i)
@@ -1397,6 +1416,14 @@ namespace forma
               d[k++] = g.loads[j++];
             if (gravity.norm() > 0)
               d[k++] = g.loads[j++];
+          }
+        else if (b.name.find("field") != std::string::npos)
+          {
+            const Vector_t &f = b.name == "initial displacement field" ?
+                                  g.initial_u_field :
+                                  g.initial_v_field;
+            for (const auto i : owned)
+              d[i] = f(i);
           }
         else
           for (unsigned int c = 0; c < dim; ++c)

@@ -233,6 +233,8 @@ namespace forma
     surface_load_scale.assign(tractions.size() + pressures.size(), 1.);
     body_force_scale = gravity_scale = 1.;
     initial_displacement_offset = initial_velocity_offset = Tensor<1, dim>();
+    initial_displacement_field.clear();
+    initial_velocity_field.clear();
   }
 
 
@@ -1197,6 +1199,10 @@ namespace forma
         v);
     add_uniform(u, initial_displacement_offset);
     add_uniform(v, initial_velocity_offset);
+    if (initial_displacement_field.size() > 0)
+      u += initial_displacement_field;
+    if (initial_velocity_field.size() > 0)
+      v += initial_velocity_field;
     make_constraints(0.);
     constraints_zero.distribute(u); // hanging nodes only matter here
     time = 0;

@@ -336,6 +336,7 @@ namespace forma
     std::vector<double> surface_load_scale;
     double              body_force_scale = 1, gravity_scale = 1;
     Tensor<1, dim>      initial_displacement_offset, initial_velocity_offset;
+    Vector_t initial_displacement_field, initial_velocity_field; ///< or empty
 
     // Design vector layout and the states an adjoint pass reads.
     DesignLayout                          layout;

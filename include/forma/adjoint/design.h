@@ -28,7 +28,9 @@ namespace forma
    * - `loads`: a scale factor per traction record, then one for the body
    *   force and one for gravity (only those the problem has).
    * - `initial displacement`, `initial velocity`: a uniform vector added to
-   *   the initial condition (thesis ch. 3.5.3).
+   *   the initial condition (thesis ch. 3.5.3); `initial displacement
+   *   field`, `initial velocity field`: a value per displacement DoF added
+   *   to it.
    */
   struct DesignParameters
   {
