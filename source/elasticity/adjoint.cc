@@ -1003,7 +1003,7 @@ namespace forma
                 unsigned int k = surface_load_scale.size();
                 if (body_force)
                   {
-                    Vector<double> b(dim);
+                    static thread_local Vector<double> b(dim);
                     body_force->vector_value(s.X[q], b);
                     double bp = 0;
                     for (unsigned int d = 0; d < dim; ++d)
@@ -1071,7 +1071,7 @@ namespace forma
                 continue;
               adj_u.resize(nf);
               ff[disp].get_function_values(adjoint_ghost, adj_u);
-              Vector<double> val(dim);
+              static thread_local Vector<double> val(dim);
               for (unsigned int q = 0; q < nf; ++q)
                 {
                   const double          JxW = ff.JxW(q);

@@ -334,7 +334,8 @@ namespace forma
     Tensor<1, dim> f = -gravity_scale * rho * gravity;
     if (body_force)
       {
-        Vector<double> b(dim);
+        // Per-thread buffer: this runs at every quadrature point.
+        static thread_local Vector<double> b(dim);
         body_force->vector_value(X, b);
         for (unsigned int d = 0; d < dim; ++d)
           f[d] -= body_force_scale * b[d];
@@ -394,8 +395,8 @@ namespace forma
     const Point<dim>        &X,
     const Tensor<1, dim>    &normal) const
   {
-    Tensor<1, dim> t;
-    Vector<double> val(dim);
+    Tensor<1, dim>                     t;
+    static thread_local Vector<double> val(dim); // per quadrature point
     for (unsigned int k = 0; k < tractions.size(); ++k)
       if (tractions[k].first == id)
         {
