@@ -225,7 +225,9 @@ namespace
         context.summary["history"] = history;
       };
 
-    const auto result = forma::optimize(model, settings, context);
+    ensure(model.initial);
+    const double vm0    = simulator.max_von_mises_stress();
+    const auto   result = forma::optimize(model, settings, context);
 
     const double J0 = result.history.front(), J1 = result.history.back();
     context.print("stopped after " + std::to_string(result.history.size() - 1) +
@@ -234,6 +236,9 @@ namespace
                   significant(J1, 6) + " (ratio " + significant(J1 / J0, 4) +
                   ")");
     ensure(result.design);
+    const double vm1 = simulator.max_von_mises_stress();
+    context.print("max von Mises stress " + significant(vm0, 5) + " -> " +
+                  significant(vm1, 5));
     nlohmann::json final_values;
     const auto     text = describe_design(layout,
                                       model.initial,
@@ -248,6 +253,7 @@ namespace
                                        {"iterations",
                                         result.history.size() - 1},
                                        {"stop_reason", result.stop_reason},
+                                       {"max_von_mises_stress", {vm0, vm1}},
                                        {"final_design", final_values}};
     context.summary["adjoint"]      = simulator.adjoint_statistics();
     if (context.is_root())

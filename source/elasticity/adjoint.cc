@@ -1542,6 +1542,30 @@ namespace forma
 
   template <int dim>
   double
+  ElasticitySimulator<dim>::max_von_mises_stress() const
+  {
+    auto &m = *impl;
+    m.set_step_state(m.u_states.size() - 1);
+    hp::FEValues<dim> hp_fv(m.mapping, m.fe, m.quadrature, update_gradients);
+    std::vector<Tensor<2, dim>> grads;
+    double                      vm = 0;
+    for (const auto &cell : m.dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          hp_fv.reinit(cell);
+          const auto &fv = hp_fv.get_present_fe_values();
+          grads.resize(fv.n_quadrature_points);
+          fv[FEValuesExtractors::Vector(0)].get_function_gradients(m.u_ghost,
+                                                                   grads);
+          const Material<dim> mat = m.cell_material(cell);
+          for (const auto &g : grads)
+            vm = std::max(vm, von_mises(mat.cauchy_stress(g)));
+        }
+    return Utilities::MPI::max(vm, m.comm);
+  }
+
+  template <int dim>
+  double
   ElasticitySimulator<dim>::max_shape_offset() const
   {
     double m = 0;
@@ -1617,6 +1641,10 @@ namespace forma
   ElasticitySimulator<2>::objective_terms() const;
   template std::vector<std::pair<std::string, double>>
   ElasticitySimulator<3>::objective_terms() const;
+  template double
+  ElasticitySimulator<2>::max_von_mises_stress() const;
+  template double
+  ElasticitySimulator<3>::max_von_mises_stress() const;
   template double
   ElasticitySimulator<2>::max_shape_offset() const;
   template double

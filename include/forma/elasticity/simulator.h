@@ -150,6 +150,11 @@ namespace forma
     void
     write_state(const unsigned int index, RunContext &context);
 
+    /// Largest von Mises (Cauchy) stress at the quadrature points of the
+    /// last solved state (final step).
+    double
+    max_von_mises_stress() const;
+
     /// Largest coordinate change of a vertex of the current design from
     /// the mesh as read.
     double
