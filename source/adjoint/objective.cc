@@ -150,18 +150,22 @@ namespace forma
 
 
 
-    // (int |sigma|^p)^(1/p), thesis eq. 3.36.
+    // A stress measure s (Frobenius or von Mises of f(grad u)): its L^p norm
+    // (int s^p)^(1/p) (eq. 3.36), or with a bound s_t the penalty
+    // int phi(s - s_t) (eq. 3.42).
     template <int dim>
-    class StressNorm : public AutoDiffTerm<dim, StressNorm<dim>>
+    class StressTerm : public AutoDiffTerm<dim, StressTerm<dim>>
     {
     public:
-      StressNorm(const std::string &name,
+      StressTerm(const std::string &name,
                  const double       weight,
+                 const bool         von_mises,
                  const double       p,
-                 const bool         von_mises)
-        : AutoDiffTerm<dim, StressNorm<dim>>(name, weight)
-        , p(p)
+                 const double       bound)
+        : AutoDiffTerm<dim, StressTerm<dim>>(name, weight)
         , von_mises(von_mises)
+        , p(p)
+        , bound(bound)
       {}
       template <typename N>
       N
@@ -174,14 +178,21 @@ namespace forma
         const N                 &m) const
       {
         using std::pow;
+        using std::sqrt;
         const N s2 =
           stress_measure_squared<dim, N>(stress<dim, N>(c, g, l, m), von_mises);
-        return s2 > 0 ? N(pow(s2, 0.5 * p)) : N(0.);
+        if (std::isnan(bound))
+          return s2 > 0 ? N(pow(s2, 0.5 * p)) : N(0.);
+        if (!(s2 > bound * bound))
+          return N(0.);
+        return positive_part_squared<N>(N(sqrt(s2)) - N(bound));
       }
       double
       combine(const std::vector<double> &I,
               std::vector<double>       *grad) const override
       {
+        if (!std::isnan(bound))
+          return AutoDiffTerm<dim, StressTerm<dim>>::combine(I, grad);
         const double v = std::pow(std::max(I[0], 0.), 1. / p);
         if (grad)
           *grad = {I[0] > 0 ? v / (p * I[0]) : 0.};
@@ -189,8 +200,9 @@ namespace forma
       }
 
     private:
-      const double p;
       const bool   von_mises;
+      const double p;
+      const double bound; ///< NaN: the L^p norm
     };
 
     // int f(grad u) : grad u, twice the stored energy for linear elasticity
@@ -253,42 +265,6 @@ namespace forma
 
     private:
       const double bound; ///< NaN: the plain volume
-    };
-
-    // int phi(|sigma| - s_t), eq. 3.42.
-    template <int dim>
-    class StressBound : public AutoDiffTerm<dim, StressBound<dim>>
-    {
-    public:
-      StressBound(const std::string &name,
-                  const double       weight,
-                  const double       bound,
-                  const bool         von_mises)
-        : AutoDiffTerm<dim, StressBound<dim>>(name, weight)
-        , bound(bound)
-        , von_mises(von_mises)
-      {}
-      template <typename N>
-      N
-      j(unsigned int,
-        const IntegrandContext<dim> &c,
-        const Tensor<1, dim, N> &,
-        const Tensor<1, dim, N> &,
-        const Tensor<2, dim, N> &g,
-        const N                 &l,
-        const N                 &m) const
-      {
-        using std::sqrt;
-        const N s2 =
-          stress_measure_squared<dim, N>(stress<dim, N>(c, g, l, m), von_mises);
-        if (!(s2 > bound * bound))
-          return N(0.);
-        return positive_part_squared<N>(N(sqrt(s2)) - N(bound));
-      }
-
-    private:
-      const double bound;
-      const bool   von_mises;
     };
 
     // int |x + u - x_trg|^2 over the volume or the boundary (eq. 3.37).
@@ -546,10 +522,8 @@ namespace forma
             AssertThrow(p >= 2,
                         ExcMessage(where + ": p must be at least 2 (got " +
                                    std::to_string(p) + ")."));
-            t = std::make_unique<StressNorm<dim>>(name,
-                                                  w,
-                                                  p,
-                                                  name == "von mises");
+            t = std::make_unique<StressTerm<dim>>(
+              name, w, name == "von mises", p, none);
           }
         else if (name == "compliance")
           t = std::make_unique<Compliance<dim>>(name, w);
@@ -560,10 +534,11 @@ namespace forma
                                             w,
                                             key(kv, "bound", none, where));
         else if (name == "stress bound" || name == "von mises bound")
-          t = std::make_unique<StressBound<dim>>(name,
-                                                 w,
-                                                 key(kv, "bound", none, where),
-                                                 name == "von mises bound");
+          t = std::make_unique<StressTerm<dim>>(name,
+                                                w,
+                                                name == "von mises bound",
+                                                2.,
+                                                key(kv, "bound", none, where));
         else if (name == "target" || name == "boundary target")
           {
             std::set<types::boundary_id> ids;
