@@ -154,6 +154,7 @@ namespace forma
                 const std::vector<double> &q0,
                 const bool                 young_poisson,
                 const double               shape_bound,
+                const std::vector<double> &shape_center,
                 std::vector<double>       &lower,
                 std::vector<double>       &upper)
   {
@@ -166,8 +167,9 @@ namespace forma
           const bool second = (i - b.offset) % 2 == 1;
           if (b.name == "shape")
             {
-              lower[i] = q0[i] - shape_bound;
-              upper[i] = q0[i] + shape_bound;
+              const double c = shape_center.empty() ? 0. : shape_center[i];
+              lower[i]       = c - shape_bound;
+              upper[i]       = c + shape_bound;
             }
           else if (b.name == "damping")
             lower[i] = 0;

@@ -185,18 +185,25 @@ namespace
       solved = q;
     };
 
+    const auto  directory      = forma::checkpoint_directory(context);
+    auto        stage_settings = settings;
+    std::string mesh; // file stem of the current remeshed design, if any
+    if (settings.resume)
+      {
+        mesh = forma::checkpoint_mesh(context);
+        if (!mesh.empty())
+          {
+            simulator.load_remeshed(directory + "/" + mesh);
+          }
+      }
+    if (settings.remesh_quality > 0)
+      for (const auto &b : layout.blocks)
+        AssertThrow(b.name == "shape" || b.size <= 8 * dim,
+                    dealii::ExcMessage(
+                      "Optimization/Remesh quality: the design block '" +
+                      b.name + "' lives on the mesh and cannot be remeshed."));
+
     forma::DesignModel model;
-    model.initial = simulator.design();
-    model.scale =
-      forma::design_scales(layout, model.initial, simulator.cell_size());
-    forma::design_bounds(layout,
-                         model.initial,
-                         parameters.design.young_poisson,
-                         parameters.design.shape_bound > 0 ?
-                           parameters.design.shape_bound :
-                           std::numeric_limits<double>::infinity(),
-                         model.lower,
-                         model.upper);
     model.value = [&](const std::vector<double> &q) {
       ensure(q);
       return simulator.objective();
@@ -221,13 +228,62 @@ namespace
           entry["design"] = values;
         if (!text.empty())
           context.log("  design: " + text);
-        history.push_back(entry);
+        // The first design after a remesh replaces the last one before.
+        if (!history.empty() && history.back()["iteration"] == k)
+          {
+            entry["remeshed"] = true;
+            history.back()    = entry;
+          }
+        else
+          history.push_back(entry);
         context.summary["history"] = history;
       };
+    model.remesh_needed = [&]() {
+      return settings.remesh_quality > 0 &&
+             simulator.n_remeshes() < settings.max_remeshes &&
+             simulator.mesh_quality() < settings.remesh_quality;
+    };
 
-    ensure(model.initial);
-    const double vm0    = simulator.max_von_mises_stress();
-    const auto   result = forma::optimize(model, settings, context);
+    // One run of the optimizer per mesh: a remesh ends a run, the next one
+    // continues the history on the new mesh.
+    const double vm0 = [&] {
+      ensure(simulator.design());
+      return simulator.max_von_mises_stress();
+    }();
+    forma::OptimizationResult result;
+    std::vector<double>       history_so_far;
+    nlohmann::json            remeshes = nlohmann::json::array();
+    for (;;)
+      {
+        model.initial = simulator.design();
+        model.scale =
+          forma::design_scales(layout, model.initial, simulator.cell_size());
+        forma::design_bounds(layout,
+                             model.initial,
+                             parameters.design.young_poisson,
+                             parameters.design.shape_bound > 0 ?
+                               parameters.design.shape_bound :
+                               std::numeric_limits<double>::infinity(),
+                             simulator.material_offsets(),
+                             model.lower,
+                             model.upper);
+        model.mesh = mesh;
+        result =
+          forma::optimize(model, stage_settings, context, history_so_far);
+        if (result.stop_reason != forma::remesh_stop)
+          break;
+        ensure(result.design);
+        mesh =
+          "optimization.remesh_" + std::to_string(simulator.n_remeshes() + 1);
+        const auto line = simulator.remesh(directory + "/" + mesh);
+        context.print("[iteration " +
+                      std::to_string(result.history.size() - 1) + "] " + line);
+        remeshes.push_back(
+          {{"iteration", result.history.size() - 1}, {"description", line}});
+        solved.clear();
+        history_so_far        = result.history;
+        stage_settings.resume = false;
+      }
 
     const double J0 = result.history.front(), J1 = result.history.back();
     context.print("stopped after " + std::to_string(result.history.size() - 1) +
@@ -254,6 +310,7 @@ namespace
                                         result.history.size() - 1},
                                        {"stop_reason", result.stop_reason},
                                        {"max_von_mises_stress", {vm0, vm1}},
+                                       {"remeshes", remeshes},
                                        {"final_design", final_values}};
     context.summary["adjoint"]      = simulator.adjoint_statistics();
     if (context.is_root())

@@ -208,7 +208,7 @@ namespace forma
     extension_matrix.reinit(sp);
     const Quadrature<dim> q =
       tria->get_reference_cells()[0].template get_gauss_type_quadrature<dim>(2);
-    FEValues<dim>                        fv(reference_mapping[0],
+    FEValues<dim>                        fv(mesh_mapping[0],
                      *shape_fe,
                      q,
                      update_gradients | update_JxW_values);
@@ -249,7 +249,7 @@ namespace forma
     Vector_t              result(shape_owned, comm);
     const Quadrature<dim> q =
       tria->get_reference_cells()[0].template get_gauss_type_quadrature<dim>(2);
-    FEValues<dim>                        fv(reference_mapping[0],
+    FEValues<dim>                        fv(mesh_mapping[0],
                      *shape_fe,
                      q,
                      update_gradients | update_JxW_values);
@@ -441,33 +441,8 @@ namespace forma
     // instead of solving.
     if (layout.find("shape"))
       {
-        hp::FEValues<dim> fv(mapping, fe, quadrature, update_jacobians);
-        double            worst = 1;
-        Point<dim>        where;
-        for (const auto &cell : dof_handler.active_cell_iterators())
-          if (cell->is_locally_owned())
-            {
-              fv.reinit(cell);
-              const auto &v = fv.get_present_fe_values();
-              for (unsigned int q = 0; q < v.n_quadrature_points; ++q)
-                {
-                  const Tensor<2, dim> J       = v.jacobian(q);
-                  double               lengths = 1;
-                  for (unsigned int k = 0; k < dim; ++k)
-                    {
-                      double c = 0;
-                      for (unsigned int i = 0; i < dim; ++i)
-                        c += J[i][k] * J[i][k];
-                      lengths *= std::sqrt(c);
-                    }
-                  const double sj = determinant(J) / lengths;
-                  if (sj < worst)
-                    {
-                      worst = sj;
-                      where = cell->center();
-                    }
-                }
-            }
+        Point<dim>   where;
+        const double worst  = min_scaled_jacobian(&where);
         const double global = Utilities::MPI::min(worst, comm);
         AssertThrow(global >= p.design.min_scaled_jacobian,
                     ExcMessage(
@@ -1489,7 +1464,7 @@ namespace forma
     // The reference run: the mesh as read, with the reference materials.
     const auto saved = impl->design;
     impl->reset_physical_parameters(J->parameters.reference_bodies);
-    impl->shape_ghost = impl->shape_reference;
+    impl->shape_ghost = impl->material_positions;
     impl->solve_forward(true);
     impl->reference_states = impl->u_states;
     impl->apply_design(saved);
@@ -1571,7 +1546,8 @@ namespace forma
     double m = 0;
     for (const auto i : impl->shape_owned)
       m =
-        std::max(m, std::abs(impl->shape_ghost(i) - impl->shape_reference(i)));
+        std::max(m,
+                 std::abs(impl->shape_ghost(i) - impl->material_positions(i)));
     return Utilities::MPI::max(m, impl->comm);
   }
 

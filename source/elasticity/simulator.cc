@@ -77,7 +77,7 @@ namespace forma
         face_quadrature.push_back(
           cell_type.face_reference_cell(0)
             .template get_gauss_type_quadrature<dim - 1>(p.degree + 1));
-        reference_mapping.push_back(MappingFE<dim>(FE_SimplexP<dim>(1)));
+        mesh_mapping.push_back(MappingFE<dim>(FE_SimplexP<dim>(1)));
         shape_fe = std::make_unique<FESystem<dim>>(FE_SimplexP<dim>(1), dim);
       }
     else
@@ -89,9 +89,10 @@ namespace forma
             quadrature.push_back(QGauss<dim>(k + 1));
             face_quadrature.push_back(QGauss<dim - 1>(k + 1));
           }
-        reference_mapping.push_back(MappingQ<dim>(1));
+        mesh_mapping.push_back(MappingQ<dim>(1));
         shape_fe = std::make_unique<FESystem<dim>>(FE_Q<dim>(1), dim);
       }
+    reference_mapping = hp::MappingCollection<dim>(mesh_mapping);
     dof_handler.reinit(*tria);
     shape_dof_handler.reinit(*tria);
     setup_shape();
@@ -288,13 +289,54 @@ namespace forma
     shape_constraints.close();
 
     Vector_t X(shape_owned, comm);
-    VectorTools::get_position_vector(reference_mapping[0],
-                                     shape_dof_handler,
-                                     X);
+    VectorTools::get_position_vector(mesh_mapping[0], shape_dof_handler, X);
+    // get_position_vector also writes entries of other ranks, buffered until
+    // a compress: flush them before X is overwritten below.
+    X.compress(VectorOperation::insert);
     shape_reference.reinit(shape_owned, shape_relevant, comm);
     shape_reference = X;
     shape_ghost.reinit(shape_owned, shape_relevant, comm);
     shape_ghost = X;
+
+    // Material coordinates: the mesh itself, or after a remesh the values
+    // carried over to its vertices.
+    if (!material_of_vertex.empty())
+      {
+        const auto before = [](const Point<dim> &a, const Point<dim> &b) {
+          return std::lexicographical_compare(a.begin_raw(),
+                                              a.end_raw(),
+                                              b.begin_raw(),
+                                              b.end_raw());
+        };
+        for (const auto &cell : shape_dof_handler.active_cell_iterators())
+          if (cell->is_locally_owned())
+            for (const auto v : cell->vertex_indices())
+              {
+                const auto it =
+                  std::lower_bound(material_of_vertex.begin(),
+                                   material_of_vertex.end(),
+                                   cell->vertex(v),
+                                   [&](const auto &entry, const Point<dim> &x) {
+                                     return before(entry.first, x);
+                                   });
+                AssertThrow(it != material_of_vertex.end() &&
+                              it->first == cell->vertex(v),
+                            ExcInternalError());
+                for (unsigned int d = 0; d < dim; ++d)
+                  {
+                    const auto i = cell->vertex_dof_index(v, d);
+                    if (shape_owned.is_element(i))
+                      X(i) = it->second[d];
+                  }
+              }
+        X.compress(VectorOperation::insert);
+      }
+    material_positions.reinit(shape_owned, shape_relevant, comm);
+    material_positions = X;
+    if (!material_of_vertex.empty())
+      reference_mapping = hp::MappingCollection<dim>(
+        MappingFEField<dim, dim, Vector_t>(shape_dof_handler,
+                                           material_positions));
   }
 
 

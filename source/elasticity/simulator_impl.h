@@ -21,6 +21,7 @@
 #include <forma/adjoint/design.h>
 #include <forma/adjoint/objective.h>
 #include <forma/elasticity/simulator.h>
+#include <forma/mesh/remesh.h>
 #include <forma/physics/damping.h>
 #include <forma/physics/material.h>
 #include <forma/solvers/linear_solver.h>
@@ -298,15 +299,37 @@ namespace forma
 
     // Shape field (thesis ch. 3.7.1): a vector Q1/P1 field holding the
     // positions of the design; the mapping of every integral reads it.
-    // reference_mapping is the mesh as read: loads, boundary values and
-    // targets are functions of those material coordinates.
+    // Shape designs are offsets from the mesh vertices (shape_reference,
+    // mesh_mapping). Loads, boundary values and targets are functions of
+    // the material coordinates of the mesh as read (material_positions,
+    // reference_mapping): the same field until a remesh, then the material
+    // coordinates carried over to the new vertices.
     std::unique_ptr<FESystem<dim>> shape_fe;
     DoFHandler<dim>                shape_dof_handler;
     IndexSet                       shape_owned, shape_relevant;
     AffineConstraints<double>      shape_constraints; ///< hanging + fixed
-    Vector_t                       shape_reference; ///< X of the mesh, ghosted
+    Vector_t                       shape_reference; ///< mesh vertices, ghosted
     Vector_t                       shape_ghost;     ///< design x, ghosted
-    hp::MappingCollection<dim>     reference_mapping;
+    Vector_t                   material_positions;  ///< X at vertices, ghosted
+    hp::MappingCollection<dim> mesh_mapping, reference_mapping;
+    /// After a remesh: material coordinates by vertex position, sorted.
+    std::vector<std::pair<Point<dim>, Point<dim>>> material_of_vertex;
+    unsigned int                                   n_remeshes = 0;
+
+    // Remeshing (remesh.cc).
+    /// Smallest scaled Jacobian det J / prod |J e_k| over the quadrature
+    /// points of the current shape (and where, on the mesh as read).
+    double
+    min_scaled_jacobian(Point<dim> *where = nullptr) const;
+    RegionBoundaries<dim>
+    region_boundaries() const;
+    /// Material coordinates at points of the current shape.
+    std::vector<Point<dim>>
+    material_points(const std::vector<Point<dim>> &x) const;
+    /// Take over the mesh `msh` (mesh_regions() output) whose vertices
+    /// have the material coordinates `X`; keeps the non-shape design.
+    void
+    replace_mesh(const std::string &msh, const std::vector<Point<dim>> &X);
 
     // Harmonic extension of boundary shape moves into the interior
     // (Design/Shape parameterization = boundary): a vector Laplacian on the

@@ -50,6 +50,17 @@ namespace forma
                       "10",
                       Patterns::Integer(1),
                       "L-BFGS memory (pairs).");
+    prm.declare_entry("Remesh quality",
+                      "0",
+                      Patterns::Double(0, 1),
+                      "Remesh the design shape with Gmsh when the smallest "
+                      "scaled Jacobian of an accepted design falls below "
+                      "this (0: never). Needs shape designs whose other "
+                      "blocks do not live on the mesh; 3D needs simplices.");
+    prm.declare_entry("Max remeshes",
+                      "10",
+                      Patterns::Integer(0),
+                      "Remeshes at most in one run.");
     prm.declare_entry("Resume",
                       "false",
                       Patterns::Bool(),
@@ -70,6 +81,8 @@ namespace forma
     gradient_tolerance = prm.get_double("Gradient tolerance");
     memory             = prm.get_integer("Memory");
     resume             = prm.get_bool("Resume");
+    remesh_quality     = prm.get_double("Remesh quality");
+    max_remeshes       = prm.get_integer("Max remeshes");
     prm.leave_subsection();
   }
 
@@ -177,12 +190,16 @@ namespace forma
           {
             nlohmann::json c;
             c["iteration"]        = k;
-            c["z"]                = z;
+            c["design"]           = run.design(z);
+            c["mesh"]             = run.model.mesh;
             c["history"]          = run.history;
             const std::string tmp = run.checkpoint + ".tmp";
             std::ofstream(tmp) << c.dump();
             std::filesystem::rename(tmp, run.checkpoint);
           }
+        if (k < run.parameters.max_iterations && run.model.remesh_needed &&
+            run.model.remesh_needed())
+          run.stop_reason = remesh_stop;
       }
 
       double
@@ -214,7 +231,9 @@ namespace forma
         const unsigned int k = h.empty() ? 0 : h.size() - 1;
         if (run.gnorm0 == 0)
           run.gnorm0 = state.gnorm;
-        if (k >= run.parameters.max_iterations)
+        if (!run.stop_reason.empty())
+          ; // decided in Objective::update (a remesh)
+        else if (k >= run.parameters.max_iterations)
           run.stop_reason = "maximum number of iterations";
         else if (state.gnorm <= run.parameters.gradient_tolerance * run.gnorm0)
           run.stop_reason = "gradient tolerance";
@@ -237,47 +256,92 @@ namespace forma
 
 
 
+  std::string
+  checkpoint_directory(const RunContext &context)
+  {
+    return std::filesystem::path(context.directory()).parent_path().string();
+  }
+
+
+
+  namespace
+  {
+    std::string
+    checkpoint_file(const RunContext &context)
+    {
+      return (std::filesystem::path(checkpoint_directory(context)) /
+              "optimization.checkpoint.json")
+        .string();
+    }
+
+    nlohmann::json
+    read_checkpoint(const RunContext &context)
+    {
+      const std::string file = checkpoint_file(context);
+      std::ifstream     in(file);
+      AssertThrow(in,
+                  ExcMessage("Optimization/Resume: there is no checkpoint '" +
+                             file + "' to resume from."));
+      nlohmann::json c;
+      try
+        {
+          in >> c;
+          c.at("design").get<std::vector<double>>();
+          c.at("history").get<std::vector<double>>();
+          c.at("mesh").get<std::string>();
+        }
+      catch (const std::exception &e)
+        {
+          AssertThrow(false,
+                      ExcMessage("Optimization/Resume: the checkpoint '" +
+                                 file + "' is unreadable: " + e.what()));
+        }
+      return c;
+    }
+  } // namespace
+
+
+
+  std::string
+  checkpoint_mesh(const RunContext &context)
+  {
+    return read_checkpoint(context).at("mesh").get<std::string>();
+  }
+
+
+
   OptimizationResult
   optimize(const DesignModel            &model,
            const OptimizationParameters &parameters,
-           RunContext                   &context)
+           RunContext                   &context,
+           const std::vector<double>    &previous_history)
   {
     const unsigned int n = model.initial.size();
     AssertThrow(model.scale.size() == n && model.lower.size() == n &&
                   model.upper.size() == n,
                 ExcInternalError());
     Run run{model, parameters, context, {}, {}, 0, {}, {}};
-    run.checkpoint = (std::filesystem::path(context.directory()).parent_path() /
-                      "optimization.checkpoint.json")
-                       .string();
+    run.checkpoint = checkpoint_file(context);
+    // The previous run's last design is this run's first: its value on
+    // the new mesh replaces the old one.
+    run.history = previous_history;
+    if (!run.history.empty())
+      run.history.pop_back();
 
     auto z = ROL::makePtr<std::vector<double>>(n, 0.);
     if (parameters.resume)
       {
-        std::ifstream in(run.checkpoint);
-        AssertThrow(in,
-                    ExcMessage("Optimization/Resume: there is no checkpoint '" +
-                               run.checkpoint + "' to resume from."));
-        nlohmann::json c;
-        try
-          {
-            in >> c;
-            *z = c.at("z").get<std::vector<double>>();
-            // The history before the resumed iterate; that one is recorded
-            // again as the first iterate of this run.
-            run.history = c.at("history").get<std::vector<double>>();
-            run.history.pop_back();
-          }
-        catch (const std::exception &e)
-          {
-            AssertThrow(false,
-                        ExcMessage("Optimization/Resume: the checkpoint '" +
-                                   run.checkpoint +
-                                   "' is unreadable: " + e.what()));
-          }
-        AssertThrow(z->size() == n,
+        const auto c = read_checkpoint(context);
+        const auto q = c.at("design").get<std::vector<double>>();
+        AssertThrow(q.size() == n && c.at("mesh") == model.mesh,
                     ExcMessage("Optimization/Resume: the checkpoint holds a "
-                               "design of another size."));
+                               "design of another design space."));
+        for (unsigned int i = 0; i < n; ++i)
+          (*z)[i] = (q[i] - model.initial[i]) / model.scale[i];
+        // The history before the resumed iterate; that one is recorded
+        // again as the first iterate of this run.
+        run.history = c.at("history").get<std::vector<double>>();
+        run.history.pop_back();
         context.print("resuming from iteration " +
                       std::to_string(run.history.size()));
       }

@@ -88,13 +88,15 @@ namespace forma
    * Admissible box around a starting design: E within 1e-3..1e3 of its
    * start and nu within [-0.5, 0.49]; lambda, mu within 1e-3..1e3 of their
    * start; damping >= 0; loads and initial conditions free; shape entries
-   * within `shape_bound` of the mesh (infinite: free).
+   * within `shape_bound` (infinite: free) of `shape_center` (per design
+   * entry; empty: zero, the mesh itself).
    */
   void
   design_bounds(const DesignLayout        &layout,
                 const std::vector<double> &q0,
                 const bool                 young_poisson,
                 const double               shape_bound,
+                const std::vector<double> &shape_center,
                 std::vector<double>       &lower,
                 std::vector<double>       &upper);
 } // namespace forma

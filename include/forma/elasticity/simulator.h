@@ -14,6 +14,7 @@
 
 #include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace forma
@@ -163,6 +164,44 @@ namespace forma
     /// Smallest cell diameter of the mesh (a length scale for designs).
     double
     cell_size() const;
+
+    /**
+     * @name Remeshing
+     *
+     * Shape optimization can flatten cells; remesh() replaces the mesh by a
+     * Gmsh mesh of the current design's shape (keeping every boundary and
+     * interface vertex, the boundary ids and the material ids). The new
+     * mesh is the origin of later shape designs; loads, boundary values,
+     * targets and shape bounds keep referring to the material coordinates
+     * of the mesh as read, which are carried over to the new vertices by
+     * interpolation. Non-shape design blocks keep their values; blocks
+     * that live on the mesh (cell material, fields) cannot be remeshed.
+     */
+    //@{
+    /// Smallest scaled Jacobian det J / prod |J e_k| over the quadrature
+    /// points of the current design (1: undistorted, <= 0: inverted).
+    double
+    mesh_quality() const;
+
+    /// Remesh the current design; writes `<file_stem>.msh` and
+    /// `<file_stem>.json` (material coordinates) for load_remeshed() unless
+    /// `file_stem` is empty. Returns a one-line description.
+    std::string
+    remesh(const std::string &file_stem);
+
+    /// Continue on a mesh written by remesh().
+    void
+    load_remeshed(const std::string &file_stem);
+
+    /// Per design entry: for shape entries, the shape design that puts the
+    /// vertex back at its material position (zero before any remesh), the
+    /// center of bounds around the mesh as read; zero elsewhere.
+    std::vector<double>
+    material_offsets() const;
+
+    unsigned int
+    n_remeshes() const;
+    //@}
 
     /// Accumulated forward and adjoint wall times, stored-state memory.
     nlohmann::json

@@ -20,6 +20,8 @@ namespace forma
     double       gradient_tolerance = 1e-6; ///< relative to the first one
     unsigned int memory             = 10;   ///< L-BFGS pairs
     bool         resume             = false;
+    double       remesh_quality     = 0; ///< remesh below this; 0: never
+    unsigned int max_remeshes       = 10;
 
     static void
     declare(dealii::ParameterHandler &prm);
@@ -44,7 +46,17 @@ namespace forma
     /// Called for the starting design (iteration 0) and every accepted one.
     std::function<void(unsigned int, const std::vector<double> &, double)>
       accepted;
+    /// Asked after every accepted design (optional): true ends the run
+    /// with stop_reason == remesh_stop, so that the caller can remesh and
+    /// continue with a new model.
+    std::function<bool()> remesh_needed;
+    /// The mesh the designs live on, recorded in the checkpoint (a file
+    /// stem inside checkpoint_directory(); empty: the parameter file's).
+    std::string mesh;
   };
+
+  /// The stop reason of a run ended by DesignModel::remesh_needed.
+  inline const std::string remesh_stop = "remesh";
 
   struct OptimizationResult
   {
@@ -62,11 +74,25 @@ namespace forma
    * after `max_iterations`. After every accepted iterate the design is
    * written to `<output directory>/optimization.checkpoint.json`; with
    * `resume` the run continues from that file (the L-BFGS memory restarts).
+   *
+   * A run continued after a remesh passes the history so far as
+   * `previous_history`: its last entry (the design before the remesh) is
+   * replaced by the first value of this run, and iterations count on.
    */
   OptimizationResult
   optimize(const DesignModel            &model,
            const OptimizationParameters &parameters,
-           RunContext                   &context);
+           RunContext                   &context,
+           const std::vector<double>    &previous_history = {});
+
+  /// Where optimize() keeps its checkpoint (and remeshed designs): the
+  /// output directory itself, which a failed run leaves untouched.
+  std::string
+  checkpoint_directory(const RunContext &context);
+
+  /// DesignModel::mesh of the checkpoint's design (empty if none).
+  std::string
+  checkpoint_mesh(const RunContext &context);
 } // namespace forma
 
 #endif

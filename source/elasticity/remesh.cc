@@ -1,0 +1,371 @@
+// Remeshing of the elasticity simulator's design shape: mesh quality,
+// extraction of the current region boundaries, a Gmsh mesh of them, and
+// the transfer of material coordinates to the new vertices.
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/mpi_remote_point_evaluation.h>
+#include <deal.II/distributed/shared_tria.h>
+#include <deal.II/distributed/tria.h>
+#include <deal.II/numerics/vector_tools_evaluate.h>
+
+#include <forma/base/application.h>
+#include <forma/base/records.h>
+#include <forma/base/run_context.h>
+#include <forma/mesh/remesh.h>
+
+#include "simulator_impl.h"
+
+#include <fstream>
+
+namespace forma
+{
+  template <int dim>
+  double
+  ElasticitySimulator<dim>::Impl::min_scaled_jacobian(Point<dim> *where) const
+  {
+    hp::FEValues<dim> fv(mapping, fe, quadrature, update_jacobians);
+    double            worst = 1;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          fv.reinit(cell);
+          const auto &v = fv.get_present_fe_values();
+          for (unsigned int q = 0; q < v.n_quadrature_points; ++q)
+            {
+              const Tensor<2, dim> J       = v.jacobian(q);
+              double               lengths = 1;
+              for (unsigned int k = 0; k < dim; ++k)
+                {
+                  double c = 0;
+                  for (unsigned int i = 0; i < dim; ++i)
+                    c += J[i][k] * J[i][k];
+                  lengths *= std::sqrt(c);
+                }
+              const double sj = determinant(J) / lengths;
+              if (sj < worst)
+                {
+                  worst = sj;
+                  if (where)
+                    *where = cell->center();
+                }
+            }
+        }
+    return worst;
+  }
+
+
+
+  template <int dim>
+  RegionBoundaries<dim>
+  ElasticitySimulator<dim>::Impl::region_boundaries() const
+  {
+    // Facets of the locally owned cells, vertices named by their first
+    // shape DoF (global, the same on every rank): boundary faces, and
+    // interfaces between materials seen from the finer side, or from the
+    // smaller material id on a level interface.
+    std::vector<types::global_dof_index> keys;
+    std::vector<double>                  x;
+    std::vector<unsigned int>            ids; // inside, outside, boundary
+    for (const auto &cell : shape_dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (const auto f : cell->face_indices())
+          {
+            const auto         face    = cell->face(f);
+            types::material_id outside = numbers::invalid_material_id;
+            types::boundary_id id      = 0;
+            if (face->at_boundary())
+              id = face->boundary_id();
+            else
+              {
+                if (face->has_children())
+                  continue;
+                const auto neighbor = cell->neighbor(f);
+                if (neighbor->material_id() == cell->material_id() ||
+                    (!cell->neighbor_is_coarser(f) &&
+                     neighbor->material_id() < cell->material_id()))
+                  continue;
+                outside = neighbor->material_id();
+              }
+            std::array<unsigned int, dim> order;
+            std::array<Point<dim>, dim>   p;
+            AssertThrow(face->n_vertices() == dim, ExcInternalError());
+            for (unsigned int v = 0; v < dim; ++v)
+              {
+                order[v] = v;
+                for (unsigned int d = 0; d < dim; ++d)
+                  p[v][d] = shape_ghost(face->vertex_dof_index(v, d));
+              }
+            // Orient the facet with its normal out of the cell.
+            Point<dim> center;
+            for (const auto v : cell->vertex_indices())
+              for (unsigned int d = 0; d < dim; ++d)
+                center[d] += shape_ghost(cell->vertex_dof_index(v, d)) /
+                             cell->n_vertices();
+            double side;
+            if constexpr (dim == 2)
+              side = (p[1][0] - p[0][0]) * (center[1] - p[0][1]) -
+                     (p[1][1] - p[0][1]) * (center[0] - p[0][0]);
+            else
+              side =
+                -(cross_product_3d(p[1] - p[0], p[2] - p[0]) * (center - p[0]));
+            if (side < 0)
+              std::swap(order[0], order[1]);
+            for (const auto v : order)
+              {
+                keys.push_back(face->vertex_dof_index(v, 0));
+                for (unsigned int d = 0; d < dim; ++d)
+                  x.push_back(p[v][d]);
+              }
+            ids.insert(ids.end(), {cell->material_id(), outside, id});
+          }
+
+    const auto            all_keys = Utilities::MPI::gather(comm, keys);
+    const auto            all_x    = Utilities::MPI::gather(comm, x);
+    const auto            all_ids  = Utilities::MPI::gather(comm, ids);
+    RegionBoundaries<dim> result;
+    std::map<types::global_dof_index, unsigned int> vertex;
+    for (unsigned int r = 0; r < all_keys.size(); ++r)
+      for (unsigned int k = 0; k < all_ids[r].size() / 3; ++k)
+        {
+          typename RegionBoundaries<dim>::Facet facet;
+          for (unsigned int v = 0; v < dim; ++v)
+            {
+              const auto key = all_keys[r][dim * k + v];
+              const auto it  = vertex.emplace(key, vertex.size()).first;
+              if (it->second == result.vertices.size())
+                {
+                  Point<dim> p;
+                  for (unsigned int d = 0; d < dim; ++d)
+                    p[d] = all_x[r][dim * (dim * k + v) + d];
+                  result.vertices.push_back(p);
+                }
+              facet.vertices[v] = it->second;
+            }
+          facet.inside      = all_ids[r][3 * k];
+          facet.outside     = all_ids[r][3 * k + 1];
+          facet.boundary_id = all_ids[r][3 * k + 2];
+          result.facets.push_back(facet);
+        }
+    return result; // complete on rank 0, empty elsewhere
+  }
+
+
+
+  template <int dim>
+  std::vector<Point<dim>>
+  ElasticitySimulator<dim>::Impl::material_points(
+    const std::vector<Point<dim>> &x) const
+  {
+    Utilities::MPI::RemotePointEvaluation<dim> cache(1e-8);
+    const auto values = VectorTools::point_values<dim>(
+      mapping[0], shape_dof_handler, material_positions, x, cache);
+    AssertThrow(cache.all_points_found(),
+                ExcMessage("remeshing: a vertex of the new mesh lies outside "
+                           "the old one."));
+    std::vector<Point<dim>> X(x.size());
+    for (unsigned int i = 0; i < x.size(); ++i)
+      X[i] = Point<dim>(values[i]);
+    return X;
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::replace_mesh(const std::string &msh,
+                                               const std::vector<Point<dim>> &X)
+  {
+    Triangulation<dim> serial;
+    read_regions_mesh(msh, serial);
+    AssertThrow(serial.n_vertices() == X.size(),
+                ExcMessage("remeshing: the material coordinates do not match "
+                           "the mesh (" +
+                           std::to_string(X.size()) + " for " +
+                           std::to_string(serial.n_vertices()) +
+                           " vertices)."));
+    material_of_vertex.clear();
+    for (unsigned int v = 0; v < X.size(); ++v)
+      material_of_vertex.emplace_back(serial.get_vertices()[v], X[v]);
+    std::sort(material_of_vertex.begin(),
+              material_of_vertex.end(),
+              [](const auto &a, const auto &b) {
+                return std::lexicographical_compare(a.first.begin_raw(),
+                                                    a.first.end_raw(),
+                                                    b.first.begin_raw(),
+                                                    b.first.end_raw());
+              });
+
+    std::unique_ptr<parallel::TriangulationBase<dim>> new_tria;
+    if (simplex)
+      new_tria = std::make_unique<parallel::shared::Triangulation<dim>>(comm);
+    else
+      new_tria = std::make_unique<parallel::distributed::Triangulation<dim>>(
+        comm, Triangulation<dim>::limit_level_difference_at_vertices);
+    new_tria->copy_triangulation(serial);
+    // The DoF handlers let go of the old mesh before it is destroyed.
+    dof_handler.reinit(*new_tria);
+    shape_dof_handler.reinit(*new_tria);
+    tria = std::move(new_tria);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        cell->set_active_fe_index(simplex ? 0 : p.degree - 1);
+
+    // Factorizations of the old matrices are useless now.
+    linear_solver    = LinearSolver(p.linear_solver);
+    extension_solver = LinearSolver(LinearSolver::Parameters());
+    u_history.clear();
+    v_history.clear();
+    u_states.clear();
+    v_states.clear();
+    reference_states.clear();
+    objective_cache.clear();
+    setup_system();
+
+    // The design: a fresh shape block, the other blocks as they were.
+    const auto old_layout = layout;
+    const auto old_design = design;
+    build_design_layout();
+    for (const auto &b : layout.blocks)
+      if (b.name == "shape") // the new vertices are the current shape
+        std::fill(design.begin() + b.offset,
+                  design.begin() + b.offset + b.size,
+                  0.);
+      else
+        {
+          const auto *o = old_layout.find(b.name);
+          AssertThrow(o && o->size == b.size,
+                      ExcMessage("remeshing: the design block '" + b.name +
+                                 "' lives on the mesh; only shape, per-body "
+                                 "and global blocks survive a remesh."));
+          std::copy(old_design.begin() + o->offset,
+                    old_design.begin() + o->offset + o->size,
+                    design.begin() + b.offset);
+        }
+    apply_design(design);
+    ++n_remeshes;
+  }
+
+
+
+  // ---------------------------------------------------------------- facade
+
+  template <int dim>
+  double
+  ElasticitySimulator<dim>::mesh_quality() const
+  {
+    return Utilities::MPI::min(impl->min_scaled_jacobian(), impl->comm);
+  }
+
+  template <int dim>
+  std::string
+  ElasticitySimulator<dim>::remesh(const std::string &file_stem)
+  {
+    auto &s = *impl;
+    AssertThrow(dim == 2 || s.simplex,
+                ExcMessage("remeshing: hexahedral meshes cannot be remeshed "
+                           "(Gmsh makes tetrahedra); use 'Mesh/Convert to "
+                           "simplices = true' for 3D shape optimization with "
+                           "remeshing."));
+    const double before   = mesh_quality();
+    const auto   n_before = s.tria->n_global_active_cells();
+    const bool   root     = Utilities::MPI::this_mpi_process(s.comm) == 0;
+    const auto   boundary = s.region_boundaries();
+    std::string  msh, error;
+    if (root)
+      try
+        {
+          msh = mesh_regions(boundary, !s.simplex);
+        }
+      catch (const std::exception &e)
+        {
+          error = error_message(e);
+        }
+    error = Utilities::MPI::broadcast(s.comm, error, 0);
+    AssertThrow(error.empty(), ExcMessage(error));
+    msh = Utilities::MPI::broadcast(s.comm, msh, 0);
+
+    // Material coordinates of the new vertices, from the old mesh.
+    Triangulation<dim> serial;
+    read_regions_mesh(msh, serial);
+    const auto X = s.material_points(serial.get_vertices());
+
+    // Files first: a resumed run restores this mesh from them.
+    if (root && !file_stem.empty())
+      {
+        std::ofstream(file_stem + ".msh") << msh;
+        nlohmann::json j = nlohmann::json::array();
+        for (const auto &p : X)
+          {
+            std::vector<double> c(p.begin_raw(), p.end_raw());
+            j.push_back(c);
+          }
+        std::ofstream(file_stem + ".json") << j.dump();
+      }
+    s.replace_mesh(msh, X);
+    if (s.objective)
+      set_objective(s.objective); // the reference run on the new mesh
+    return "remeshed (min scaled Jacobian " + fmt(before, 3) +
+           "): " + std::to_string(n_before) + " -> " +
+           std::to_string(s.tria->n_global_active_cells()) +
+           " cells, min scaled Jacobian " + fmt(mesh_quality(), 3);
+  }
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::load_remeshed(const std::string &file_stem)
+  {
+    std::ifstream msh_in(file_stem + ".msh"), json_in(file_stem + ".json");
+    AssertThrow(msh_in && json_in,
+                ExcMessage("cannot read the remeshed design '" + file_stem +
+                           ".msh/.json'."));
+    std::ostringstream msh;
+    msh << msh_in.rdbuf();
+    std::vector<Point<dim>> X;
+    try
+      {
+        nlohmann::json j;
+        json_in >> j;
+        for (const auto &c : j)
+          {
+            Point<dim> p;
+            for (unsigned int d = 0; d < dim; ++d)
+              p[d] = c.at(d).get<double>();
+            X.push_back(p);
+          }
+      }
+    catch (const std::exception &e)
+      {
+        AssertThrow(false,
+                    ExcMessage("the remeshed design '" + file_stem +
+                               ".json' is unreadable: " + e.what()));
+      }
+    impl->replace_mesh(msh.str(), X);
+    if (impl->objective)
+      set_objective(impl->objective);
+  }
+
+  template <int dim>
+  std::vector<double>
+  ElasticitySimulator<dim>::material_offsets() const
+  {
+    std::vector<double> offsets(impl->layout.size(), 0.);
+    if (const auto *b = impl->layout.find("shape"))
+      {
+        for (const auto i : impl->shape_owned)
+          offsets[b->offset + i] =
+            impl->material_positions(i) - impl->shape_reference(i);
+        Utilities::MPI::sum(offsets, impl->comm, offsets);
+      }
+    return offsets;
+  }
+
+  template <int dim>
+  unsigned int
+  ElasticitySimulator<dim>::n_remeshes() const
+  {
+    return impl->n_remeshes;
+  }
+
+  template class ElasticitySimulator<2>;
+  template class ElasticitySimulator<3>;
+} // namespace forma
