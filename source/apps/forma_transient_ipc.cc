@@ -198,7 +198,8 @@ namespace
       }
     if (settings.remesh_quality > 0)
       for (const auto &b : layout.blocks)
-        AssertThrow(b.name == "shape" || b.size <= 8 * dim,
+        AssertThrow(b.name != "cell material" &&
+                      b.name.find("field") == std::string::npos,
                     dealii::ExcMessage(
                       "Optimization/Remesh quality: the design block '" +
                       b.name + "' lives on the mesh and cannot be remeshed."));
@@ -238,10 +239,23 @@ namespace
           history.push_back(entry);
         context.summary["history"] = history;
       };
-    model.remesh_needed = [&]() {
-      return settings.remesh_quality > 0 &&
-             simulator.n_remeshes() < settings.max_remeshes &&
-             simulator.mesh_quality() < settings.remesh_quality;
+    // Remesh when the quality falls below the threshold and clearly below
+    // what the last remesh achieved (the boundary, which remeshing keeps,
+    // can limit it: remeshing again would not help).
+    bool   remesh_allowed   = settings.remesh_quality > 0;
+    double remeshed_quality = 1;
+    model.remesh_needed     = [&]() {
+      const double q = simulator.mesh_quality();
+      if (!remesh_allowed || simulator.n_remeshes() >= settings.max_remeshes ||
+          q >= settings.remesh_quality || q >= remeshed_quality - 0.05)
+        return false;
+      // Try it first: a remesh that cannot help must not restart L-BFGS.
+      std::string reason;
+      if (simulator.remesh_improves(reason))
+        return true;
+      context.print("  no remesh, continuing on the current mesh: " + reason);
+      remesh_allowed = false;
+      return false;
     };
 
     // One run of the optimizer per mesh: a remesh ends a run, the next one
@@ -273,11 +287,25 @@ namespace
         if (result.stop_reason != forma::remesh_stop)
           break;
         ensure(result.design);
-        mesh =
-          "optimization.remesh_" + std::to_string(simulator.n_remeshes() + 1);
-        const auto line = simulator.remesh(directory + "/" + mesh);
-        context.print("[iteration " +
-                      std::to_string(result.history.size() - 1) + "] " + line);
+        const std::string iteration =
+          "[iteration " + std::to_string(result.history.size() - 1) + "] ";
+        const std::string next =
+          "optimization.mesh_" + std::to_string(result.history.size() - 1);
+        std::string line;
+        try
+          {
+            line             = simulator.remesh(directory + "/" + next);
+            mesh             = next;
+            remeshed_quality = simulator.mesh_quality();
+          }
+        catch (const std::exception &e)
+          {
+            // The current mesh is still valid: go on without remeshing.
+            line = "remeshing failed, continuing on the current mesh: " +
+                   forma::error_message(e);
+            remesh_allowed = false;
+          }
+        context.print(iteration + line);
         remeshes.push_back(
           {{"iteration", result.history.size() - 1}, {"description", line}});
         solved.clear();

@@ -6,6 +6,7 @@
 #include <deal.II/base/mpi_remote_point_evaluation.h>
 #include <deal.II/distributed/shared_tria.h>
 #include <deal.II/distributed/tria.h>
+#include <deal.II/fe/fe_values.h>
 #include <deal.II/numerics/vector_tools_evaluate.h>
 
 #include <forma/base/application.h>
@@ -19,6 +20,27 @@
 
 namespace forma
 {
+  namespace
+  {
+    // det J / prod_k |J e_k|: 1 for an undistorted cell, <= 0 if inverted.
+    template <int dim>
+    double
+    scaled_jacobian(const DerivativeForm<1, dim, dim> &J)
+    {
+      double lengths = 1;
+      for (unsigned int k = 0; k < dim; ++k)
+        {
+          double c = 0;
+          for (unsigned int i = 0; i < dim; ++i)
+            c += J[i][k] * J[i][k];
+          lengths *= std::sqrt(c);
+        }
+      return J.determinant() / lengths;
+    }
+  } // namespace
+
+
+
   template <int dim>
   double
   ElasticitySimulator<dim>::Impl::min_scaled_jacobian(Point<dim> *where) const
@@ -32,16 +54,7 @@ namespace forma
           const auto &v = fv.get_present_fe_values();
           for (unsigned int q = 0; q < v.n_quadrature_points; ++q)
             {
-              const Tensor<2, dim> J       = v.jacobian(q);
-              double               lengths = 1;
-              for (unsigned int k = 0; k < dim; ++k)
-                {
-                  double c = 0;
-                  for (unsigned int i = 0; i < dim; ++i)
-                    c += J[i][k] * J[i][k];
-                  lengths *= std::sqrt(c);
-                }
-              const double sj = determinant(J) / lengths;
+              const double sj = scaled_jacobian<dim>(v.jacobian(q));
               if (sj < worst)
                 {
                   worst = sj;
@@ -95,19 +108,21 @@ namespace forma
                 for (unsigned int d = 0; d < dim; ++d)
                   p[v][d] = shape_ghost(face->vertex_dof_index(v, d));
               }
-            // Orient the facet with its normal out of the cell.
-            Point<dim> center;
-            for (const auto v : cell->vertex_indices())
-              for (unsigned int d = 0; d < dim; ++d)
-                center[d] += shape_ghost(cell->vertex_dof_index(v, d)) /
-                             cell->n_vertices();
-            double side;
+            // Orient the facet with its normal out of the cell, decided on
+            // the mesh itself: the design keeps the orientation of every
+            // cell, and distorted cells can put their center on the wrong
+            // side of a facet.
+            const auto &y = face;
+            double      side;
             if constexpr (dim == 2)
-              side = (p[1][0] - p[0][0]) * (center[1] - p[0][1]) -
-                     (p[1][1] - p[0][1]) * (center[0] - p[0][0]);
+              side = (y->vertex(1)[0] - y->vertex(0)[0]) *
+                       (cell->center()[1] - y->vertex(0)[1]) -
+                     (y->vertex(1)[1] - y->vertex(0)[1]) *
+                       (cell->center()[0] - y->vertex(0)[0]);
             else
-              side =
-                -(cross_product_3d(p[1] - p[0], p[2] - p[0]) * (center - p[0]));
+              side = -(cross_product_3d(y->vertex(1) - y->vertex(0),
+                                        y->vertex(2) - y->vertex(0)) *
+                       (cell->center() - y->vertex(0)));
             if (side < 0)
               std::swap(order[0], order[1]);
             for (const auto v : order)
@@ -247,6 +262,64 @@ namespace forma
 
 
 
+  template <int dim>
+  std::string
+  ElasticitySimulator<dim>::Impl::new_mesh()
+  {
+    if (!pending_mesh.empty() && pending_design == design &&
+        pending_size == tria->n_global_active_cells())
+      return pending_mesh;
+    AssertThrow(dim == 2 || simplex,
+                ExcMessage("remeshing: hexahedral meshes cannot be remeshed "
+                           "(Gmsh makes tetrahedra); use 'Mesh/Convert to "
+                           "simplices = true' for 3D shape optimization with "
+                           "remeshing."));
+    const double before   = Utilities::MPI::min(min_scaled_jacobian(), comm);
+    const bool   root     = Utilities::MPI::this_mpi_process(comm) == 0;
+    const auto   boundary = region_boundaries();
+    std::string  msh, error;
+    if (root)
+      try
+        {
+          msh = mesh_regions(boundary, !simplex);
+        }
+      catch (const std::exception &e)
+        {
+          error = error_message(e);
+        }
+    error = Utilities::MPI::broadcast(comm, error, 0);
+    AssertThrow(error.empty(), ExcMessage(error));
+    msh = Utilities::MPI::broadcast(comm, msh, 0);
+
+    // A remesh that does not improve the quality (the kept boundary can
+    // limit it) is refused.
+    Triangulation<dim> serial;
+    read_regions_mesh(msh, serial);
+    const unsigned int k = simplex ? 0 : p.degree - 1;
+    FEValues<dim>      fv(mesh_mapping[0],
+                     *shape_fe,
+                     quadrature[k],
+                     update_jacobians);
+    double             after = 1;
+    for (const auto &cell : serial.active_cell_iterators())
+      {
+        fv.reinit(cell);
+        for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
+          after = std::min(after, scaled_jacobian<dim>(fv.jacobian(q)));
+      }
+    AssertThrow(after >= p.design.min_scaled_jacobian,
+                ExcMessage("remeshing: the new mesh has a cell of scaled "
+                           "Jacobian " +
+                           fmt(after, 3) + " < Design/Min scaled Jacobian."));
+    pending_mesh    = msh;
+    pending_design  = design;
+    pending_quality = {before, after};
+    pending_size    = tria->n_global_active_cells();
+    return msh;
+  }
+
+
+
   // ---------------------------------------------------------------- facade
 
   template <int dim>
@@ -257,36 +330,42 @@ namespace forma
   }
 
   template <int dim>
+  bool
+  ElasticitySimulator<dim>::remesh_improves(std::string &reason)
+  {
+    try
+      {
+        impl->new_mesh();
+        const auto [before, after] = impl->pending_quality;
+        AssertThrow(after > before,
+                    ExcMessage("remeshing: the new mesh would not be better "
+                               "(min scaled Jacobian " +
+                               fmt(before, 3) + " -> " + fmt(after, 3) +
+                               "); the boundary, which remeshing keeps, "
+                               "limits the quality."));
+        return true;
+      }
+    catch (const std::exception &e)
+      {
+        reason = error_message(e);
+        return false;
+      }
+  }
+
+  template <int dim>
   std::string
   ElasticitySimulator<dim>::remesh(const std::string &file_stem)
   {
-    auto &s = *impl;
-    AssertThrow(dim == 2 || s.simplex,
-                ExcMessage("remeshing: hexahedral meshes cannot be remeshed "
-                           "(Gmsh makes tetrahedra); use 'Mesh/Convert to "
-                           "simplices = true' for 3D shape optimization with "
-                           "remeshing."));
-    const double before   = mesh_quality();
-    const auto   n_before = s.tria->n_global_active_cells();
-    const bool   root     = Utilities::MPI::this_mpi_process(s.comm) == 0;
-    const auto   boundary = s.region_boundaries();
-    std::string  msh, error;
-    if (root)
-      try
-        {
-          msh = mesh_regions(boundary, !s.simplex);
-        }
-      catch (const std::exception &e)
-        {
-          error = error_message(e);
-        }
-    error = Utilities::MPI::broadcast(s.comm, error, 0);
-    AssertThrow(error.empty(), ExcMessage(error));
-    msh = Utilities::MPI::broadcast(s.comm, msh, 0);
-
-    // Material coordinates of the new vertices, from the old mesh.
+    auto             &s        = *impl;
+    const double      before   = mesh_quality();
+    const auto        n_before = s.tria->n_global_active_cells();
+    const bool        root     = Utilities::MPI::this_mpi_process(s.comm) == 0;
+    const std::string msh      = s.new_mesh();
+    s.pending_mesh.clear();
     Triangulation<dim> serial;
     read_regions_mesh(msh, serial);
+
+    // Material coordinates of the new vertices, from the old mesh.
     const auto X = s.material_points(serial.get_vertices());
 
     // Files first: a resumed run restores this mesh from them.

@@ -96,8 +96,6 @@ namespace forma
     dof_handler.reinit(*tria);
     shape_dof_handler.reinit(*tria);
     setup_shape();
-    mapping.push_back(
-      MappingFEField<dim, dim, Vector_t>(shape_dof_handler, shape_ghost));
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         cell->set_active_fe_index(simplex ? 0 : p.degree - 1);
@@ -333,6 +331,9 @@ namespace forma
       }
     material_positions.reinit(shape_owned, shape_relevant, comm);
     material_positions = X;
+    // The mappings refer to the DoF handler's element: rebuild them with it.
+    mapping = hp::MappingCollection<dim>(
+      MappingFEField<dim, dim, Vector_t>(shape_dof_handler, shape_ghost));
     if (!material_of_vertex.empty())
       reference_mapping = hp::MappingCollection<dim>(
         MappingFEField<dim, dim, Vector_t>(shape_dof_handler,

@@ -326,6 +326,14 @@ namespace forma
     /// Material coordinates at points of the current shape.
     std::vector<Point<dim>>
     material_points(const std::vector<Point<dim>> &x) const;
+    /// A Gmsh mesh of the current design that passes Design/Min scaled
+    /// Jacobian (else throws); kept for the design it was made for.
+    std::string
+                              new_mesh();
+    std::string               pending_mesh;
+    std::vector<double>       pending_design;
+    std::pair<double, double> pending_quality; ///< min scaled J: now, new
+    types::global_cell_index  pending_size = 0;
     /// Take over the mesh `msh` (mesh_regions() output) whose vertices
     /// have the material coordinates `X`; keeps the non-shape design.
     void

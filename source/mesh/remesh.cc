@@ -33,6 +33,10 @@ namespace forma
       {
         gmsh::initialize();
         gmsh::option::setNumber("General.Terminal", 0);
+        // Errors must not be thrown from inside Gmsh's OpenMP regions
+        // (that terminates the program): they are logged, and the result
+        // is checked instead.
+        gmsh::option::setNumber("General.AbortOnError", 0);
         gmsh::option::setNumber("General.NumThreads", 1);
         gmsh::model::add("forma-remesh");
       }
@@ -60,6 +64,26 @@ namespace forma
       catch (...)
         {}
       return "remeshing: Gmsh " + what + (last.empty() ? "" : ": " + last);
+    }
+
+    // Throw if meshing logged an error or left an entity without elements.
+    void
+    check_generated(const int dim)
+    {
+      std::string last;
+      gmsh::logger::getLastError(last);
+      AssertThrow(last.empty(), ExcMessage("remeshing: Gmsh failed: " + last));
+      gmsh::vectorpair entities;
+      gmsh::model::getEntities(entities, dim);
+      for (const auto &e : entities)
+        {
+          std::vector<int>                      types;
+          std::vector<std::vector<std::size_t>> tags, nodes;
+          gmsh::model::mesh::getElements(types, tags, nodes, dim, e.second);
+          AssertThrow(!types.empty(),
+                      ExcMessage("remeshing: Gmsh made no elements in a "
+                                 "region (a self-intersecting boundary?)."));
+        }
     }
 
     // The mesh Gmsh holds, written as a 2.2 ASCII file, returned as text.
@@ -245,8 +269,11 @@ namespace forma
                   from.erase(it);
                 }
               AssertThrow(v == start,
-                          ExcMessage("remeshing: the boundary of material " +
-                                     std::to_string(m) + " is not closed."));
+                          ExcMessage(
+                            "remeshing: the boundary of material " +
+                            std::to_string(m) + " is not closed: it ends at (" +
+                            Utilities::to_string(b.vertices[v][0]) + ", " +
+                            Utilities::to_string(b.vertices[v][1]) + ")."));
               loop.area = signed_area(loop.polygon);
               (loop.area > 0 ? outer : holes).push_back(std::move(loop));
             }
@@ -301,6 +328,7 @@ namespace forma
             gmsh::option::setNumber("Mesh.SubdivisionAlgorithm", 1);
         }
       gmsh::model::mesh::generate(2);
+      check_generated(2);
       if (quads && !paired)
         {
           std::vector<int>                      types;
@@ -524,17 +552,7 @@ namespace forma
       gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 1);
       gmsh::option::setNumber("Mesh.Optimize", 1);
       gmsh::model::mesh::generate(3);
-      std::vector<int>                      types;
-      std::vector<std::vector<std::size_t>> tags, nodes;
-      for (const auto &[id, volumes] : physical_volumes)
-        for (const auto v : volumes)
-          {
-            gmsh::model::mesh::getElements(types, tags, nodes, 3, v);
-            AssertThrow(!types.empty(),
-                        ExcMessage(gmsh_error("made no tetrahedra in "
-                                              "material " +
-                                              std::to_string(id))));
-          }
+      check_generated(3);
       return written_mesh();
     }
   } // namespace

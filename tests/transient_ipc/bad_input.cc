@@ -119,6 +119,14 @@ main()
                         "subsection Objective\n set Terms = compliance\nend\n"
                         "subsection Optimization\n set Resume = true\nend\n",
                  good);
+  expect_failure("remesh_cell_material",
+                 base + "set Mode = optimize\n"
+                        "subsection Design\n set Parameters = shape, cell "
+                        "material\nend\n"
+                        "subsection Objective\n set Terms = compliance\nend\n"
+                        "subsection Optimization\n set Remesh quality = "
+                        "0.5\nend\n",
+                 good);
   dealii::deallog << "failed run recorded in failed-run/summary.json: "
                   << (read("results/failed-run/summary.json")
                             .find("\"status\": \"failed\"") !=

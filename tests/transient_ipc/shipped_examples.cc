@@ -116,6 +116,27 @@ main()
                  0.01));
   }
   {
+    const auto s = run("strip_shape_recovery_remesh");
+    check("remeshed at least 3 times",
+          s["optimization"]["remeshes"].size() >= 3);
+    check("objective reduced below 2e-3 of its start", ratio(s) < 2e-3);
+    const auto plain = run("strip_shape_recovery_remesh",
+                           " --set 'Optimization/Remesh quality=0'");
+    check("without remeshing the steps vanish above 5e-2", ratio(plain) > 5e-2);
+    // Kill-and-resume after remeshes: the run continues on the last mesh.
+    run("strip_shape_recovery_remesh",
+        " --set 'Optimization/Max iterations=20'");
+    const auto r =
+      run("strip_shape_recovery_remesh", " --set 'Optimization/Resume=true'");
+    std::ifstream     in("strip_shape_recovery_remesh.stdout");
+    const std::string out((std::istreambuf_iterator<char>(in)),
+                          std::istreambuf_iterator<char>());
+    check("resumed from iteration 20 on a remeshed design",
+          out.find("resuming from iteration 20") != std::string::npos);
+    check("objective reduced below 5e-3 of its start after resuming",
+          ratio(r) < 5e-3);
+  }
+  {
     const auto s = run("sine_bar");
     check("objective reduced at least 20x", ratio(s) < 0.05);
   }

@@ -183,7 +183,14 @@ namespace forma
     double
     mesh_quality() const;
 
-    /// Remesh the current design; writes `<file_stem>.msh` and
+    /// Whether remesh() would succeed and improve the quality now; if not,
+    /// says why. The mesh it makes is kept for remesh().
+    bool
+    remesh_improves(std::string &reason);
+
+    /// Remesh the current design (if Gmsh fails or the new mesh violates
+    /// Design/Min scaled Jacobian, throws and leaves the simulator as it
+    /// was); writes `<file_stem>.msh` and
     /// `<file_stem>.json` (material coordinates) for load_remeshed() unless
     /// `file_stem` is empty. Returns a one-line description.
     std::string
