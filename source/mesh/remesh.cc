@@ -53,6 +53,18 @@ namespace forma
       return static_cast<int>(id) + 1;
     }
 
+    // Boundary entities by boundary id, regions by material id.
+    void
+    add_physical_groups(const int                                       dim,
+                        const std::map<unsigned int, std::vector<int>> &faces,
+                        const std::map<unsigned int, std::vector<int>> &cells)
+    {
+      for (const auto &[id, tags] : faces)
+        gmsh::model::addPhysicalGroup(dim - 1, tags, physical_tag(id));
+      for (const auto &[id, tags] : cells)
+        gmsh::model::addPhysicalGroup(dim, tags, physical_tag(id));
+    }
+
     std::string
     gmsh_error(const std::string &what)
     {
@@ -308,10 +320,7 @@ namespace forma
       for (const auto &l : lines)
         if (l.key[1] == numbers::invalid_material_id)
           physical_curves[l.key[2]].push_back(l.tag);
-      for (const auto &[id, tags] : physical_curves)
-        gmsh::model::addPhysicalGroup(1, tags, physical_tag(id));
-      for (const auto &[id, tags] : physical_surfaces)
-        gmsh::model::addPhysicalGroup(2, tags, physical_tag(id));
+      add_physical_groups(2, physical_curves, physical_surfaces);
 
       // Frontal-Delaunay makes the best triangles, but Blossom pairs
       // Delaunay triangles into better quads when no subdivision follows
@@ -543,10 +552,7 @@ namespace forma
       for (const auto &s : surfaces)
         if (s.key[1] == numbers::invalid_material_id)
           physical_surfaces[s.key[2]].push_back(s.tag);
-      for (const auto &[id, tags] : physical_surfaces)
-        gmsh::model::addPhysicalGroup(2, tags, physical_tag(id));
-      for (const auto &[id, tags] : physical_volumes)
-        gmsh::model::addPhysicalGroup(3, tags, physical_tag(id));
+      add_physical_groups(3, physical_surfaces, physical_volumes);
 
       gmsh::option::setNumber("Mesh.Algorithm3D", 1); // Delaunay
       gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 1);
