@@ -53,6 +53,21 @@ namespace forma
       return static_cast<int>(id) + 1;
     }
 
+    // The material ids on either side of the facets.
+    template <int dim>
+    std::set<unsigned int>
+    regions_of(const RegionBoundaries<dim> &b)
+    {
+      std::set<unsigned int> regions;
+      for (const auto &f : b.facets)
+        {
+          regions.insert(f.inside);
+          if (f.outside != numbers::invalid_material_id)
+            regions.insert(f.outside);
+        }
+      return regions;
+    }
+
     // Boundary entities by boundary id, regions by material id.
     void
     add_physical_groups(const int                                       dim,
@@ -245,13 +260,7 @@ namespace forma
         }
 
       // Loops of every region, counterclockwise around it.
-      std::set<unsigned int> regions;
-      for (const auto &f : b.facets)
-        {
-          regions.insert(f.inside);
-          if (f.outside != numbers::invalid_material_id)
-            regions.insert(f.outside);
-        }
+      const auto                               regions = regions_of(b);
       std::map<unsigned int, std::vector<int>> physical_surfaces;
       for (const auto m : regions)
         {
@@ -449,13 +458,7 @@ namespace forma
 
       // Per region: closed shells of its surfaces; negative enclosed
       // volume (normals into the region) marks a cavity.
-      std::set<unsigned int> regions;
-      for (const auto &f : b.facets)
-        {
-          regions.insert(f.inside);
-          if (f.outside != numbers::invalid_material_id)
-            regions.insert(f.outside);
-        }
+      const auto                               regions = regions_of(b);
       std::map<unsigned int, std::vector<int>> physical_volumes;
       for (const auto m : regions)
         {
