@@ -445,6 +445,21 @@ namespace forma
     return impl->n_remeshes;
   }
 
-  template class ElasticitySimulator<2>;
-  template class ElasticitySimulator<3>;
+  // Explicit instantiation of the members defined here (the class itself is
+  // instantiated in simulator.cc).
+#define FORMA_INSTANTIATE(dim)                                                   \
+  template double ElasticitySimulator<dim>::Impl::min_scaled_jacobian(           \
+    Point<dim> *) const;                                                         \
+  template void ElasticitySimulator<dim>::Impl::replace_mesh(                    \
+    const std::string &, const std::vector<Point<dim>> &);                       \
+  template double      ElasticitySimulator<dim>::mesh_quality() const;           \
+  template bool        ElasticitySimulator<dim>::remesh_improves(std::string &); \
+  template std::string ElasticitySimulator<dim>::remesh(const std::string &);    \
+  template void ElasticitySimulator<dim>::load_remeshed(const std::string &);    \
+  template std::vector<double> ElasticitySimulator<dim>::material_offsets()      \
+    const;                                                                       \
+  template unsigned int ElasticitySimulator<dim>::n_remeshes() const;
+  FORMA_INSTANTIATE(2)
+  FORMA_INSTANTIATE(3)
+#undef FORMA_INSTANTIATE
 } // namespace forma
