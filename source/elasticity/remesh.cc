@@ -187,11 +187,9 @@ namespace forma
 
   template <int dim>
   void
-  ElasticitySimulator<dim>::Impl::replace_mesh(const std::string &msh,
+  ElasticitySimulator<dim>::Impl::replace_mesh(const Triangulation<dim> &serial,
                                                const std::vector<Point<dim>> &X)
   {
-    Triangulation<dim> serial;
-    read_regions_mesh(msh, serial);
     AssertThrow(serial.n_vertices() == X.size(),
                 ExcMessage("remeshing: the material coordinates do not match "
                            "the mesh (" +
@@ -380,7 +378,7 @@ namespace forma
           }
         std::ofstream(file_stem + ".json") << j.dump();
       }
-    s.replace_mesh(msh, X);
+    s.replace_mesh(serial, X);
     if (s.objective)
       set_objective(s.objective); // the reference run on the new mesh
     return "remeshed (min scaled Jacobian " + fmt(before, 3) +
@@ -418,7 +416,9 @@ namespace forma
                     ExcMessage("the remeshed design '" + file_stem +
                                ".json' is unreadable: " + e.what()));
       }
-    impl->replace_mesh(msh.str(), X);
+    Triangulation<dim> serial;
+    read_regions_mesh(msh.str(), serial);
+    impl->replace_mesh(serial, X);
     if (impl->objective)
       set_objective(impl->objective);
   }
@@ -450,8 +450,6 @@ namespace forma
 #define FORMA_INSTANTIATE(dim)                                                   \
   template double ElasticitySimulator<dim>::Impl::min_scaled_jacobian(           \
     Point<dim> *) const;                                                         \
-  template void ElasticitySimulator<dim>::Impl::replace_mesh(                    \
-    const std::string &, const std::vector<Point<dim>> &);                       \
   template double      ElasticitySimulator<dim>::mesh_quality() const;           \
   template bool        ElasticitySimulator<dim>::remesh_improves(std::string &); \
   template std::string ElasticitySimulator<dim>::remesh(const std::string &);    \

@@ -334,10 +334,11 @@ namespace forma
     std::vector<double>       pending_design;
     std::pair<double, double> pending_quality; ///< min scaled J: now, new
     types::global_cell_index  pending_size = 0;
-    /// Take over the mesh `msh` (mesh_regions() output) whose vertices
+    /// Take over `serial` (a mesh_regions() mesh as read) whose vertices
     /// have the material coordinates `X`; keeps the non-shape design.
     void
-    replace_mesh(const std::string &msh, const std::vector<Point<dim>> &X);
+    replace_mesh(const Triangulation<dim>      &serial,
+                 const std::vector<Point<dim>> &X);
 
     // Harmonic extension of boundary shape moves into the interior
     // (Design/Shape parameterization = boundary): a vector Laplacian on the

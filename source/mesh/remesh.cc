@@ -68,12 +68,18 @@ namespace forma
       return regions;
     }
 
-    // Boundary entities by boundary id, regions by material id.
+    // Domain-boundary entities (those with a `key` and a Gmsh `tag`) by
+    // boundary id, regions by material id.
+    template <typename Entities>
     void
-    add_physical_groups(const int                                       dim,
-                        const std::map<unsigned int, std::vector<int>> &faces,
+    add_physical_groups(const int       dim,
+                        const Entities &entities,
                         const std::map<unsigned int, std::vector<int>> &cells)
     {
+      std::map<unsigned int, std::vector<int>> faces;
+      for (const auto &e : entities)
+        if (e.key[1] == numbers::invalid_material_id)
+          faces[e.key[2]].push_back(e.tag);
       for (const auto &[id, tags] : faces)
         gmsh::model::addPhysicalGroup(dim - 1, tags, physical_tag(id));
       for (const auto &[id, tags] : cells)
@@ -325,11 +331,7 @@ namespace forma
         }
       gmsh::model::geo::synchronize();
 
-      std::map<unsigned int, std::vector<int>> physical_curves;
-      for (const auto &l : lines)
-        if (l.key[1] == numbers::invalid_material_id)
-          physical_curves[l.key[2]].push_back(l.tag);
-      add_physical_groups(2, physical_curves, physical_surfaces);
+      add_physical_groups(2, lines, physical_surfaces);
 
       // Frontal-Delaunay makes the best triangles, but Blossom pairs
       // Delaunay triangles into better quads when no subdivision follows
@@ -551,11 +553,7 @@ namespace forma
         }
       gmsh::model::geo::synchronize();
 
-      std::map<unsigned int, std::vector<int>> physical_surfaces;
-      for (const auto &s : surfaces)
-        if (s.key[1] == numbers::invalid_material_id)
-          physical_surfaces[s.key[2]].push_back(s.tag);
-      add_physical_groups(3, physical_surfaces, physical_volumes);
+      add_physical_groups(3, surfaces, physical_volumes);
 
       gmsh::option::setNumber("Mesh.Algorithm3D", 1); // Delaunay
       gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 1);
