@@ -1,0 +1,654 @@
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/quadrature.h>
+#include <deal.II/distributed/shared_tria.h>
+#include <deal.II/distributed/tria.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_simplex_p.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/fe/mapping.h>
+#include <deal.II/grid/grid_generator.h>
+#include <deal.II/grid/grid_tools.h>
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/sparse_direct.h>
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/sparsity_pattern.h>
+#include <deal.II/lac/sparsity_tools.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/trilinos_vector.h>
+#include <deal.II/numerics/data_out.h>
+
+#include <forma/homogenization/periodic_homogenization.h>
+#include <forma/solvers/linear_solver.h>
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+
+namespace forma
+{
+  using namespace dealii;
+
+  namespace
+  {
+    // Voigt index -> tensor indices; shears carry the engineering factor.
+    template <int dim>
+    constexpr unsigned int n_voigt = dim * (dim + 1) / 2;
+
+    template <int dim>
+    std::pair<unsigned int, unsigned int>
+    voigt_pair(const unsigned int a)
+    {
+      if (a < dim)
+        return {a, a};
+      if (dim == 2)
+        return {0, 1};
+      static const unsigned int i[3] = {1, 0, 0}, j[3] = {2, 2, 1};
+      return {i[a - dim], j[a - dim]};
+    }
+
+    /// The unit test strain of Voigt index a (engineering shear = 1).
+    template <int dim>
+    SymmetricTensor<2, dim>
+    test_strain(const unsigned int a)
+    {
+      SymmetricTensor<2, dim> A;
+      const auto [i, j] = voigt_pair<dim>(a);
+      A[i][j]           = (i == j) ? 1. : 0.5;
+      return A;
+    }
+
+    /// Voigt vector (engineering shear) of a symmetric strain.
+    template <int dim>
+    void
+    strain_to_voigt(const SymmetricTensor<2, dim> &e, double *v)
+    {
+      for (unsigned int a = 0; a < n_voigt<dim>; ++a)
+        {
+          const auto [i, j] = voigt_pair<dim>(a);
+          v[a]              = (i == j) ? e[i][j] : 2 * e[i][j];
+        }
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  struct PeriodicHomogenization<dim>::Impl
+  {
+    static constexpr unsigned int nv = n_voigt<dim>;
+
+    /**
+     * The stiffness of a cell is linear in its (constant) tensor:
+     * K(V) = sum_ab V_ab int B_a^T B_b, with B the Voigt strain of the shape
+     * functions. `pair` holds the symmetrized integrals for a <= b,
+     * `integral` int B_a; for congruent cells (regular grids) they are
+     * computed once.
+     */
+    struct Kernel
+    {
+      std::vector<FullMatrix<double>> pair;
+      std::vector<Vector<double>>      integral;
+      double                           measure = 0;
+    };
+
+    Impl(const MPI_Comm comm, const SolverParameters &solver)
+      : comm(comm)
+      , solver_parameters(solver)
+      , dof_handler()
+    {}
+
+    void
+    setup(const unsigned int degree, const Point<dim> &box);
+
+    void
+    compute_kernel(const typename DoFHandler<dim>::active_cell_iterator &cell,
+                   Kernel &kernel) const;
+
+    MPI_Comm                                 comm;
+    SolverParameters                         solver_parameters;
+    std::unique_ptr<Triangulation<dim>>      tria;
+    std::unique_ptr<FiniteElement<dim>>      fe;
+    std::unique_ptr<Mapping<dim>>            mapping_owner;
+    const Mapping<dim>                      *mapping = nullptr;
+    std::unique_ptr<Quadrature<dim>>         quadrature;
+    DoFHandler<dim>                          dof_handler;
+    AffineConstraints<double>                constraints;
+    IndexSet                                 owned, relevant;
+    TrilinosWrappers::SparseMatrix           matrix;
+    // One rank and a direct solver: UMFPACK (supernodal, several times
+    // faster than KLU on these 2D grids) on a deal.II matrix.
+    bool                                     use_umfpack = false;
+    SparsityPattern                          serial_pattern;
+    SparseMatrix<double>                     serial_matrix;
+    std::vector<TrilinosWrappers::MPI::Vector> fluctuation; // ghosted
+    std::vector<std::vector<double>>         translation_modes;
+    bool                                     congruent_cells = false;
+    Kernel                                   shared_kernel;
+    double                                   box_volume = 0;
+  };
+
+
+
+  template <int dim>
+  void
+  PeriodicHomogenization<dim>::Impl::setup(const unsigned int degree,
+                                           const Point<dim>  &box)
+  {
+    box_volume = 1;
+    for (unsigned int d = 0; d < dim; ++d)
+      box_volume *= box[d];
+
+    // Faces on x_d = 0 / x_d = box_d carry ids 2d / 2d + 1.
+    for (const auto &cell : tria->active_cell_iterators())
+      for (const unsigned int f : cell->face_indices())
+        if (cell->face(f)->at_boundary())
+          {
+            const Point<dim> c = cell->face(f)->center();
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                const double tol = 1e-8 * box[d];
+                if (std::abs(c[d]) < tol)
+                  cell->face(f)->set_boundary_id(2 * d);
+                else if (std::abs(c[d] - box[d]) < tol)
+                  cell->face(f)->set_boundary_id(2 * d + 1);
+              }
+          }
+    std::vector<
+      GridTools::PeriodicFacePair<typename Triangulation<dim>::cell_iterator>>
+      periodic;
+    for (unsigned int d = 0; d < dim; ++d)
+      GridTools::collect_periodic_faces(*tria, 2 * d, 2 * d + 1, d, periodic);
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        unsigned int n = 0;
+        for (const auto &pair : periodic)
+          n += (pair.cell[0]->face(pair.face_idx[0])->boundary_id() == 2 * d);
+        AssertThrow(n > 0 || tria->n_active_cells() == 0,
+                    ExcMessage("the cell mesh has no matching faces on the "
+                               "sides x" +
+                               std::to_string(d) +
+                               " = 0 and x" + std::to_string(d) +
+                               " = L: a periodic cell needs them"));
+      }
+    tria->add_periodicity(periodic);
+
+    const ReferenceCell reference = tria->get_reference_cells()[0];
+    AssertThrow(tria->get_reference_cells().size() == 1,
+                ExcMessage("mixed-element cell meshes are not supported"));
+    if (reference.is_hyper_cube())
+      fe = std::make_unique<FESystem<dim>>(FE_Q<dim>(degree), dim);
+    else
+      fe = std::make_unique<FESystem<dim>>(FE_SimplexP<dim>(degree), dim);
+    mapping    = &reference.template get_default_linear_mapping<dim>();
+    quadrature = std::make_unique<Quadrature<dim>>(
+      reference.template get_gauss_type_quadrature<dim>(degree + 1));
+
+    dof_handler.reinit(*tria);
+    dof_handler.distribute_dofs(*fe);
+    owned = dof_handler.locally_owned_dofs();
+    DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
+
+    constraints.clear();
+    constraints.reinit(relevant);
+    for (unsigned int d = 0; d < dim; ++d)
+      DoFTools::make_periodicity_constraints(
+        dof_handler, 2 * d, 2 * d + 1, d, constraints);
+
+    // Remove the translations: w = 0 at the interior vertex nearest the
+    // center (interior, so it is not tied to periodic partners).
+    Point<dim> center;
+    for (unsigned int d = 0; d < dim; ++d)
+      center[d] = box[d] / 2;
+    std::pair<double, types::global_dof_index> best = {
+      std::numeric_limits<double>::max(), 0};
+    std::vector<types::global_dof_index> vertex_dofs(dim);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (const unsigned int v : cell->vertex_indices())
+          {
+            bool interior = true;
+            for (unsigned int d = 0; d < dim; ++d)
+              interior &= cell->vertex(v)[d] > 1e-8 * box[d] &&
+                          cell->vertex(v)[d] < (1 - 1e-8) * box[d];
+            if (!interior)
+              continue;
+            const double dist = cell->vertex(v).distance(center);
+            const types::global_dof_index i0 = cell->vertex_dof_index(v, 0);
+            if (dist < best.first - 1e-12 ||
+                (dist < best.first + 1e-12 && i0 < best.second))
+              {
+                best = {dist, i0};
+                for (unsigned int c = 0; c < dim; ++c)
+                  vertex_dofs[c] = cell->vertex_dof_index(v, c);
+              }
+          }
+    const auto all   = Utilities::MPI::all_gather(comm, best);
+    const auto dofs  = Utilities::MPI::all_gather(comm, vertex_dofs);
+    unsigned int rank = numbers::invalid_unsigned_int;
+    for (unsigned int r = 0; r < all.size(); ++r)
+      if (all[r].first < std::numeric_limits<double>::max() &&
+          (rank == numbers::invalid_unsigned_int ||
+           all[r].first < all[rank].first - 1e-12 ||
+           (all[r].first < all[rank].first + 1e-12 &&
+            all[r].second < all[rank].second)))
+        rank = r;
+    AssertThrow(rank != numbers::invalid_unsigned_int,
+                ExcMessage("the cell mesh has no interior vertex; use at "
+                           "least 2 cells per direction"));
+    for (const types::global_dof_index i : dofs[rank])
+      if (constraints.can_store_line(i))
+        constraints.add_line(i);
+    constraints.close();
+
+    DynamicSparsityPattern dsp(relevant);
+    DoFTools::make_sparsity_pattern(dof_handler, dsp, constraints, false);
+    const std::string type =
+      solver_parameters.type == "auto" ?
+        (dof_handler.n_dofs() <= solver_parameters.direct_limit ? "direct" :
+                                                                  "cg-amg") :
+        solver_parameters.type;
+    AssertThrow(type == "direct" || type == "cg-amg",
+                ExcMessage("unknown homogenization solver '" + type +
+                           "' (auto | direct | cg-amg)"));
+    solver_parameters.type = type;
+    use_umfpack = type == "direct" && Utilities::MPI::n_mpi_processes(comm) == 1;
+    if (use_umfpack)
+      {
+        serial_pattern.copy_from(dsp);
+        serial_matrix.reinit(serial_pattern);
+      }
+    else
+      {
+        SparsityTools::distribute_sparsity_pattern(dsp, owned, comm, relevant);
+        matrix.reinit(owned, owned, dsp, comm);
+      }
+
+    // Translations for the AMG near null space.
+    translation_modes.assign(dim, std::vector<double>(owned.n_elements()));
+    {
+      std::vector<types::global_dof_index> local(fe->n_dofs_per_cell());
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            cell->get_dof_indices(local);
+            for (unsigned int i = 0; i < local.size(); ++i)
+              if (owned.is_element(local[i]))
+                translation_modes[fe->system_to_component_index(i).first]
+                                 [owned.index_within_set(local[i])] = 1;
+          }
+    }
+
+    // Regular grids: every cell is a translate of the first.
+    if (congruent_cells)
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            compute_kernel(cell, shared_kernel);
+            break;
+          }
+  }
+
+
+
+  template <int dim>
+  void
+  PeriodicHomogenization<dim>::Impl::compute_kernel(
+    const typename DoFHandler<dim>::active_cell_iterator &cell,
+    Kernel                                               &kernel) const
+  {
+    FEValues<dim> fe_values(*mapping,
+                            *fe,
+                            *quadrature,
+                            update_gradients | update_JxW_values);
+    fe_values.reinit(cell);
+    const unsigned int n = fe->n_dofs_per_cell();
+    kernel.pair.assign(nv * (nv + 1) / 2, FullMatrix<double>(n, n));
+    kernel.integral.assign(nv, Vector<double>(n));
+    kernel.measure = 0;
+    const FEValuesExtractors::Vector displacement(0);
+    std::vector<std::array<double, nv>> B(n);
+    for (const unsigned int q : fe_values.quadrature_point_indices())
+      {
+        const double JxW = fe_values.JxW(q);
+        kernel.measure += JxW;
+        for (unsigned int i = 0; i < n; ++i)
+          strain_to_voigt<dim>(fe_values[displacement].symmetric_gradient(i,
+                                                                           q),
+                               B[i].data());
+        unsigned int p = 0;
+        for (unsigned int a = 0; a < nv; ++a)
+          for (unsigned int b = a; b < nv; ++b, ++p)
+            for (unsigned int i = 0; i < n; ++i)
+              for (unsigned int j = 0; j < n; ++j)
+                kernel.pair[p](i, j) +=
+                  (a == b ? B[i][a] * B[j][a] :
+                            B[i][a] * B[j][b] + B[i][b] * B[j][a]) *
+                  JxW;
+        for (unsigned int a = 0; a < nv; ++a)
+          for (unsigned int i = 0; i < n; ++i)
+            kernel.integral[a](i) += B[i][a] * JxW;
+      }
+  }
+
+
+
+  template <int dim>
+  PeriodicHomogenization<dim>::PeriodicHomogenization(
+    const MPI_Comm                       comm,
+    const Point<dim>                    &size,
+    const std::array<unsigned int, dim> &n_cells,
+    const SolverParameters              &solver,
+    const unsigned int                   degree)
+    : impl(std::make_unique<Impl>(comm, solver))
+  {
+    for (unsigned int d = 0; d < dim; ++d)
+      {
+        AssertThrow(size[d] > 0,
+                    ExcMessage("the homogenization cell needs a positive "
+                               "size in every direction"));
+        AssertThrow(n_cells[d] >= 2,
+                    ExcMessage("the homogenization grid needs at least 2 "
+                               "cells per direction"));
+      }
+    auto tria = std::make_unique<parallel::distributed::Triangulation<dim>>(
+      comm);
+    std::vector<unsigned int> repetitions(n_cells.begin(), n_cells.end());
+    GridGenerator::subdivided_hyper_rectangle(*tria,
+                                              repetitions,
+                                              Point<dim>(),
+                                              size);
+    impl->tria            = std::move(tria);
+    impl->congruent_cells = true;
+    impl->setup(degree, size);
+  }
+
+
+
+  template <int dim>
+  PeriodicHomogenization<dim>::PeriodicHomogenization(
+    const MPI_Comm                 comm,
+    const Triangulation<dim, dim> &mesh,
+    const SolverParameters        &solver,
+    const unsigned int             degree)
+    : impl(std::make_unique<Impl>(comm, solver))
+  {
+    AssertThrow(mesh.n_active_cells() > 0,
+                ExcMessage("the homogenization mesh is empty"));
+    Point<dim> lo = mesh.get_vertices()[0], hi = lo;
+    for (const auto &v : mesh.get_vertices())
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          lo[d] = std::min(lo[d], v[d]);
+          hi[d] = std::max(hi[d], v[d]);
+        }
+    AssertThrow(lo.norm() <= 1e-8 * hi.norm(),
+                ExcMessage("the homogenization mesh must fill the box "
+                           "[0, L1] x [0, L2] (its lower corner is not at "
+                           "the origin)"));
+    auto tria =
+      std::make_unique<parallel::shared::Triangulation<dim>>(comm);
+    tria->copy_triangulation(mesh);
+    impl->tria = std::move(tria);
+    impl->setup(degree, hi);
+  }
+
+
+
+  template <int dim>
+  PeriodicHomogenization<dim>::~PeriodicHomogenization() = default;
+
+
+
+  template <int dim>
+  typename PeriodicHomogenization<dim>::Result
+  PeriodicHomogenization<dim>::homogenize(const MaterialFunction &material)
+  {
+    Impl              &m  = *impl;
+    constexpr unsigned nv = Impl::nv;
+    const unsigned int n  = m.fe->n_dofs_per_cell();
+
+    // One pass: the matrix and the right-hand sides of all test strains.
+    if (m.use_umfpack)
+      m.serial_matrix = 0;
+    else
+      m.matrix = 0;
+    std::vector<TrilinosWrappers::MPI::Vector> rhs(
+      nv, TrilinosWrappers::MPI::Vector(m.owned, m.comm));
+    FullMatrix<double>                   K(n, n);
+    std::vector<Vector<double>>          F(nv, Vector<double>(n));
+    std::vector<types::global_dof_index> local(n);
+    typename Impl::Kernel                own_kernel;
+    std::vector<Tensor<2, nv>> cell_tensor;
+    cell_tensor.reserve(m.tria->n_active_cells());
+    for (const auto &cell : m.dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const SymmetricTensor<4, dim> C =
+            material(cell->center(), cell->material_id());
+          Tensor<2, nv> V;
+          for (unsigned int a = 0; a < nv; ++a)
+            for (unsigned int b = 0; b < nv; ++b)
+              {
+                const auto [i, j] = voigt_pair<dim>(a);
+                const auto [k, l] = voigt_pair<dim>(b);
+                V[a][b]           = C[i][j][k][l];
+              }
+          cell_tensor.push_back(V);
+          if (!m.congruent_cells)
+            m.compute_kernel(cell, own_kernel);
+          const auto &kernel =
+            m.congruent_cells ? m.shared_kernel : own_kernel;
+          K             = 0;
+          unsigned int p = 0;
+          for (unsigned int a = 0; a < nv; ++a)
+            for (unsigned int b = a; b < nv; ++b, ++p)
+              K.add(V[a][b], kernel.pair[p]);
+          // f_c = -int B^T C A_c = -sum_a V_ac int B_a
+          for (unsigned int c = 0; c < nv; ++c)
+            {
+              F[c] = 0;
+              for (unsigned int a = 0; a < nv; ++a)
+                F[c].add(-V[a][c], kernel.integral[a]);
+            }
+          cell->get_dof_indices(local);
+          if (m.use_umfpack)
+            m.constraints.distribute_local_to_global(K, local, m.serial_matrix);
+          else
+            m.constraints.distribute_local_to_global(K, local, m.matrix);
+          for (unsigned int c = 0; c < nv; ++c)
+            m.constraints.distribute_local_to_global(F[c], local, rhs[c]);
+        }
+    if (!m.use_umfpack)
+      m.matrix.compress(VectorOperation::add);
+    for (auto &r : rhs)
+      r.compress(VectorOperation::add);
+
+    Result result;
+    result.solver = m.solver_parameters.type;
+    m.fluctuation.resize(nv);
+    std::vector<TrilinosWrappers::MPI::Vector> w(
+      nv, TrilinosWrappers::MPI::Vector(m.owned, m.comm));
+    if (m.use_umfpack)
+      {
+        SparseDirectUMFPACK umfpack;
+        umfpack.factorize(m.serial_matrix);
+        for (unsigned int c = 0; c < nv; ++c)
+          {
+            Vector<double> x(m.dof_handler.n_dofs());
+            x = rhs[c];
+            umfpack.solve(x);
+            w[c] = x;
+            result.linear_iterations.push_back(1);
+          }
+      }
+    else
+      {
+        LinearSolver::Parameters lp;
+        lp.type               = m.solver_parameters.type;
+        lp.relative_tolerance = m.solver_parameters.tolerance;
+        lp.max_iterations     = 5000;
+        LinearSolver solver(lp);
+        solver.set_null_space(m.translation_modes);
+        for (unsigned int c = 0; c < nv; ++c)
+          result.linear_iterations.push_back(
+            c == 0 ? solver.solve(m.matrix, w[c], rhs[c], false) :
+                     solver.solve_reusing(m.matrix, w[c], rhs[c]));
+      }
+    for (unsigned int c = 0; c < nv; ++c)
+      {
+        m.constraints.distribute(w[c]);
+        m.fluctuation[c].reinit(m.owned, m.relevant, m.comm);
+        m.fluctuation[c] = w[c];
+      }
+
+    // Mutual energies, cell by cell:
+    // int (A_c + B w_c)^T V (A_d + B w_d)
+    //   = |K| V_cd + V_c. (int B) w_d + V_d. (int B) w_c + w_c^T K(V) w_d.
+    FullMatrix<double>          energy(nv, nv);
+    std::vector<Vector<double>> w_local(nv, Vector<double>(n));
+    Vector<double>              Kw(n);
+    unsigned int                index = 0;
+    for (const auto &cell : m.dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const Tensor<2, nv> &V = cell_tensor[index++];
+          if (!m.congruent_cells)
+            m.compute_kernel(cell, own_kernel);
+          const auto &kernel =
+            m.congruent_cells ? m.shared_kernel : own_kernel;
+          cell->get_dof_indices(local);
+          for (unsigned int c = 0; c < nv; ++c)
+            for (unsigned int i = 0; i < n; ++i)
+              w_local[c](i) = m.fluctuation[c](local[i]);
+          K              = 0;
+          unsigned int p = 0;
+          for (unsigned int a = 0; a < nv; ++a)
+            for (unsigned int b = a; b < nv; ++b, ++p)
+              K.add(V[a][b], kernel.pair[p]);
+          // s_a(w) = int (B w)_a
+          std::vector<std::array<double, nv>> s(nv);
+          for (unsigned int c = 0; c < nv; ++c)
+            for (unsigned int a = 0; a < nv; ++a)
+              s[c][a] = kernel.integral[a] * w_local[c];
+          for (unsigned int d = 0; d < nv; ++d)
+            {
+              K.vmult(Kw, w_local[d]);
+              for (unsigned int c = 0; c < nv; ++c)
+                {
+                  double e = kernel.measure * V[c][d] + (w_local[c] * Kw);
+                  for (unsigned int a = 0; a < nv; ++a)
+                    e += V[c][a] * s[d][a] + V[d][a] * s[c][a];
+                  energy(c, d) += e;
+                }
+            }
+        }
+    for (unsigned int c = 0; c < nv; ++c)
+      for (unsigned int d = 0; d < nv; ++d)
+        {
+          // Mutual energies of engineering unit strains are the Voigt
+          // entries; symmetrize the round-off away (SymmetricTensor<4>
+          // stores both C_ijkl and C_klij).
+          const double e = Utilities::MPI::sum(
+            0.5 * (energy(c, d) + energy(d, c)), m.comm);
+          const auto [i, j]    = voigt_pair<dim>(c);
+          const auto [k, l]    = voigt_pair<dim>(d);
+          result.C[i][j][k][l] = e / m.box_volume;
+        }
+    return result;
+  }
+
+
+
+  template <int dim>
+  void
+  PeriodicHomogenization<dim>::write_vtu(
+    const std::string              &file_stem,
+    const std::vector<std::string> &cell_data_names,
+    const std::function<std::vector<double>(const Point<dim> &,
+                                            const types::material_id)>
+      &cell_data) const
+  {
+    const Impl &m = *impl;
+    AssertThrow(m.fluctuation.size() == Impl::nv,
+                ExcMessage("write_vtu() needs a homogenize() first"));
+    DataOut<dim> out;
+    out.attach_dof_handler(m.dof_handler);
+    const std::vector<DataComponentInterpretation::DataComponentInterpretation>
+      vector(dim, DataComponentInterpretation::component_is_part_of_vector);
+    static const char *names2[3] = {"w_11", "w_22", "w_12"};
+    static const char *names3[6] = {"w_11", "w_22", "w_33",
+                                    "w_23", "w_13", "w_12"};
+    for (unsigned int c = 0; c < Impl::nv; ++c)
+      out.add_data_vector(
+        m.fluctuation[c],
+        std::vector<std::string>(dim, dim == 2 ? names2[c] : names3[c]),
+        DataOut<dim>::type_dof_data,
+        vector);
+    std::vector<Vector<float>> data(
+      cell_data_names.size(), Vector<float>(m.tria->n_active_cells()));
+    for (const auto &cell : m.tria->active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const std::vector<double> v =
+            cell_data(cell->center(), cell->material_id());
+          for (unsigned int k = 0; k < data.size(); ++k)
+            data[k][cell->active_cell_index()] = v.at(k);
+        }
+    for (unsigned int k = 0; k < data.size(); ++k)
+      out.add_data_vector(data[k],
+                          cell_data_names[k],
+                          DataOut<dim>::type_cell_data);
+    out.build_patches(*m.mapping);
+    const std::string directory =
+      file_stem.find('/') == std::string::npos ?
+        "./" :
+        file_stem.substr(0, file_stem.rfind('/') + 1);
+    const std::string name = file_stem.substr(directory.size());
+    if (Utilities::MPI::n_mpi_processes(m.comm) == 1)
+      {
+        std::ofstream file(file_stem + ".vtu");
+        AssertThrow(file,
+                    ExcMessage("cannot write '" + file_stem + ".vtu'"));
+        out.write_vtu(file);
+      }
+    else
+      out.write_vtu_with_pvtu_record(directory, name, 0, m.comm, 0, 0);
+  }
+
+
+
+  template <int dim>
+  types::global_dof_index
+  PeriodicHomogenization<dim>::n_dofs() const
+  {
+    return impl->dof_handler.n_dofs();
+  }
+
+
+
+  template <int dim>
+  types::global_cell_index
+  PeriodicHomogenization<dim>::n_cells() const
+  {
+    return impl->tria->n_global_active_cells();
+  }
+
+
+
+  template <int dim>
+  double
+  PeriodicHomogenization<dim>::volume() const
+  {
+    return impl->box_volume;
+  }
+
+
+
+  template class PeriodicHomogenization<2>;
+  template class PeriodicHomogenization<3>;
+} // namespace forma
