@@ -38,6 +38,36 @@ namespace forma
         {'/', {0, 0x01, 0x02, 0x04, 0x08, 0x10, 0}},
         {'(', {0x02, 0x04, 0x08, 0x08, 0x08, 0x04, 0x02}},
         {')', {0x08, 0x04, 0x02, 0x02, 0x02, 0x04, 0x08}},
+        {'A', {0x0E, 0x11, 0x11, 0x1F, 0x11, 0x11, 0x11}},
+        {'B', {0x1E, 0x11, 0x11, 0x1E, 0x11, 0x11, 0x1E}},
+        {'C', {0x0E, 0x11, 0x10, 0x10, 0x10, 0x11, 0x0E}},
+        {'D', {0x1E, 0x11, 0x11, 0x11, 0x11, 0x11, 0x1E}},
+        {'E', {0x1F, 0x10, 0x10, 0x1E, 0x10, 0x10, 0x1F}},
+        {'F', {0x1F, 0x10, 0x10, 0x1E, 0x10, 0x10, 0x10}},
+        {'G', {0x0E, 0x11, 0x10, 0x17, 0x11, 0x11, 0x0F}},
+        {'H', {0x11, 0x11, 0x11, 0x1F, 0x11, 0x11, 0x11}},
+        {'I', {0x0E, 0x04, 0x04, 0x04, 0x04, 0x04, 0x0E}},
+        {'L', {0x10, 0x10, 0x10, 0x10, 0x10, 0x10, 0x1F}},
+        {'M', {0x11, 0x1B, 0x15, 0x15, 0x11, 0x11, 0x11}},
+        {'N', {0x11, 0x19, 0x15, 0x13, 0x11, 0x11, 0x11}},
+        {'P', {0x1E, 0x11, 0x11, 0x1E, 0x10, 0x10, 0x10}},
+        {'R', {0x1E, 0x11, 0x11, 0x1E, 0x14, 0x12, 0x11}},
+        {'S', {0x0F, 0x10, 0x10, 0x0E, 0x01, 0x01, 0x1E}},
+        {'T', {0x1F, 0x04, 0x04, 0x04, 0x04, 0x04, 0x04}},
+        {'V', {0x11, 0x11, 0x11, 0x11, 0x11, 0x0A, 0x04}},
+        {'W', {0x11, 0x11, 0x11, 0x15, 0x15, 0x15, 0x0A}},
+        {'f', {0x06, 0x09, 0x08, 0x1C, 0x08, 0x08, 0x08}},
+        {'k', {0x10, 0x10, 0x12, 0x14, 0x18, 0x14, 0x12}},
+        {'q', {0, 0, 0x0F, 0x11, 0x0F, 0x01, 0x01}},
+        {'w', {0, 0, 0x11, 0x11, 0x15, 0x15, 0x0A}},
+        {'x', {0, 0, 0x11, 0x0A, 0x04, 0x0A, 0x11}},
+        {'z', {0, 0, 0x1F, 0x02, 0x04, 0x08, 0x1F}},
+        {'=', {0, 0, 0x1F, 0, 0x1F, 0, 0}},
+        {',', {0, 0, 0, 0, 0x0C, 0x04, 0x08}},
+        {':', {0, 0x0C, 0x0C, 0, 0x0C, 0x0C, 0}},
+        {'_', {0, 0, 0, 0, 0, 0, 0x1F}},
+        {'<', {0x02, 0x04, 0x08, 0x10, 0x08, 0x04, 0x02}},
+        {'>', {0x08, 0x04, 0x02, 0x01, 0x02, 0x04, 0x08}},
         {'J', {0x07, 0x02, 0x02, 0x02, 0x02, 0x12, 0x0C}},
         {'a', {0, 0, 0x0E, 0x01, 0x0F, 0x11, 0x0F}},
         {'b', {0x10, 0x10, 0x16, 0x19, 0x11, 0x11, 0x1E}},
@@ -102,11 +132,12 @@ namespace forma
       // Text at (x, y) = top left, `scale` pixels per font pixel; vertical
       // text runs upwards.
       void
-      text(const std::string &s,
-           int                x,
-           int                y,
-           const int          scale,
-           const bool         vertical = false)
+      text(const std::string                 &s,
+           int                                x,
+           int                                y,
+           const int                          scale,
+           const bool                         vertical = false,
+           const std::array<std::uint8_t, 3> &color    = {0, 0, 0})
       {
         for (const char ch : s)
           {
@@ -120,9 +151,9 @@ namespace forma
                         {
                           const int px = col * scale + a, py = r * scale + b;
                           if (vertical)
-                            set(x + py, y - px, {0, 0, 0});
+                            set(x + py, y - px, color);
                           else
-                            set(x + px, y + py, {0, 0, 0});
+                            set(x + px, y + py, color);
                         }
             (vertical ? y : x) += (vertical ? -6 : 6) * scale;
           }
@@ -289,6 +320,95 @@ namespace forma
              465,
              2);
     const std::string y_label = logarithmic ? "J/J0 (log)" : "J";
+    img.text(
+      y_label, 14, (top + bottom + Image::text_width(y_label, 2)) / 2, 2, true);
+    img.write_png(file_name);
+  }
+
+
+
+  void
+  write_xy_plot(const std::string             &file_name,
+                const std::vector<PlotSeries> &series,
+                const std::string             &title,
+                const std::string             &x_label,
+                const std::string             &y_label,
+                const std::array<double, 2>   &x_range,
+                const std::array<double, 2>   &y_range)
+  {
+    Image        img(800, 640);
+    const int    left = 100, right = 770, top = 50, bottom = 570;
+    const double x0 = x_range[0], x1 = x_range[1], y0 = y_range[0],
+                 y1 = y_range[1];
+    AssertThrow(x1 > x0 && y1 > y0,
+                dealii::ExcMessage("empty plot range for '" + file_name + "'"));
+    auto px = [&](double x) {
+      return left + (right - left) * (x - x0) / (x1 - x0);
+    };
+    auto py = [&](double y) {
+      return bottom - (bottom - top) * (y - y0) / (y1 - y0);
+    };
+    const std::array<std::uint8_t, 3> grid{215, 215, 215}, axis{0, 0, 0};
+    const double xs = nice_step(x1 - x0), ys = nice_step(y1 - y0);
+    for (double v = xs * std::ceil(x0 / xs - 1e-9); v <= x1 + 1e-9 * xs;
+         v += xs)
+      {
+        img.line(px(v), top, px(v), bottom, grid);
+        const std::string t = label(std::abs(v) < 1e-12 * xs ? 0. : v);
+        img.text(t, px(v) - Image::text_width(t, 2) / 2, bottom + 10, 2);
+      }
+    for (double v = ys * std::ceil(y0 / ys - 1e-9); v <= y1 + 1e-9 * ys;
+         v += ys)
+      {
+        img.line(left, py(v), right, py(v), grid);
+        const std::string t = label(std::abs(v) < 1e-12 * ys ? 0. : v);
+        img.text(t, left - 10 - Image::text_width(t, 2), py(v) - 7, 2);
+      }
+    img.line(left, top, left, bottom, axis, 2);
+    img.line(left, bottom, right, bottom, axis, 2);
+    auto inside = [&](double x, double y) {
+      return x >= x0 && x <= x1 && y >= y0 && y <= y1;
+    };
+    for (const PlotSeries &s : series)
+      {
+        if (s.line)
+          {
+            for (unsigned int i = 0; i + 1 < s.points.size(); ++i)
+              if (inside(s.points[i][0], s.points[i][1]) &&
+                  inside(s.points[i + 1][0], s.points[i + 1][1]))
+                img.line(px(s.points[i][0]),
+                         py(s.points[i][1]),
+                         px(s.points[i + 1][0]),
+                         py(s.points[i + 1][1]),
+                         s.color,
+                         2);
+          }
+        else
+          for (const auto &p : s.points)
+            if (inside(p[0], p[1]))
+              for (int d = -s.size; d <= s.size; ++d)
+                img.line(px(p[0]) - s.size,
+                         py(p[1]) + d,
+                         px(p[0]) + s.size,
+                         py(p[1]) + d,
+                         s.color);
+      }
+    // Legend, top right.
+    int row = top + 10;
+    for (const PlotSeries &s : series)
+      if (!s.label.empty())
+        {
+          const int x = right - 10 - Image::text_width(s.label, 2) - 30;
+          for (int d = -3; d <= 3; ++d)
+            img.line(x, row + 7 + d, x + 20, row + 7 + d, s.color);
+          img.text(s.label, x + 28, row, 2);
+          row += 22;
+        }
+    img.text(title, (800 - Image::text_width(title, 3)) / 2, 12, 3);
+    img.text(x_label,
+             (left + right - Image::text_width(x_label, 2)) / 2,
+             605,
+             2);
     img.text(
       y_label, 14, (top + bottom + Image::text_width(y_label, 2)) / 2, 2, true);
     img.write_png(file_name);

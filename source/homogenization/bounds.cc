@@ -45,23 +45,22 @@ namespace forma
     HashinShtrikmanBounds b;
     // Written so that an equal or void weak phase needs no division by zero.
     const double dk = w.kappa - s.kappa, dm = w.mu - s.mu;
-    b.kappa_upper =
-      dk == 0 ? s.kappa :
-                s.kappa + (1 - phi) / (1 / dk + phi / (s.kappa + s.mu));
+    b.kappa_upper = dk == 0 ?
+                      s.kappa :
+                      s.kappa + (1 - phi) / (1 / dk + phi / (s.kappa + s.mu));
     b.mu_upper =
       dm == 0 ? s.mu :
                 s.mu + (1 - phi) / (1 / dm + phi * (s.kappa + 2 * s.mu) /
-                                                 (2 * s.mu * (s.kappa + s.mu)));
+                                               (2 * s.mu * (s.kappa + s.mu)));
     if (w.kappa + w.mu > 0 && w.mu > 0)
       {
         b.kappa_lower =
           dk == 0 ? w.kappa :
                     w.kappa + phi / (-1 / dk + (1 - phi) / (w.kappa + w.mu));
         b.mu_lower =
-          dm == 0 ?
-            w.mu :
-            w.mu + phi / (-1 / dm + (1 - phi) * (w.kappa + 2 * w.mu) /
-                                      (2 * w.mu * (w.kappa + w.mu)));
+          dm == 0 ? w.mu :
+                    w.mu + phi / (-1 / dm + (1 - phi) * (w.kappa + 2 * w.mu) /
+                                              (2 * w.mu * (w.kappa + w.mu)));
       }
     return b;
   }
@@ -81,7 +80,7 @@ namespace forma
                 const IsotropicModuli       &from,
                 const IsotropicModuli       &to)
   {
-    VoigtMatrix S = invert(to_voigt(C_effective));
+    VoigtMatrix  S = invert(to_voigt(C_effective));
     const double t = (from.nu - to.nu) / from.E;
     S[0][1] += t;
     S[1][0] += t;

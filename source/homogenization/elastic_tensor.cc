@@ -65,8 +65,8 @@ namespace forma
   {
     AssertThrow(E > 0 && nu > -1 && nu < 1,
                 ExcMessage("2D moduli need E > 0 and -1 < nu < 1 (got E = " +
-                           std::to_string(E) +
-                           ", nu = " + std::to_string(nu) + ")"));
+                           std::to_string(E) + ", nu = " + std::to_string(nu) +
+                           ")"));
     IsotropicModuli m;
     m.E     = E;
     m.nu    = nu;
@@ -112,8 +112,7 @@ namespace forma
   {
     // kappa I x I + 2 mu (I_sym - I x I / 2), i.e. lambda = kappa - mu.
     const SymmetricTensor<2, 2> I = unit_symmetric_tensor<2>();
-    return (kappa - mu) * outer_product(I, I) +
-           2 * mu * identity_tensor<2>();
+    return (kappa - mu) * outer_product(I, I) + 2 * mu * identity_tensor<2>();
   }
 
 
@@ -147,8 +146,8 @@ namespace forma
   SymmetricTensor<4, 2>
   rotate(const SymmetricTensor<4, 2> &C, const double angle)
   {
-    const double c = std::cos(angle), s = std::sin(angle);
-    const double R[2][2] = {{c, -s}, {s, c}};
+    const double          c = std::cos(angle), s = std::sin(angle);
+    const double          R[2][2] = {{c, -s}, {s, c}};
     SymmetricTensor<4, 2> result;
     for (unsigned int i = 0; i < 2; ++i)
       for (unsigned int j = i; j < 2; ++j)
@@ -160,8 +159,8 @@ namespace forma
                 for (unsigned int q = 0; q < 2; ++q)
                   for (unsigned int r = 0; r < 2; ++r)
                     for (unsigned int t = 0; t < 2; ++t)
-                      sum += R[i][p] * R[j][q] * R[k][r] * R[l][t] *
-                             C[p][q][r][t];
+                      sum +=
+                        R[i][p] * R[j][q] * R[k][r] * R[l][t] * C[p][q][r][t];
               result[i][j][k][l] = sum;
             }
     return result;
@@ -181,7 +180,7 @@ namespace forma
     // In the layer frame (layers along x): e11 and (s22, s12) are continuous,
     // e22, 2 e12 and s11 jump. Voigt index 0 = "t", {1, 2} = "n".
     auto mixed = [&](const SymmetricTensor<4, 2> &C) {
-      const VoigtMatrix V = to_voigt(rotate(C, -layer_angle));
+      const VoigtMatrix  V = to_voigt(rotate(C, -layer_angle));
       FullMatrix<double> nn(2, 2), nn_inv(2, 2);
       for (unsigned int a = 0; a < 2; ++a)
         for (unsigned int b = 0; b < 2; ++b)

@@ -97,9 +97,8 @@ namespace forma
       AssertThrow(ok,
                   ExcMessage("structure parameter " + name + " = " +
                              std::to_string(value) + " is outside " +
-                             (open_lo ? "(" : "[") + std::to_string(lo) +
-                             ", " + std::to_string(hi) +
-                             (open_hi ? ")" : "]")));
+                             (open_lo ? "(" : "[") + std::to_string(lo) + ", " +
+                             std::to_string(hi) + (open_hi ? ")" : "]")));
     };
     in("p1", p1, 0, 1, true, true);
     if (limit)
@@ -113,10 +112,10 @@ namespace forma
         in("p3", p3, 0, 1, true, false);
         in("p4", p4, 0, 1, true, false);
         AssertThrow(1 / p3 <= 1000,
-                    ExcMessage("structure parameter p3 = " +
-                               std::to_string(p3) +
-                               " asks for more than 1000 beams per joint; "
-                               "use a limit structure instead"));
+                    ExcMessage(
+                      "structure parameter p3 = " + std::to_string(p3) +
+                      " asks for more than 1000 beams per joint; "
+                      "use a limit structure instead"));
       }
   }
 
@@ -193,7 +192,8 @@ namespace forma
         const unsigned int k = tile.vertices.size();
         for (unsigned int e = 0; e < k; ++e)
           {
-            const Point<2>    &a = tile.vertices[e], &b = tile.vertices[(e + 1) % k];
+            const Point<2> &a    = tile.vertices[e],
+                           &b    = tile.vertices[(e + 1) % k];
             const Tensor<1, 2> t = (b - a) / (b - a).norm();
             const Tensor<1, 2> n({t[1], -t[0]}); // outward
             // Each joint once: from the tile whose normal points to the
@@ -206,19 +206,19 @@ namespace forma
             for (unsigned int o = 0; o < axes.size(); ++o)
               if (std::abs(axes[o] - angle) < 1e-6)
                 orientation = o;
-            const double   r      = (0.5 * (a + b) - tile.center) * n;
-            const Point<2> middle = tile.center + r * n;
-            const double   L = 2 * r * (1 - p1), W = p1 * (b - a).norm();
+            const double       r      = (0.5 * (a + b) - tile.center) * n;
+            const Point<2>     middle = tile.center + r * n;
+            const double       L = 2 * r * (1 - p1), W = p1 * (b - a).norm();
             const Tensor<1, 2> y_axis({-n[1], n[0]});
-            auto global = [&](const double x, const double y) {
+            auto               global = [&](const double x, const double y) {
               return middle + x * n + y * y_axis;
             };
             // Joint rectangle in local coordinates (x along the axis).
-            const ConvexPolygon local = {Point<2>(-L / 2, -W / 2),
-                                         Point<2>(L / 2, -W / 2),
-                                         Point<2>(L / 2, W / 2),
-                                         Point<2>(-L / 2, W / 2)};
-            auto to_global = [&](const ConvexPolygon &p) {
+            const ConvexPolygon local     = {Point<2>(-L / 2, -W / 2),
+                                             Point<2>(L / 2, -W / 2),
+                                             Point<2>(L / 2, W / 2),
+                                             Point<2>(-L / 2, W / 2)};
+            auto                to_global = [&](const ConvexPolygon &p) {
               ConvexPolygon g;
               for (const auto &q : p)
                 g.push_back(global(q[0], q[1]));

@@ -20,11 +20,11 @@ main(int argc, char **argv)
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   initlog();
   const unsigned int ny = 74, nx = 128;
-  const auto         base = IsotropicModuli::from_young_poisson(1, 0);
+  const auto         base       = IsotropicModuli::from_young_poisson(1, 0);
   const double       weak_ratio = 1e-6;
-  const auto weak = IsotropicModuli::from_young_poisson(weak_ratio, 0);
+  const auto         weak = IsotropicModuli::from_young_poisson(weak_ratio, 0);
   PeriodicHomogenization<2>::SolverParameters sp;
-  PeriodicHomogenization<2> cell(MPI_COMM_SELF,
+  PeriodicHomogenization<2>                   cell(MPI_COMM_SELF,
                                  Point<2>(HexagonalLaminate::width,
                                           HexagonalLaminate::height),
                                  {{nx, ny}},
@@ -33,26 +33,26 @@ main(int argc, char **argv)
   std::vector<HexagonalLaminate> structures(6);
   structures[0].family = HexagonalLaminate::Family::hexagon;
   structures[0].p1 = 0.75, structures[0].p2 = 0.1, structures[0].p3 = 1,
-  structures[0].p4 = 0.77;
+  structures[0].p4     = 0.77;
   structures[1].family = HexagonalLaminate::Family::triangle;
   structures[1].p1 = 0.73, structures[1].p2 = 0.2, structures[1].p3 = 0.7,
-  structures[1].p4 = 0.805;
+  structures[1].p4     = 0.805;
   structures[2].family = HexagonalLaminate::Family::hexagon;
   structures[2].p1 = 0.6, structures[2].p2 = 0.5, structures[2].p3 = 0.3,
-  structures[2].p4 = 0.5;
+  structures[2].p4     = 0.5;
   structures[3].family = HexagonalLaminate::Family::triangle;
   structures[3].p1 = 0.5, structures[3].p2 = 0, structures[3].p3 = 0.25,
-  structures[3].p4 = 0.6;
+  structures[3].p4     = 0.6;
   structures[4].family = HexagonalLaminate::Family::hexagon;
-  structures[4].limit = true, structures[4].p1 = 0.8,
-  structures[4].theta = 0.9, structures[4].alpha = 0;
+  structures[4].limit = true, structures[4].p1 = 0.8, structures[4].theta = 0.9,
+  structures[4].alpha  = 0;
   structures[5].family = HexagonalLaminate::Family::triangle;
   structures[5].limit = true, structures[5].p1 = 0.85,
   structures[5].theta = 0.95, structures[5].alpha = 0.0;
 
   for (const auto &s : structures)
     {
-      const PhaseRaster raster = s.rasterize(nx, ny);
+      const PhaseRaster                  raster       = s.rasterize(nx, ny);
       std::vector<SymmetricTensor<4, 2>> phase_tensor = {base.tensor()};
       for (const double axis : s.joint_axis_angles())
         phase_tensor.push_back(rank_one_laminate(
@@ -81,8 +81,7 @@ main(int argc, char **argv)
               << rounded(s.volume_fraction_formula(), 6) << ", E "
               << rounded(fit.E, 3) << " nu " << rounded(fit.nu, 3)
               << ", isotropic (a1, a2 < 0.03): " << (a.a1 < 0.03 && a.a2 < 0.03)
-              << ", positive definite: "
-              << (smallest_eigenvalue(result.C) > 0)
+              << ", positive definite: " << (smallest_eigenvalue(result.C) > 0)
               << ", inside HS: " << (hs.violation(fit) <= 0) << std::endl;
       deallog << "  a1 " << rounded(a.a1, 2) << ", a2 " << rounded(a.a2, 2)
               << std::endl;

@@ -24,8 +24,8 @@ namespace
   void
   check_2d(const PlaneModel model, const std::string &solver)
   {
-    const auto a = IsotropicModuli::of_material(1.0, 0.3, model);
-    const auto b = IsotropicModuli::of_material(0.05, -0.2, model);
+    const auto   a     = IsotropicModuli::of_material(1.0, 0.3, model);
+    const auto   b     = IsotropicModuli::of_material(0.05, -0.2, model);
     const double theta = 0.375; // 3 of 8 cell rows are material a
     PeriodicHomogenization<2>::SolverParameters sp;
     sp.type = solver;
@@ -36,17 +36,16 @@ namespace
     for (const unsigned int layers_along : {0u, 1u})
       {
         // Material a where the coordinate across the layers is < theta.
-        const auto result = cell.homogenize(
-          [&](const Point<2> &x, const types::material_id) {
+        const auto result =
+          cell.homogenize([&](const Point<2> &x, const types::material_id) {
             const double across = layers_along == 0 ? x[1] : x[0] / 2.0;
             return across < theta ? a.tensor() : b.tensor();
           });
-        const auto exact = rank_one_laminate(a.tensor(),
+        const auto        exact = rank_one_laminate(a.tensor(),
                                              b.tensor(),
                                              theta,
-                                             layers_along == 0 ? 0 :
-                                                                 M_PI / 2);
-        const VoigtMatrix V = to_voigt(result.C);
+                                             layers_along == 0 ? 0 : M_PI / 2);
+        const VoigtMatrix V     = to_voigt(result.C);
         deallog << (model == PlaneModel::plane_stress ? "plane stress" :
                                                         "plane strain")
                 << ", " << result.solver << ", layers along "
@@ -58,8 +57,8 @@ namespace
                         1e-12 ?
                       "0" :
                       "NONZERO")
-                << ", smallest eigenvalue " << rounded(smallest_eigenvalue(result.C))
-                << std::endl;
+                << ", smallest eigenvalue "
+                << rounded(smallest_eigenvalue(result.C)) << std::endl;
         // Entries below 1e-12 |C| are round-off: print them as 0.
         auto entry = [&](const unsigned int i, const unsigned int j) {
           return std::abs(V[i][j]) < 1e-12 * V.norm() ? 0. : rounded(V[i][j]);
@@ -76,7 +75,7 @@ namespace
     // Layers normal to z: the exact tensor from the 1D problem,
     // C^H_zz..: harmonic means of the "normal" moduli.
     const double E[2] = {1.0, 0.1}, nu[2] = {0.25, 0.0}, theta = 0.5;
-    auto         iso  = [](const double E, const double nu) {
+    auto         iso = [](const double E, const double nu) {
       const double lambda = E * nu / ((1 + nu) * (1 - 2 * nu)),
                    mu     = E / (2 * (1 + nu));
       const SymmetricTensor<2, 3> I = unit_symmetric_tensor<3>();
@@ -84,9 +83,12 @@ namespace
                                    2 * mu * identity_tensor<3>());
     };
     PeriodicHomogenization<3>::SolverParameters sp;
-    PeriodicHomogenization<3> cell(MPI_COMM_WORLD, Point<3>(1, 1, 1), {{2, 2, 4}}, sp);
-    const auto result = cell.homogenize(
-      [&](const Point<3> &x, const types::material_id) {
+    PeriodicHomogenization<3>                   cell(MPI_COMM_WORLD,
+                                   Point<3>(1, 1, 1),
+                                   {{2, 2, 4}},
+                                   sp);
+    const auto                                  result =
+      cell.homogenize([&](const Point<3> &x, const types::material_id) {
         return x[2] < theta ? iso(E[0], nu[0]) : iso(E[1], nu[1]);
       });
     // C_zzzz = 1 / <1 / (lambda + 2 mu)>, C_xzxz = 1 / <1 / mu>

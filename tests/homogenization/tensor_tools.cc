@@ -23,7 +23,8 @@ main()
     deallog << "E, nu -> tensor -> fit: " << rounded(f.E) << ' '
             << rounded(f.nu) << ", kappa " << rounded(f.kappa) << ", mu "
             << rounded(f.mu) << std::endl;
-    const auto ps = IsotropicModuli::of_material(1.0, 0.3, PlaneModel::plane_strain);
+    const auto ps =
+      IsotropicModuli::of_material(1.0, 0.3, PlaneModel::plane_strain);
     deallog << "plane strain 2D moduli of (1, 0.3): E " << rounded(ps.E)
             << " (1/(1-0.09) = " << rounded(1 / 0.91) << "), nu "
             << rounded(ps.nu) << " (0.3/0.7 = " << rounded(0.3 / 0.7) << ")"
@@ -51,16 +52,16 @@ main()
   // layer frame, rotated by T(alpha).
   {
     const double E = 1, Em = 1e-3, theta = 0.7, alpha = 0.4;
-    const auto   s = IsotropicModuli::from_young_poisson(E, 0),
-               w   = IsotropicModuli::from_young_poisson(Em, 0);
-    const auto   L = rank_one_laminate(s.tensor(), w.tensor(), theta, 0);
-    const double reuss = 1 / (theta / E + (1 - theta) / Em);
-    const VoigtMatrix V = to_voigt(L);
+    const auto   s      = IsotropicModuli::from_young_poisson(E, 0),
+               w        = IsotropicModuli::from_young_poisson(Em, 0);
+    const auto        L = rank_one_laminate(s.tensor(), w.tensor(), theta, 0);
+    const double      reuss = 1 / (theta / E + (1 - theta) / Em);
+    const VoigtMatrix V     = to_voigt(L);
     deallog << "laminate along x: "
             << (std::abs(V[0][0] - (theta * E + (1 - theta) * Em)) +
-                    std::abs(V[1][1] - reuss) +
-                    std::abs(V[2][2] - reuss / 2) + std::abs(V[0][1]) <
-                  1e-14 ?
+                      std::abs(V[1][1] - reuss) +
+                      std::abs(V[2][2] - reuss / 2) + std::abs(V[0][1]) <
+                    1e-14 ?
                   "eq. 5.9" :
                   "WRONG")
             << std::endl;
@@ -69,8 +70,7 @@ main()
             << ((La - rotate(L, alpha)).norm() < 1e-14) << std::endl;
     // Voigt along the layers, Reuss across: between the two phase tensors.
     deallog << "theta = 1 gives the strong phase: "
-            << ((rank_one_laminate(s.tensor(), w.tensor(), 1, 0.3) -
-                 s.tensor())
+            << ((rank_one_laminate(s.tensor(), w.tensor(), 1, 0.3) - s.tensor())
                   .norm() < 1e-14)
             << std::endl;
   }
@@ -80,9 +80,10 @@ main()
     const auto   base = IsotropicModuli::from_young_poisson(Eb, nub);
     for (const double phi : {0.3, 0.7, 1.0})
       {
-        const auto   b  = hashin_shtrikman_void(base, phi);
-        const double C1 = Eb / (2 * (1 - nub)) +
-                          Eb * (1 - phi) / (phi * (1 - nub * nub) - 2 * (1 - nub));
+        const auto   b = hashin_shtrikman_void(base, phi);
+        const double C1 =
+          Eb / (2 * (1 - nub)) +
+          Eb * (1 - phi) / (phi * (1 - nub * nub) - 2 * (1 - nub));
         const double C2 =
           Eb / (2 * (1 + nub)) +
           2 * Eb * (1 - phi) / (phi * (3 - nub) * (1 + nub) - 4 * (1 + nub));
@@ -122,13 +123,14 @@ main()
   // CLM: the tensor form reproduces eq. 4.11 on an isotropic result and is
   // a group action (from -> to -> from is the identity).
   {
-    const auto from = IsotropicModuli::from_young_poisson(1.0, 0.0),
-               to   = IsotropicModuli::from_young_poisson(2.0, 0.35);
-    const auto CH   = IsotropicModuli::from_young_poisson(0.3, -0.4);
+    const auto from  = IsotropicModuli::from_young_poisson(1.0, 0.0),
+               to    = IsotropicModuli::from_young_poisson(2.0, 0.35);
+    const auto CH    = IsotropicModuli::from_young_poisson(0.3, -0.4);
     const auto moved = isotropic_fit(clm_transform(CH.tensor(), from, to));
     deallog << "CLM: E'_H " << rounded(moved.E) << " (2 * 0.3 = 0.6), nu'_H "
-            << rounded(moved.nu) << " (-0.4 - (0 - 0.35) 0.3 = "
-            << rounded(-0.4 + 0.35 * 0.3) << ")" << std::endl;
+            << rounded(moved.nu)
+            << " (-0.4 - (0 - 0.35) 0.3 = " << rounded(-0.4 + 0.35 * 0.3) << ")"
+            << std::endl;
     VoigtMatrix V;
     V[0][0] = 0.5, V[1][1] = 0.3, V[0][1] = V[1][0] = 0.1, V[2][2] = 0.05,
     V[0][2] = V[2][0] = 0.02;

@@ -1,6 +1,8 @@
 #ifndef forma_base_plot_h
 #define forma_base_plot_h
 
+#include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -18,6 +20,29 @@ namespace forma
                      const std::vector<double> &values,
                      const std::string         &title,
                      const std::string         &x_label);
+
+  /// One data set of an x-y plot: points (dots of half-size `size`) or a
+  /// polyline; an empty label keeps it out of the legend.
+  struct PlotSeries
+  {
+    std::vector<std::array<double, 2>> points;
+    std::array<std::uint8_t, 3>        color = {{31, 90, 180}};
+    bool                               line  = false;
+    int                                size  = 2;
+    std::string                        label;
+  };
+
+  /// Write a PNG x-y plot (scatter and lines) over the given ranges, with a
+  /// legend; e.g. the (nu, E) coverage of a structure family against its
+  /// Hashin-Shtrikman bounds.
+  void
+  write_xy_plot(const std::string             &file_name,
+                const std::vector<PlotSeries> &series,
+                const std::string             &title,
+                const std::string             &x_label,
+                const std::string             &y_label,
+                const std::array<double, 2>   &x_range,
+                const std::array<double, 2>   &y_range);
 } // namespace forma
 
 #endif

@@ -50,9 +50,9 @@ namespace forma
     };
 
     /// The material at a cell: center and material id -> elasticity tensor.
-    using MaterialFunction = std::function<dealii::SymmetricTensor<4, dim>(
-      const dealii::Point<dim> &center,
-      const dealii::types::material_id)>;
+    using MaterialFunction = std::function<
+      dealii::SymmetricTensor<4, dim>(const dealii::Point<dim> &center,
+                                      const dealii::types::material_id)>;
 
     struct Result
     {
@@ -62,21 +62,21 @@ namespace forma
     };
 
     /// A regular grid of n_cells[d] Q`degree` elements on [0, size].
-    PeriodicHomogenization(const MPI_Comm                         comm,
-                           const dealii::Point<dim>              &size,
-                           const std::array<unsigned int, dim>   &n_cells,
-                           const SolverParameters                &solver,
-                           const unsigned int                     degree = 1);
+    PeriodicHomogenization(const MPI_Comm                       comm,
+                           const dealii::Point<dim>            &size,
+                           const std::array<unsigned int, dim> &n_cells,
+                           const SolverParameters              &solver,
+                           const unsigned int                   degree = 1);
 
     /**
      * Any conforming mesh of the box [0, size] (quads or simplices) whose
      * faces on opposite sides match; boundary ids are set here. Distributed
      * as a shared triangulation.
      */
-    PeriodicHomogenization(const MPI_Comm                          comm,
-                           const dealii::Triangulation<dim, dim>  &mesh,
-                           const SolverParameters                 &solver,
-                           const unsigned int                      degree = 1);
+    PeriodicHomogenization(const MPI_Comm                         comm,
+                           const dealii::Triangulation<dim, dim> &mesh,
+                           const SolverParameters                &solver,
+                           const unsigned int                     degree = 1);
 
     ~PeriodicHomogenization();
 
@@ -88,11 +88,12 @@ namespace forma
      * given cell data to `file_stem`.vtu (serial) or .pvtu + pieces.
      */
     void
-    write_vtu(const std::string                        &file_stem,
-              const std::vector<std::string>           &cell_data_names,
-              const std::function<std::vector<double>(
-                const dealii::Point<dim> &,
-                const dealii::types::material_id)>     &cell_data) const;
+    write_vtu(
+      const std::string              &file_stem,
+      const std::vector<std::string> &cell_data_names,
+      const std::function<std::vector<double>(const dealii::Point<dim> &,
+                                              const dealii::types::material_id)>
+        &cell_data) const;
 
     dealii::types::global_dof_index
     n_dofs() const;

@@ -16,8 +16,8 @@ namespace forma
 
   /// The part of `polygon` where (x - point) . normal <= 0.
   ConvexPolygon
-  clip(const ConvexPolygon      &polygon,
-       const dealii::Point<2>   &point,
+  clip(const ConvexPolygon        &polygon,
+       const dealii::Point<2>     &point,
        const dealii::Tensor<1, 2> &normal);
 
   /**

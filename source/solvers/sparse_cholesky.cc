@@ -1,0 +1,123 @@
+#include <deal.II/base/exceptions.h>
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <forma/solvers/sparse_cholesky.h>
+
+#include <cholmod.h>
+
+#include <cstring>
+
+namespace forma
+{
+  using namespace dealii;
+
+  struct SparseCholesky::Impl
+  {
+    Impl()
+    {
+      cholmod_start(&common);
+    }
+
+    ~Impl()
+    {
+      if (factor)
+        cholmod_free_factor(&factor, &common);
+      if (matrix)
+        cholmod_free_sparse(&matrix, &common);
+      cholmod_finish(&common);
+    }
+
+    mutable cholmod_common common;
+    cholmod_sparse        *matrix  = nullptr;
+    cholmod_factor        *factor  = nullptr;
+    const SparsityPattern *pattern = nullptr;
+  };
+
+
+
+  SparseCholesky::SparseCholesky()
+    : impl(std::make_unique<Impl>())
+  {}
+
+
+
+  SparseCholesky::~SparseCholesky() = default;
+
+
+
+  void
+  SparseCholesky::factorize(const SparseMatrix<double> &A)
+  {
+    Impl      &m = *impl;
+    const auto n = A.m();
+    const bool same_pattern =
+      m.matrix != nullptr && m.pattern == &A.get_sparsity_pattern();
+    // Row r of the (symmetric) CSR matrix is column r of its CSC form; keep
+    // the entries with column index <= r: the upper triangle.
+    std::size_t nnz = 0;
+    for (unsigned int r = 0; r < n; ++r)
+      for (auto it = A.begin(r); it != A.end(r); ++it)
+        nnz += (it->column() <= r);
+    if (!same_pattern)
+      {
+        if (m.factor)
+          cholmod_free_factor(&m.factor, &m.common);
+        if (m.matrix)
+          cholmod_free_sparse(&m.matrix, &m.common);
+        m.matrix  = cholmod_allocate_sparse(n,
+                                           n,
+                                           nnz,
+                                           /*sorted*/ 0,
+                                           /*packed*/ 1,
+                                           /*stype*/ 1,
+                                           CHOLMOD_REAL,
+                                           &m.common);
+        m.pattern = &A.get_sparsity_pattern();
+      }
+    int        *p = static_cast<int *>(m.matrix->p);
+    int        *i = static_cast<int *>(m.matrix->i);
+    double     *x = static_cast<double *>(m.matrix->x);
+    std::size_t k = 0;
+    for (unsigned int r = 0; r < n; ++r)
+      {
+        p[r] = k;
+        for (auto it = A.begin(r); it != A.end(r); ++it)
+          if (it->column() <= r)
+            {
+              i[k]   = it->column();
+              x[k++] = it->value();
+            }
+      }
+    p[n] = k;
+    if (!same_pattern)
+      {
+        m.factor = cholmod_analyze(m.matrix, &m.common);
+        AssertThrow(m.factor != nullptr && m.common.status == CHOLMOD_OK,
+                    ExcMessage("CHOLMOD could not analyze the matrix"));
+      }
+    cholmod_factorize(m.matrix, m.factor, &m.common);
+    AssertThrow(m.common.status == CHOLMOD_OK,
+                ExcMessage("the Cholesky factorization failed: the matrix is "
+                           "not positive definite (column " +
+                           std::to_string(m.factor->minor) + ")"));
+  }
+
+
+
+  void
+  SparseCholesky::solve(Vector<double> &b) const
+  {
+    Impl &m = *impl;
+    AssertThrow(m.factor != nullptr,
+                ExcMessage("SparseCholesky::solve() before factorize()"));
+    cholmod_dense *rhs =
+      cholmod_allocate_dense(b.size(), 1, b.size(), CHOLMOD_REAL, &m.common);
+    std::memcpy(rhs->x, b.data(), b.size() * sizeof(double));
+    cholmod_dense *x = cholmod_solve(CHOLMOD_A, m.factor, rhs, &m.common);
+    AssertThrow(x != nullptr, ExcMessage("the Cholesky solve failed"));
+    std::memcpy(b.data(), x->x, b.size() * sizeof(double));
+    cholmod_free_dense(&x, &m.common);
+    cholmod_free_dense(&rhs, &m.common);
+  }
+} // namespace forma
