@@ -9,8 +9,10 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <iomanip>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -24,6 +26,48 @@ initlog(const int precision = 6)
   dealii::deallog.depth_console(0);
   dealii::deallog << std::setprecision(precision);
   deallogfile << std::setprecision(precision);
+}
+
+/// The whole content of a file ("" if it does not exist).
+inline std::string
+read_file(const std::string &file)
+{
+  std::ifstream      in(file);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// Run `app` on `prm` (written to name.prm); stdout and stderr go to
+/// name.stdout and name.stderr. Returns the exit code.
+inline int
+run_app(const std::string &app, const std::string &name, const std::string &prm)
+{
+  std::ofstream(name + ".prm") << prm;
+  const int status = std::system(
+    (app + " " + name + ".prm > " + name + ".stdout 2> " + name + ".stderr")
+      .c_str());
+  return WEXITSTATUS(status);
+}
+
+/// Run a bad input and log whether it failed cleanly: a non-zero exit code,
+/// results/summary.json still equal to `good`, and the error message.
+inline void
+expect_failure(const std::string &app,
+               const std::string &name,
+               const std::string &prm,
+               const std::string &good)
+{
+  const int code = run_app(app, name, prm);
+  dealii::deallog << name
+                  << ": exit code non-zero: " << (code != 0 ? "yes" : "no")
+                  << ", earlier results untouched: "
+                  << (read_file("results/summary.json") == good ? "yes" : "no")
+                  << std::endl;
+  std::string message = read_file(name + ".stderr");
+  while (!message.empty() && message.back() == '\n')
+    message.pop_back();
+  dealii::deallog << "  message: " << message << std::endl;
 }
 
 /// Observed convergence rates between successive (h or n, error) pairs.

@@ -5,49 +5,18 @@
 
 #include "../tests.h"
 
-#include <cstdlib>
 #include <fstream>
-#include <sstream>
-
-std::string
-read(const std::string &file)
-{
-  std::ifstream      in(file);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 const std::string base = "set Output directory = results\n"
                          "subsection Grid\n set Cells along height = 8\nend\n"
                          "subsection Output\n set Write vtu = false\nend\n";
-
-int
-run(const std::string &name, const std::string &prm)
-{
-  std::ofstream(name + ".prm") << prm;
-  const int status =
-    std::system((std::string(FORMA_APP) + " " + name + ".prm > " + name +
-                 ".stdout 2> " + name + ".stderr")
-                  .c_str());
-  return WEXITSTATUS(status);
-}
 
 void
 expect_failure(const std::string &name,
                const std::string &prm,
                const std::string &good)
 {
-  const int code = run(name, prm);
-  dealii::deallog << name
-                  << ": exit code non-zero: " << (code != 0 ? "yes" : "no")
-                  << ", earlier results untouched: "
-                  << (read("results/summary.json") == good ? "yes" : "no")
-                  << std::endl;
-  std::string message = read(name + ".stderr");
-  while (!message.empty() && message.back() == '\n')
-    message.pop_back();
-  dealii::deallog << "  message: " << message << std::endl;
+  expect_failure(FORMA_APP, name, prm, good);
 }
 
 int
@@ -62,10 +31,11 @@ main()
   std::ofstream("short.pgm") << "P2\n3 3\n255\n0 255 0\n255\n";
 
   const int ok =
-    run("good",
-        base + "set Mode = homogenize\nsubsection Structure\n"
-               " set Type = image\n set Image file = ring.csv\nend\n");
-  const std::string good = read("results/summary.json");
+    run_app(FORMA_APP,
+            "good",
+            base + "set Mode = homogenize\nsubsection Structure\n"
+                   " set Type = image\n set Image file = ring.csv\nend\n");
+  const std::string good = read_file("results/summary.json");
   dealii::deallog << "good image run: exit code " << ok << std::endl;
 
   auto image = [&](const std::string &file) {

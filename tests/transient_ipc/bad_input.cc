@@ -5,18 +5,7 @@
 
 #include "../tests.h"
 
-#include <cstdlib>
 #include <fstream>
-#include <sstream>
-
-std::string
-read(const std::string &file)
-{
-  std::ifstream      in(file);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 const std::string base =
   "set Output directory = results\n"
@@ -24,29 +13,12 @@ const std::string base =
   "subsection Boundary conditions\n set Dirichlet = 0 : xy : 0, 0\n"
   " set Traction = 1 : 0, -0.1\nend\n";
 
-int
-run(const std::string &name, const std::string &prm)
-{
-  std::ofstream(name + ".prm") << prm;
-  const int status =
-    std::system((std::string(FORMA_APP) + " " + name + ".prm > " + name +
-                 ".stdout 2> " + name + ".stderr")
-                  .c_str());
-  return WEXITSTATUS(status);
-}
-
 void
 expect_failure(const std::string &name,
                const std::string &prm,
                const std::string &good)
 {
-  const int code = run(name, prm);
-  dealii::deallog << name
-                  << ": exit code non-zero: " << (code != 0 ? "yes" : "no")
-                  << ", earlier results untouched: "
-                  << (read("results/summary.json") == good ? "yes" : "no")
-                  << std::endl;
-  dealii::deallog << "  message: " << read(name + ".stderr");
+  expect_failure(FORMA_APP, name, prm, good);
 }
 
 int
@@ -59,8 +31,8 @@ main()
        "1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 2 1 0\n6 2 0 0\n"
        "$EndNodes\n$Elements\n2\n"
        "1 3 2 0 1 1 2 3 4\n2 3 2 0 1 2 6 3 5\n$EndElements\n";
-  const int         code = run("good", base);
-  const std::string good = read("results/summary.json");
+  const int         code = run_app(FORMA_APP, "good", base);
+  const std::string good = read_file("results/summary.json");
   dealii::deallog << "good run: exit code " << code << ", summary status ok: "
                   << (good.find("\"status\": \"ok\"") != std::string::npos ?
                         "yes" :
@@ -128,7 +100,7 @@ main()
                         "0.5\nend\n",
                  good);
   dealii::deallog << "failed run recorded in failed-run/summary.json: "
-                  << (read("results/failed-run/summary.json")
+                  << (read_file("results/failed-run/summary.json")
                             .find("\"status\": \"failed\"") !=
                           std::string::npos ?
                         "yes" :
