@@ -70,6 +70,17 @@ expect_failure(const std::string &app,
   dealii::deallog << "  message: " << message << std::endl;
 }
 
+#ifdef FORMA_APP
+/// expect_failure() for the application under test (FORMA_APP).
+inline void
+expect_failure(const std::string &name,
+               const std::string &prm,
+               const std::string &good)
+{
+  expect_failure(FORMA_APP, name, prm, good);
+}
+#endif
+
 /// Observed convergence rates between successive (h or n, error) pairs.
 inline std::vector<double>
 observed_rates(const std::vector<double> &h, const std::vector<double> &e)

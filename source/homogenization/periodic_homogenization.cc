@@ -122,15 +122,17 @@ namespace forma
     TrilinosWrappers::SparseMatrix      matrix;
     // One rank and a direct solver: sparse Cholesky (CHOLMOD, several times
     // faster than KLU) on a deal.II matrix, analysis kept across calls.
-    bool                                       serial_direct = false;
-    SparseCholesky                             cholesky;
-    SparsityPattern                            serial_pattern;
-    SparseMatrix<double>                       serial_matrix;
-    std::vector<TrilinosWrappers::MPI::Vector> fluctuation; // ghosted
-    std::vector<std::vector<double>>           translation_modes;
-    bool                                       congruent_cells = false;
-    Kernel                                     shared_kernel;
-    double                                     box_volume = 0;
+    bool                                        serial_direct = false;
+    SparseCholesky                              cholesky;
+    SparsityPattern                             serial_pattern;
+    SparseMatrix<double>                        serial_matrix;
+    std::vector<TrilinosWrappers::MPI::Vector>  fluctuation; // ghosted
+    std::vector<std::vector<double>>            translation_modes;
+    bool                                        congruent_cells = false;
+    Kernel                                      shared_kernel;
+    mutable std::unique_ptr<FEValues<dim>>      fe_values;
+    mutable std::vector<std::array<double, nv>> strains;
+    double                                      box_volume = 0;
   };
 
 
@@ -303,23 +305,33 @@ namespace forma
     const typename DoFHandler<dim>::active_cell_iterator &cell,
     Kernel                                               &kernel) const
   {
-    FEValues<dim> fe_values(*mapping,
-                            *fe,
-                            *quadrature,
-                            update_gradients | update_JxW_values);
-    fe_values.reinit(cell);
+    // One FEValues and kernel storage for all cells of a mesh: this runs
+    // per cell and per homogenize() on unstructured meshes.
+    if (!fe_values)
+      fe_values = std::make_unique<FEValues<dim>>(
+        *mapping, *fe, *quadrature, update_gradients | update_JxW_values);
+    fe_values->reinit(cell);
     const unsigned int n = fe->n_dofs_per_cell();
-    kernel.pair.assign(nv * (nv + 1) / 2, FullMatrix<double>(n, n));
-    kernel.integral.assign(nv, Vector<double>(n));
-    kernel.measure = 0;
-    const FEValuesExtractors::Vector    displacement(0);
-    std::vector<std::array<double, nv>> B(n);
-    for (const unsigned int q : fe_values.quadrature_point_indices())
+    if (kernel.pair.size() != nv * (nv + 1) / 2)
       {
-        const double JxW = fe_values.JxW(q);
+        kernel.pair.assign(nv * (nv + 1) / 2, FullMatrix<double>(n, n));
+        kernel.integral.assign(nv, Vector<double>(n));
+      }
+    for (auto &P : kernel.pair)
+      P = 0;
+    for (auto &g : kernel.integral)
+      g = 0;
+    kernel.measure = 0;
+    const FEValuesExtractors::Vector     displacement(0);
+    std::vector<std::array<double, nv>> &B = strains;
+    B.resize(n);
+    for (const unsigned int q : fe_values->quadrature_point_indices())
+      {
+        const double JxW = fe_values->JxW(q);
         kernel.measure += JxW;
         for (unsigned int i = 0; i < n; ++i)
-          strain_to_voigt<dim>(fe_values[displacement].symmetric_gradient(i, q),
+          strain_to_voigt<dim>((*fe_values)[displacement].symmetric_gradient(i,
+                                                                             q),
                                B[i].data());
         unsigned int p = 0;
         for (unsigned int a = 0; a < nv; ++a)
@@ -507,10 +519,11 @@ namespace forma
     // Mutual energies, cell by cell:
     // int (A_c + B w_c)^T V (A_d + B w_d)
     //   = |K| V_cd + V_c. (int B) w_d + V_d. (int B) w_c + w_c^T K(V) w_d.
-    FullMatrix<double>          energy(nv, nv);
-    std::vector<Vector<double>> w_local(nv, Vector<double>(n));
-    Vector<double>              Kw(n);
-    unsigned int                index = 0;
+    FullMatrix<double>                     energy(nv, nv);
+    std::array<std::array<double, nv>, nv> s;
+    std::vector<Vector<double>>            w_local(nv, Vector<double>(n));
+    Vector<double>                         Kw(n);
+    unsigned int                           index = 0;
     for (const auto &cell : m.dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
@@ -528,7 +541,6 @@ namespace forma
             for (unsigned int b = a; b < nv; ++b, ++p)
               K.add(V[a][b], kernel.pair[p]);
           // s_a(w) = int (B w)_a
-          std::vector<std::array<double, nv>> s(nv);
           for (unsigned int c = 0; c < nv; ++c)
             for (unsigned int a = 0; a < nv; ++a)
               s[c][a] = kernel.integral[a] * w_local[c];

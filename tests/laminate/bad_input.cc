@@ -11,14 +11,6 @@ const std::string base = "set Output directory = results\n"
                          "subsection Grid\n set Cells along height = 8\nend\n"
                          "subsection Output\n set Write vtu = false\nend\n";
 
-void
-expect_failure(const std::string &name,
-               const std::string &prm,
-               const std::string &good)
-{
-  expect_failure(FORMA_APP, name, prm, good);
-}
-
 int
 main()
 {

@@ -13,14 +13,6 @@ const std::string base =
   "subsection Boundary conditions\n set Dirichlet = 0 : xy : 0, 0\n"
   " set Traction = 1 : 0, -0.1\nend\n";
 
-void
-expect_failure(const std::string &name,
-               const std::string &prm,
-               const std::string &good)
-{
-  expect_failure(FORMA_APP, name, prm, good);
-}
-
 int
 main()
 {
