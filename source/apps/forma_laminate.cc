@@ -5,6 +5,7 @@
 #include <deal.II/base/numbers.h>
 #include <deal.II/base/timer.h>
 #include <deal.II/base/utilities.h>
+#include <deal.II/grid/tria.h>
 
 #include <forma/base/application.h>
 #include <forma/base/plot.h>
@@ -13,12 +14,17 @@
 #include <forma/homogenization/coverage.h>
 #include <forma/homogenization/elastic_tensor.h>
 #include <forma/homogenization/periodic_homogenization.h>
+#include <forma/mesh/periodic_phase_mesh.h>
 #include <forma/microstructure/density_image.h>
 #include <forma/microstructure/hexagonal_laminate.h>
+#include <forma/microstructure/pixel_material.h>
+#include <forma/optimization/optimizer.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -88,9 +94,7 @@ namespace
     unsigned int        cells_along_height = 148;
     PeriodicHomogenization<2>::SolverParameters solver;
     bool                                        write_vtu = true;
-    /// Gray pixels: "linear" rho C (thesis eq. 5.8) or "hashin-shtrikman"
-    /// (the stiffest physical mixture at fraction rho, eq. 5.1).
-    bool hs_pixels = false;
+    GrayPixels gray = GrayPixels::hashin_shtrikman;
   };
 
   /// What one homogenized structure gives.
@@ -104,100 +108,9 @@ namespace
     double                hs_violation = 0;
   };
 
-  /// Phase tensors, fractions -> the material of every grid cell.
-  class RasterMaterial
-  {
-  public:
-    RasterMaterial(PhaseRaster                        raster,
-                   std::vector<double>                phase_density,
-                   std::vector<SymmetricTensor<4, 2>> phase_tensor,
-                   const Setup                       &setup)
-      : raster(std::move(raster))
-      , density(std::move(phase_density))
-      , tensor(std::move(phase_tensor))
-      , weak(setup.weak.tensor())
-      , hs_pixels(setup.hs_pixels)
-      , base(setup.base)
-      , weak_moduli(setup.weak)
-    {}
-
-    SymmetricTensor<4, 2>
-    operator()(const Point<2> &x, const types::material_id) const
-    {
-      const auto [i, j] = raster.cell_of(x);
-      SymmetricTensor<4, 2> C;
-      double                rest = 1;
-      for (unsigned int k = 1; k < raster.n_phases; ++k)
-        {
-          const double f = raster.fraction(i, j, k);
-          C += f * tensor[k];
-          rest -= f;
-        }
-      // Base material and void share the rest of the pixel.
-      rest = std::max(0., rest);
-      const double rho =
-        std::min(1., raster.fraction(i, j, 0) / std::max(rest, 1e-300));
-      if (rest <= 0)
-        return C;
-      if (!hs_pixels || rho <= 0 || rho >= 1)
-        return C + rest * (rho * tensor[0] + (1 - rho) * weak);
-      const auto b = hashin_shtrikman(base, weak_moduli, rho);
-      return C +
-             rest * IsotropicModuli::from_bulk_shear(b.kappa_upper, b.mu_upper)
-                      .tensor();
-    }
-
-    /// Base-material density of a cell (laminates count their fraction).
-    double
-    density_at(const Point<2> &x) const
-    {
-      const auto [i, j] = raster.cell_of(x);
-      double rho        = 0;
-      for (unsigned int k = 0; k < raster.n_phases; ++k)
-        rho += density[k] * raster.fraction(i, j, k);
-      return rho;
-    }
-
-    double
-    volume_fraction() const
-    {
-      double phi = 0;
-      for (unsigned int k = 0; k < raster.n_phases; ++k)
-        phi += density[k] * raster.mean(k);
-      return phi;
-    }
-
-    PhaseRaster                        raster;
-    std::vector<double>                density;
-    std::vector<SymmetricTensor<4, 2>> tensor;
-    SymmetricTensor<4, 2>              weak;
-    bool                               hs_pixels;
-    IsotropicModuli                    base, weak_moduli;
-  };
-
-  RasterMaterial
-  structure_material(const HexagonalLaminate &s,
-                     const Setup             &setup,
-                     const unsigned int       nx,
-                     const unsigned int       ny)
-  {
-    std::vector<double>                density = {1};
-    std::vector<SymmetricTensor<4, 2>> tensor  = {setup.base.tensor()};
-    if (s.limit)
-      for (const double axis : s.joint_axis_angles())
-        {
-          density.push_back(s.theta);
-          tensor.push_back(rank_one_laminate(setup.base.tensor(),
-                                             setup.weak.tensor(),
-                                             s.theta,
-                                             axis + s.lamination_angle()));
-        }
-    return RasterMaterial(s.rasterize(nx, ny), density, tensor, setup);
-  }
-
   Sample
   evaluate(PeriodicHomogenization<2> &cell,
-           const RasterMaterial      &material,
+           const PixelMaterial       &material,
            const Setup               &setup)
   {
     Sample r;
@@ -229,6 +142,28 @@ namespace
     prm.leave_subsection();
     s.check();
     return s;
+  }
+
+  nlohmann::json
+  structure_json(const HexagonalLaminate &s)
+  {
+    nlohmann::json j = {
+      {"type", s.family_name()},
+      {"limit", s.limit},
+      {"lamination_angle_degrees", s.lamination_angle() * 180 / numbers::PI},
+      {"critical_angle_degrees", s.critical_angle() * 180 / numbers::PI},
+      {"volume_fraction_formula", s.volume_fraction_formula()}};
+    if (s.limit)
+      j.update({{"p1", s.p1},
+                {"theta", s.theta},
+                {"alpha_degrees", s.alpha * 180 / numbers::PI}});
+    else
+      j.update({{"p1", s.p1},
+                {"p2", s.p2},
+                {"p3", s.p3},
+                {"p4", s.p4},
+                {"beams_per_joint", 1 / s.p3}});
+    return j;
   }
 
   nlohmann::json
@@ -277,7 +212,7 @@ namespace
     prm.leave_subsection();
 
     std::unique_ptr<PeriodicHomogenization<2>> cell;
-    std::unique_ptr<RasterMaterial>            material;
+    std::unique_ptr<PixelMaterial>             material;
     nlohmann::json                             structure;
     if (type == "image")
       {
@@ -318,11 +253,13 @@ namespace
                 }
             }
         material =
-          std::make_unique<RasterMaterial>(std::move(raster),
-                                           std::vector<double>{1},
-                                           std::vector<SymmetricTensor<4, 2>>{
-                                             setup.base.tensor()},
-                                           setup);
+          std::make_unique<PixelMaterial>(std::move(raster),
+                                          std::vector<double>{1},
+                                          std::vector<SymmetricTensor<4, 2>>{
+                                            setup.base.tensor()},
+                                          setup.base,
+                                          setup.weak,
+                                          setup.gray);
         cell = std::make_unique<PeriodicHomogenization<2>>(
           context.communicator(),
           Point<2>(width, height),
@@ -340,30 +277,14 @@ namespace
         const HexagonalLaminate s  = read_structure(prm);
         const unsigned int      ny = setup.cells_along_height;
         const unsigned int      nx = std::lround(HexagonalLaminate::width * ny);
-        material                   = std::make_unique<RasterMaterial>(
-          structure_material(s, setup, nx, ny));
+        material                   = std::make_unique<PixelMaterial>(
+          pixel_material(s, setup.base, setup.weak, setup.gray, nx, ny));
         cell = std::make_unique<PeriodicHomogenization<2>>(
           context.communicator(),
           Point<2>(HexagonalLaminate::width, HexagonalLaminate::height),
           std::array<unsigned int, 2>{{nx, ny}},
           setup.solver);
-        structure = {{"type", s.family_name()},
-                     {"limit", s.limit},
-                     {"lamination_angle_degrees",
-                      s.lamination_angle() * 180 / numbers::PI},
-                     {"critical_angle_degrees",
-                      s.critical_angle() * 180 / numbers::PI},
-                     {"volume_fraction_formula", s.volume_fraction_formula()}};
-        if (s.limit)
-          structure.update({{"p1", s.p1},
-                            {"theta", s.theta},
-                            {"alpha_degrees", s.alpha * 180 / numbers::PI}});
-        else
-          structure.update({{"p1", s.p1},
-                            {"p2", s.p2},
-                            {"p3", s.p3},
-                            {"p4", s.p4},
-                            {"beams_per_joint", 1 / s.p3}});
+        structure = structure_json(s);
         context.print("structure: " + s.family_name() +
                       (s.limit ? " limit" : "") + ", volume fraction " +
                       sig(s.volume_fraction_formula()) +
@@ -394,15 +315,25 @@ namespace
                       });
   }
 
-  void
-  sweep_mode(ParameterHandler &prm, const Setup &setup, RunContext &context)
+  /// The Sweep section: families and a parameter grid.
+  struct SweepGrid
   {
+    std::vector<HexagonalLaminate::Family>     families;
+    bool                                       limit = false;
+    std::map<std::string, std::vector<double>> values;
+    std::vector<HexagonalLaminate>             structures;
+    double                                     level = 0.5, band = 0.02;
+  };
+
+  SweepGrid
+  read_sweep_grid(ParameterHandler &prm)
+  {
+    SweepGrid g;
     prm.enter_subsection("Sweep");
-    std::vector<HexagonalLaminate::Family> families;
     for (const auto &f : Utilities::split_string_list(prm.get("Families")))
-      families.push_back(HexagonalLaminate::family_from_string(f));
-    const bool limit = prm.get_bool("Limit structures");
-    std::map<std::string, std::vector<double>> v;
+      g.families.push_back(HexagonalLaminate::family_from_string(f));
+    g.limit = prm.get_bool("Limit structures");
+    auto &v = g.values;
     for (const char *name : {"p1", "p2", "p3", "p4", "theta", "alpha"})
       v[name] = parse_values(prm.get(name), name);
     const std::string beams = Utilities::trim(prm.get("Beams per joint"));
@@ -417,15 +348,13 @@ namespace
             v["p3"].push_back(1 / n);
           }
       }
-    const double level = prm.get_double("Coverage level"),
-                 band  = prm.get_double("Coverage band");
+    g.level = prm.get_double("Coverage level");
+    g.band  = prm.get_double("Coverage band");
     prm.leave_subsection();
 
-    // The parameter grid.
-    std::vector<HexagonalLaminate> structures;
-    for (const auto family : families)
+    for (const auto family : g.families)
       for (const double p1 : v["p1"])
-        if (limit)
+        if (g.limit)
           for (const double theta : v["theta"])
             for (const double alpha : v["alpha"])
               {
@@ -433,7 +362,7 @@ namespace
                 s.family = family, s.limit = true, s.p1 = p1, s.theta = theta,
                 s.alpha = alpha * numbers::PI / 180;
                 s.check();
-                structures.push_back(s);
+                g.structures.push_back(s);
               }
         else
           for (const double p2 : v["p2"])
@@ -443,9 +372,42 @@ namespace
                   HexagonalLaminate s;
                   s.family = family, s.p1 = p1, s.p2 = p2, s.p3 = p3, s.p4 = p4;
                   s.check();
-                  structures.push_back(s);
+                  g.structures.push_back(s);
                 }
-    const unsigned int ny      = setup.cells_along_height;
+    return g;
+  }
+
+  /// Columns of the sample table (after the structure parameters).
+  constexpr unsigned int n_fields = 14;
+  enum Field
+  {
+    f_phi_formula,
+    f_phi,
+    f_E,
+    f_nu,
+    f_kappa,
+    f_mu,
+    f_a1,
+    f_a2,
+    f_residual,
+    f_hs_violation,
+    f_C00,
+    f_C01,
+    f_C11,
+    f_C22
+  };
+
+  /**
+   * Homogenize `structures` on an nx x ny grid, round-robin over the ranks
+   * (each with its own serial solver), with a progress line per batch.
+   * Returns n_fields values per structure on every rank.
+   */
+  std::vector<double>
+  homogenize_all(const std::vector<HexagonalLaminate> &structures,
+                 const Setup                          &setup,
+                 const unsigned int                    ny,
+                 RunContext                           &context)
+  {
     const unsigned int nx      = std::lround(HexagonalLaminate::width * ny);
     const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(
                          context.communicator()),
@@ -454,14 +416,11 @@ namespace
     context.print("sweep: " + std::to_string(structures.size()) +
                   " structures on a " + std::to_string(nx) + " x " +
                   std::to_string(ny) + " grid");
-
-    // Every rank homogenizes its share with its own serial solver.
     PeriodicHomogenization<2> cell(MPI_COMM_SELF,
                                    Point<2>(HexagonalLaminate::width,
                                             HexagonalLaminate::height),
                                    {{nx, ny}},
                                    setup.solver);
-    constexpr unsigned int    n_fields = 14;
     std::vector<double>       table(structures.size() * n_fields, 0.);
     const unsigned int        batch =
       std::max<unsigned int>(n_ranks, structures.size() / 10 + 1);
@@ -472,8 +431,8 @@ namespace
         for (unsigned int k = start; k < end; ++k)
           if (k % n_ranks == rank)
             {
-              const auto material =
-                structure_material(structures[k], setup, nx, ny);
+              const auto material = pixel_material(
+                structures[k], setup.base, setup.weak, setup.gray, nx, ny);
               const Sample      r           = evaluate(cell, material, setup);
               const VoigtMatrix V           = to_voigt(r.C);
               const double      f[n_fields] = {
@@ -497,6 +456,22 @@ namespace
                       std::to_string(structures.size()) + " structures");
       }
     Utilities::MPI::sum(table, context.communicator(), table);
+    return table;
+  }
+
+  void
+  sweep_mode(ParameterHandler &prm, const Setup &setup, RunContext &context)
+  {
+    SweepGrid                 grid       = read_sweep_grid(prm);
+    const auto               &families   = grid.families;
+    const bool                limit      = grid.limit;
+    auto                     &v          = grid.values;
+    const auto               &structures = grid.structures;
+    const double              level = grid.level, band = grid.band;
+    const unsigned int        ny = setup.cells_along_height;
+    const unsigned int        nx = std::lround(HexagonalLaminate::width * ny);
+    const std::vector<double> table =
+      homogenize_all(structures, setup, ny, context);
 
     // CSV of all samples.
     if (context.is_root())
@@ -525,8 +500,8 @@ namespace
       std::vector<std::array<double, 2>> s;
       for (unsigned int k = 0; k < structures.size(); ++k)
         if (take(k))
-          s.push_back({{table[k * n_fields + 3],
-                        table[k * n_fields + 2] / setup.base.E}});
+          s.push_back({{table[k * n_fields + f_nu],
+                        table[k * n_fields + f_E] / setup.base.E}});
       return s;
     };
     const auto all      = samples_of([](unsigned int) { return true; });
@@ -534,9 +509,9 @@ namespace
     double     worst = -1e300, max_a = 0;
     for (unsigned int k = 0; k < structures.size(); ++k)
       {
-        worst = std::max(worst, table[k * n_fields + 9]);
-        max_a =
-          std::max({max_a, table[k * n_fields + 6], table[k * n_fields + 7]});
+        worst = std::max(worst, table[k * n_fields + f_hs_violation]);
+        max_a = std::max(
+          {max_a, table[k * n_fields + f_a1], table[k * n_fields + f_a2]});
       }
     context.print("coverage at E/Eb = " + sig(level) + ": nu from " +
                   sig(coverage.nu_left) + " to " + sig(coverage.nu_right) +
@@ -619,8 +594,8 @@ namespace
         double phi_min = 1, phi_max = 0;
         for (unsigned int k = 0; k < structures.size(); ++k)
           {
-            phi_min = std::min(phi_min, table[k * n_fields + 1]);
-            phi_max = std::max(phi_max, table[k * n_fields + 1]);
+            phi_min = std::min(phi_min, table[k * n_fields + f_phi]);
+            phi_max = std::max(phi_max, table[k * n_fields + f_phi]);
           }
         const std::vector<std::array<std::uint8_t, 3>> colors = {{200, 60, 40},
                                                                  {31, 90, 180},
@@ -657,11 +632,11 @@ namespace
                 s.label = "phi " + sig(lo, 2) + "-" + sig(hi, 2);
                 for (unsigned int k = 0; k < structures.size(); ++k)
                   {
-                    const double phi = table[k * n_fields + 1];
+                    const double phi = table[k * n_fields + f_phi];
                     if (phi >= lo - 1e-12 && (phi < hi || b + 1 == n_bands))
                       s.points.push_back(
-                        {{table[k * n_fields + 3],
-                          table[k * n_fields + 2] / setup.base.E}});
+                        {{table[k * n_fields + f_nu],
+                          table[k * n_fields + f_E] / setup.base.E}});
                   }
                 series.push_back(s);
                 series.push_back(bound_curve(hi, colors[b], ""));
@@ -678,8 +653,8 @@ namespace
               for (unsigned int k = 0; k < structures.size(); ++k)
                 if (structures[k].family == families[f])
                   s.points.push_back(
-                    {{table[k * n_fields + 3],
-                      table[k * n_fields + 2] / setup.base.E}});
+                    {{table[k * n_fields + f_nu],
+                      table[k * n_fields + f_E] / setup.base.E}});
               series.push_back(s);
             }
         series.push_back(bound_curve(1, {0, 0, 0}, "HS bound phi=1"));
@@ -695,6 +670,429 @@ namespace
                       {{-1, 1}},
                       {{0, 1.05}});
       }
+  }
+
+  /// One row of a sample table: a structure and its (E, nu).
+  struct TableSample
+  {
+    HexagonalLaminate structure;
+    double            E = 0, nu = 0;
+  };
+
+  /// The samples of a sweep's samples.csv (columns found by name).
+  std::vector<TableSample>
+  read_sample_table(const std::string &file)
+  {
+    std::ifstream in(file);
+    AssertThrow(in,
+                ExcMessage("Inverse/Table file: cannot open '" + file + "'"));
+    std::string line;
+    std::getline(in, line);
+    const auto names = Utilities::split_string_list(line);
+    std::map<std::string, unsigned int> column;
+    for (unsigned int c = 0; c < names.size(); ++c)
+      column[names[c]] = c;
+    for (const char *name : {"family",
+                             "limit",
+                             "p1",
+                             "p2",
+                             "p3",
+                             "p4",
+                             "theta",
+                             "alpha_degrees",
+                             "E",
+                             "nu"})
+      AssertThrow(column.count(name),
+                  ExcMessage("Inverse/Table file '" + file +
+                             "' has no column '" + name +
+                             "' (expected the samples.csv of a sweep)"));
+    std::vector<TableSample> table;
+    unsigned int             row = 1;
+    while (std::getline(in, line))
+      {
+        ++row;
+        if (Utilities::trim(line).empty())
+          continue;
+        const auto f = Utilities::split_string_list(line);
+        AssertThrow(f.size() == names.size(),
+                    ExcMessage("Inverse/Table file '" + file + "', line " +
+                               std::to_string(row) + ": " +
+                               std::to_string(f.size()) + " fields, expected " +
+                               std::to_string(names.size())));
+        TableSample t;
+        try
+          {
+            auto value = [&](const char *name) {
+              return std::stod(f[column[name]]);
+            };
+            auto &s = t.structure;
+            s.family =
+              HexagonalLaminate::family_from_string(f[column["family"]]);
+            s.limit = value("limit") != 0;
+            s.p1    = value("p1");
+            if (s.limit)
+              s.theta = value("theta"),
+              s.alpha = value("alpha_degrees") * numbers::PI / 180;
+            else
+              s.p2 = value("p2"), s.p3 = value("p3"), s.p4 = value("p4");
+            t.E  = value("E");
+            t.nu = value("nu");
+            s.check();
+          }
+        catch (const std::exception &e)
+          {
+            AssertThrow(false,
+                        ExcMessage("Inverse/Table file '" + file + "', line " +
+                                   std::to_string(row) + ": " +
+                                   error_message(e)));
+          }
+        table.push_back(t);
+      }
+    AssertThrow(!table.empty(),
+                ExcMessage("Inverse/Table file '" + file + "' has no samples"));
+    return table;
+  }
+
+  /**
+   * Inverse design: the structure of a family whose (E, nu) is a target.
+   * The nearest samples of a table (a sweep's samples.csv, or the Sweep grid
+   * homogenized here on a coarse grid) start bound-constrained L-BFGS runs
+   * (ROL, optimize()) on J = (E/E* - 1)^2 + (nu - nu*)^2 over the
+   * continuous parameters (p1, p2, p4 or p1, theta, alpha; p3 keeps its
+   * beam count) at the Grid resolution. The anti-aliased rasterization is
+   * exact in areas, so E and nu are continuous, piecewise smooth functions
+   * of the parameters and central differences give their gradient.
+   */
+  void
+  inverse_mode(ParameterHandler  &prm,
+               const std::string &prm_directory,
+               const Setup       &setup,
+               RunContext        &context)
+  {
+    prm.enter_subsection("Inverse");
+    const double       target_E   = prm.get_double("Target Young's modulus");
+    const double       target_nu  = prm.get_double("Target Poisson's ratio");
+    std::string        table_file = prm.get("Table file");
+    const unsigned int table_ny   = prm.get_integer("Table cells along height");
+    const unsigned int n_candidates = prm.get_integer("Candidates");
+    OptimizationParameters op;
+    op.max_iterations      = prm.get_integer("Max iterations");
+    const double tolerance = prm.get_double("Tolerance");
+    prm.leave_subsection();
+    op.value_target       = tolerance * tolerance;
+    op.relative_decrease  = 1e-6;
+    op.decrease_window    = 3;
+    op.gradient_tolerance = 1e-8;
+    // E is relative to the base's 2D Young's modulus.
+    const double E_star = target_E * setup.base.E;
+    {
+      const auto hs = hashin_shtrikman(setup.base, setup.weak, 1);
+      AssertThrow(E_star <= hs.max_young_modulus(target_nu) && target_nu > -1 &&
+                    target_nu < 1,
+                  ExcMessage(
+                    "Inverse: the target (E/Eb, nu) = (" + sig(target_E) +
+                    ", " + sig(target_nu) +
+                    ") lies outside the Hashin-Shtrikman bounds "
+                    "(E/Eb <= " +
+                    sig(hs.max_young_modulus(target_nu) / setup.base.E) +
+                    " at this nu): no structure reaches it"));
+    }
+    const SweepGrid grid = read_sweep_grid(prm);
+
+    // The table: given, or the Sweep grid on a coarse grid.
+    std::vector<TableSample> table;
+    if (!table_file.empty())
+      {
+        if (table_file[0] != '/')
+          table_file = prm_directory + "/" + table_file;
+        table = read_sample_table(table_file);
+        context.print("inverse: " + std::to_string(table.size()) +
+                      " samples from the table file");
+      }
+    else
+      {
+        const auto values =
+          homogenize_all(grid.structures, setup, table_ny, context);
+        for (unsigned int k = 0; k < grid.structures.size(); ++k)
+          table.push_back({grid.structures[k],
+                           values[k * n_fields + f_E],
+                           values[k * n_fields + f_nu]});
+      }
+
+    auto misfit = [&](const double E, const double nu) {
+      return std::pow(E / E_star - 1, 2) + std::pow(nu - target_nu, 2);
+    };
+    std::vector<std::pair<double, unsigned int>> ranked;
+    for (unsigned int k = 0; k < table.size(); ++k)
+      if (std::count(grid.families.begin(),
+                     grid.families.end(),
+                     table[k].structure.family) > 0 &&
+          table[k].structure.limit == grid.limit)
+        ranked.push_back({misfit(table[k].E, table[k].nu), k});
+    AssertThrow(!ranked.empty(),
+                ExcMessage("Inverse: the table has no sample of the "
+                           "families (and Limit structures setting) of the "
+                           "Sweep section"));
+    std::sort(ranked.begin(), ranked.end());
+    ranked.resize(std::min<std::size_t>(ranked.size(), n_candidates));
+
+    // Refinement on the Grid resolution.
+    const unsigned int        ny = setup.cells_along_height;
+    const unsigned int        nx = std::lround(HexagonalLaminate::width * ny);
+    PeriodicHomogenization<2> cell(MPI_COMM_SELF,
+                                   Point<2>(HexagonalLaminate::width,
+                                            HexagonalLaminate::height),
+                                   {{nx, ny}},
+                                   setup.solver);
+    // Every rank refines the same candidates (the runs are short, and the
+    // optimizer's collective output stays consistent).
+    auto with = [](HexagonalLaminate s, const std::vector<double> &q) {
+      if (s.limit)
+        s.p1 = q[0], s.theta = q[1], s.alpha = q[2] * numbers::PI / 180;
+      else
+        s.p1 = q[0], s.p2 = q[1], s.p4 = q[2];
+      s.check();
+      return s;
+    };
+    auto moduli = [&](const HexagonalLaminate &s) {
+      const auto r =
+        evaluate(cell,
+                 pixel_material(s, setup.base, setup.weak, setup.gray, nx, ny),
+                 setup);
+      return r;
+    };
+
+    nlohmann::json    candidates = nlohmann::json::array();
+    double            best_J     = std::numeric_limits<double>::max();
+    HexagonalLaminate best;
+    Sample            best_sample;
+    for (unsigned int c = 0; c < ranked.size(); ++c)
+      {
+        const TableSample &start = table[ranked[c].second];
+        const auto        &s0    = start.structure;
+        context.print("inverse: candidate " + std::to_string(c + 1) + "/" +
+                      std::to_string(ranked.size()) + ": " + s0.family_name() +
+                      (s0.limit ?
+                         " limit p1 = " + sig(s0.p1) +
+                           ", theta = " + sig(s0.theta) +
+                           ", alpha = " + sig(s0.alpha * 180 / numbers::PI) :
+                         " p1 = " + sig(s0.p1) + ", p2 = " + sig(s0.p2) +
+                           ", p3 = " + sig(s0.p3) + ", p4 = " + sig(s0.p4)) +
+                      " (table: E/Eb = " + sig(start.E / setup.base.E) +
+                      ", nu = " + sig(start.nu) + ")");
+        DesignModel model;
+        if (s0.limit)
+          {
+            model.initial = {s0.p1, s0.theta, s0.alpha * 180 / numbers::PI};
+            model.scale   = {0.1, 0.1, 10};
+            model.lower   = {0.02, 0, -89};
+            model.upper   = {0.98, 1, 89};
+          }
+        else
+          {
+            model.initial = {s0.p1, s0.p2, s0.p4};
+            model.scale   = {0.1, 0.1, 0.1};
+            model.lower   = {0.02, 0, 0.02};
+            model.upper   = {0.98, 1, 1};
+          }
+        auto J = [&](const std::vector<double> &q) {
+          const Sample r = moduli(with(s0, q));
+          return misfit(r.fit.E, r.fit.nu);
+        };
+        model.value    = J;
+        model.gradient = [&](const std::vector<double> &q,
+                             std::vector<double>       &dJ) {
+          // Central differences, one-sided at the bounds.
+          dJ.assign(q.size(), 0);
+          for (unsigned int i = 0; i < q.size(); ++i)
+            {
+              const double h  = 1e-3 * model.scale[i];
+              auto         qp = q, qm = q;
+              qp[i] = std::min(q[i] + h, model.upper[i]);
+              qm[i] = std::max(q[i] - h, model.lower[i]);
+              dJ[i] = (J(qp) - J(qm)) / (qp[i] - qm[i]);
+            }
+          return J(q);
+        };
+        model.accepted = [](unsigned int, const std::vector<double> &, double) {
+        };
+        const auto   result = optimize(model, op, context);
+        const auto   s      = with(s0, result.design);
+        const auto   r      = moduli(s);
+        const double Jc     = misfit(r.fit.E, r.fit.nu);
+        context.print("inverse: candidate " + std::to_string(c + 1) +
+                      " reaches E/Eb = " + sig(r.fit.E / setup.base.E) +
+                      ", nu = " + sig(r.fit.nu) + " (" + result.stop_reason +
+                      ")");
+        nlohmann::json j = structure_json(s);
+        j["E_over_Eb"]   = r.fit.E / setup.base.E;
+        j["nu"]          = r.fit.nu;
+        j["misfit"]      = Jc;
+        j["iterations"]  = result.history.size() - 1;
+        j["stop_reason"] = result.stop_reason;
+        candidates.push_back(j);
+        if (Jc < best_J)
+          best_J = Jc, best = s, best_sample = r;
+        if (Jc <= op.value_target)
+          break;
+      }
+    context.print("inverse: target E/Eb = " + sig(target_E) +
+                  ", nu = " + sig(target_nu) +
+                  "; achieved E/Eb = " + sig(best_sample.fit.E / setup.base.E) +
+                  ", nu = " + sig(best_sample.fit.nu) + " (misfit " +
+                  sig(std::sqrt(best_J), 2) + ")");
+    context.summary["target"]    = {{"E_over_Eb", target_E}, {"nu", target_nu}};
+    context.summary["structure"] = structure_json(best);
+    context.summary["result"]    = sample_json(best_sample, setup);
+    context.summary["misfit"]    = std::sqrt(best_J);
+    context.summary["reached"]   = best_J <= op.value_target;
+    context.summary["candidates"] = candidates;
+    context.summary["grid"]       = {nx, ny};
+  }
+
+  /**
+   * Regular grid vs conforming mesh (thesis Table 5.2): the structure's
+   * polygons meshed by Gmsh with periodic sides (P`degree` triangles),
+   * then on the regular grid at the same parameters, then on the grid
+   * with p4 (theta for limit structures) adjusted until E matches the
+   * conforming result, comparing nu.
+   */
+  void
+  compare_meshes_mode(ParameterHandler &prm,
+                      const Setup      &setup,
+                      RunContext       &context)
+  {
+    const HexagonalLaminate s = read_structure(prm);
+    prm.enter_subsection("Conforming mesh");
+    const double       size   = prm.get_double("Element size");
+    const unsigned int degree = prm.get_integer("Degree");
+    prm.leave_subsection();
+    const Point<2> box(HexagonalLaminate::width, HexagonalLaminate::height);
+    context.print("structure: " + s.family_name() + (s.limit ? " limit" : "") +
+                  ", volume fraction " + sig(s.volume_fraction_formula()));
+
+    // Conforming mesh: material id 0 is void, k + 1 phase k.
+    Triangulation<2> mesh;
+    {
+      std::vector<std::pair<std::vector<Point<2>>, unsigned int>> polygons;
+      for (const auto &p : s.polygons())
+        polygons.push_back(p);
+      periodic_phase_mesh(polygons, box, size, mesh);
+    }
+    std::vector<double> density;
+    const auto tensor   = phase_tensors(s, setup.base, setup.weak, density);
+    const auto weak     = setup.weak.tensor();
+    auto phase_material = [&](const Point<2> &, const types::material_id id) {
+      AssertThrow(id <= tensor.size(), ExcInternalError());
+      return id == 0 ? weak : tensor[id - 1];
+    };
+    PeriodicHomogenization<2> conforming(context.communicator(),
+                                         mesh,
+                                         setup.solver,
+                                         degree);
+    Timer                     timer;
+    const auto                C_mesh = conforming.homogenize(phase_material).C;
+    context.log("conforming mesh homogenization: " + sig(timer.wall_time()) +
+                " s wall");
+    double phi_mesh = 0;
+    for (const auto &cell : mesh.active_cell_iterators())
+      if (cell->material_id() > 0)
+        phi_mesh += density[cell->material_id() - 1] * cell->measure();
+    phi_mesh /= box[0] * box[1];
+    const auto mesh_fit = isotropic_fit(C_mesh);
+    context.print("conforming mesh: " + std::to_string(conforming.n_cells()) +
+                  " P" + std::to_string(degree) + " triangles, " +
+                  std::to_string(conforming.n_dofs()) +
+                  " unknowns: E/Eb = " + sig(mesh_fit.E / setup.base.E) +
+                  ", nu = " + sig(mesh_fit.nu) + ", volume fraction " +
+                  sig(phi_mesh));
+
+    // The regular grid at the same parameters.
+    const unsigned int        ny = setup.cells_along_height;
+    const unsigned int        nx = std::lround(HexagonalLaminate::width * ny);
+    PeriodicHomogenization<2> grid(MPI_COMM_SELF,
+                                   box,
+                                   {{nx, ny}},
+                                   setup.solver);
+    auto                      at = [&](const double value) {
+      HexagonalLaminate t        = s;
+      (t.limit ? t.theta : t.p4) = value;
+      t.check();
+      return evaluate(
+        grid,
+        pixel_material(t, setup.base, setup.weak, setup.gray, nx, ny),
+        setup);
+    };
+    const std::string name  = s.limit ? "theta" : "p4";
+    const double      value = s.limit ? s.theta : s.p4;
+    const Sample      same  = at(value);
+    context.print("regular " + std::to_string(nx) + " x " + std::to_string(ny) +
+                  " grid: E/Eb = " + sig(same.fit.E / setup.base.E) +
+                  ", nu = " + sig(same.fit.nu) + ", volume fraction " +
+                  sig(same.phi));
+
+    // Match E by adjusting the beam width: secant steps kept inside a
+    // bracket (E grows with it).
+    const double target = mesh_fit.E;
+    double       lo = 0.02, hi = 1, x = value;
+    Sample       r      = same;
+    double       x_prev = value, f_prev = same.fit.E - target;
+    x = std::clamp(value + (f_prev > 0 ? -0.02 : 0.02), lo, hi);
+    unsigned int iterations = 0;
+    for (; iterations < 30; ++iterations)
+      {
+        r                 = at(x);
+        const double f    = r.fit.E - target;
+        (f > 0 ? hi : lo) = x;
+        if (std::abs(f) <= 1e-5 * target || hi - lo < 1e-9)
+          break;
+        double next = x - f * (x - x_prev) / (f - f_prev);
+        if (!(next > lo && next < hi) || !std::isfinite(next))
+          next = 0.5 * (lo + hi);
+        x_prev = x, f_prev = f, x = next;
+      }
+    const bool matched = std::abs(r.fit.E - target) <= 1e-3 * target;
+    context.print("grid matching E: " + name + " = " + sig(x) + " (mesh " +
+                  sig(value) + "): E/Eb = " + sig(r.fit.E / setup.base.E) +
+                  ", nu = " + sig(r.fit.nu) +
+                  "; nu(grid) - nu(mesh) = " + sig(r.fit.nu - mesh_fit.nu, 2) +
+                  (matched ? "" : " (E NOT matched in [0.02, 1])"));
+
+    context.summary["structure"]       = structure_json(s);
+    context.summary["conforming_mesh"] = {
+      {"element_size", size},
+      {"degree", degree},
+      {"cells", conforming.n_cells()},
+      {"unknowns", conforming.n_dofs()},
+      {"volume_fraction", phi_mesh},
+      {"result",
+       sample_json(
+         {phi_mesh,
+          phi_mesh,
+          C_mesh,
+          mesh_fit,
+          anisotropy(C_mesh),
+          hashin_shtrikman(setup.base, setup.weak, std::min(1., phi_mesh)),
+          hashin_shtrikman(setup.base, setup.weak, std::min(1., phi_mesh))
+            .violation(mesh_fit)},
+         setup)}};
+    context.summary["grid"]         = {{"cells", {nx, ny}},
+                                       {"result", sample_json(same, setup)}};
+    context.summary["matched_grid"] = {{"parameter", name},
+                                       {"value", x},
+                                       {"matched", matched},
+                                       {"E", r.fit.E},
+                                       {"nu", r.fit.nu},
+                                       {"nu_difference",
+                                        r.fit.nu - mesh_fit.nu},
+                                       {"iterations", iterations + 1}};
+    if (setup.write_vtu)
+      conforming.write_vtu(context.path("fields_mesh"),
+                           {"material_id", "density"},
+                           [&](const Point<2> &, const types::material_id id) {
+                             return std::vector<double>{
+                               double(id), id == 0 ? 0. : density[id - 1]};
+                           });
   }
 
   void
@@ -848,6 +1246,54 @@ namespace
                       "Samples with |E/Eb - level| <= band count for Delta.");
     prm.leave_subsection();
 
+    prm.enter_subsection("Inverse");
+    prm.declare_entry("Target Young's modulus",
+                      "0.3",
+                      Patterns::Double(0, 1),
+                      "Target E relative to the base's 2D Young's modulus.");
+    prm.declare_entry("Target Poisson's ratio",
+                      "0.3",
+                      Patterns::Double(-1, 1),
+                      "Target Poisson's ratio.");
+    prm.declare_entry(
+      "Table file",
+      "",
+      Patterns::Anything(),
+      "samples.csv of an earlier sweep (same Base material), relative to "
+      "the .prm file; empty: the Sweep section's grid is homogenized first "
+      "on 'Table cells along height'.");
+    prm.declare_entry("Table cells along height",
+                      "48",
+                      Patterns::Integer(2, 4000),
+                      "Resolution of the table sweep when there is no table "
+                      "file.");
+    prm.declare_entry("Candidates",
+                      "3",
+                      Patterns::Integer(1, 100),
+                      "Nearest table samples refined by optimization (in "
+                      "this order, until one reaches the tolerance).");
+    prm.declare_entry("Max iterations",
+                      "30",
+                      Patterns::Integer(1, 1000),
+                      "L-BFGS iterations per candidate.");
+    prm.declare_entry("Tolerance",
+                      "1e-3",
+                      Patterns::Double(0),
+                      "Stop when sqrt((E/E* - 1)^2 + (nu - nu*)^2) is below.");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Conforming mesh");
+    prm.declare_entry("Element size",
+                      "0.01",
+                      Patterns::Double(0),
+                      "compare meshes: target triangle size (the cell is "
+                      "sqrt(3) x 1).");
+    prm.declare_entry("Degree",
+                      "2",
+                      Patterns::Integer(1, 3),
+                      "compare meshes: polynomial degree on the triangles.");
+    prm.leave_subsection();
+
     prm.enter_subsection("Output");
     prm.declare_entry("Write vtu",
                       "true",
@@ -887,7 +1333,9 @@ namespace
     prm.enter_subsection("Grid");
     setup.cells_along_height = prm.get_integer("Cells along height");
     setup.solver.type        = prm.get("Solver");
-    setup.hs_pixels          = prm.get("Gray pixels") == "hashin-shtrikman";
+    setup.gray               = prm.get("Gray pixels") == "linear" ?
+                                 GrayPixels::linear :
+                                 GrayPixels::hashin_shtrikman;
     prm.leave_subsection();
     prm.enter_subsection("Output");
     setup.write_vtu = prm.get_bool("Write vtu");
@@ -901,13 +1349,18 @@ namespace
       {"E_2d", setup.base.E},
       {"nu_2d", setup.base.nu},
       {"void_stiffness_ratio", setup.weak_ratio},
-      {"gray_pixels", setup.hs_pixels ? "hashin-shtrikman" : "linear"}};
+      {"gray_pixels",
+       setup.gray == GrayPixels::linear ? "linear" : "hashin-shtrikman"}};
 
     const std::string mode = prm.get("Mode");
     if (mode == "homogenize")
       homogenize_mode(prm, prm_directory, setup, context);
-    else
+    else if (mode == "sweep")
       sweep_mode(prm, setup, context);
+    else if (mode == "inverse")
+      inverse_mode(prm, prm_directory, setup, context);
+    else
+      compare_meshes_mode(prm, setup, context);
   }
 } // namespace
 
@@ -919,7 +1372,7 @@ main(int argc, char **argv)
   app.description = "Homogenization of hexagonal Triangle/Hexagon laminate "
                     "microstructures and their Hashin-Shtrikman coverage "
                     "(thesis ch. 5).";
-  app.modes       = {"homogenize", "sweep"};
+  app.modes       = {"homogenize", "sweep", "inverse", "compare meshes"};
   app.declare_parameters = declare;
   app.run                = run;
   return forma::run_application(argc, argv, app);

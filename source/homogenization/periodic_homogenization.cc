@@ -28,6 +28,8 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <map>
+#include <tuple>
 
 namespace forma
 {
@@ -198,9 +200,68 @@ namespace forma
 
     constraints.clear();
     constraints.reinit(relevant);
-    for (unsigned int d = 0; d < dim; ++d)
-      DoFTools::make_periodicity_constraints(
-        dof_handler, 2 * d, 2 * d + 1, d, constraints);
+    if (congruent_cells)
+      for (unsigned int d = 0; d < dim; ++d)
+        DoFTools::make_periodicity_constraints(
+          dof_handler, 2 * d, 2 * d + 1, d, constraints);
+    else
+      {
+        // Unstructured (shared, so every cell is here) meshes: deal.II 9.4's
+        // make_periodicity_constraints mismatches the dofs of periodic
+        // faces with opposite line orientations, as simplex meshes have.
+        // Tie every dof on an upper side to the dof at its image in the
+        // lowest corner of its periodic class instead, by support points.
+        const auto key = [&](const Point<dim> &p, const unsigned int c) {
+          std::array<long long, dim + 1> k;
+          for (unsigned int d = 0; d < dim; ++d)
+            k[d] = std::llround(p[d] / (1e-9 * box[d]));
+          k[dim] = c;
+          return k;
+        };
+        std::map<std::array<long long, dim + 1>, types::global_dof_index>
+          lower_dofs;
+        std::vector<
+          std::tuple<Point<dim>, unsigned int, types::global_dof_index>>
+                                             upper_dofs;
+        std::vector<types::global_dof_index> local(fe->n_dofs_per_cell());
+        for (const auto &cell : dof_handler.active_cell_iterators())
+          if (cell->at_boundary())
+            {
+              cell->get_dof_indices(local);
+              for (unsigned int i = 0; i < local.size(); ++i)
+                {
+                  const Point<dim> p = mapping->transform_unit_to_real_cell(
+                    cell, fe->unit_support_point(i));
+                  const unsigned int c = fe->system_to_component_index(i).first;
+                  bool               upper = false, on_side = false;
+                  Point<dim>         image = p;
+                  for (unsigned int d = 0; d < dim; ++d)
+                    {
+                      const double tol = 1e-8 * box[d];
+                      on_side |= std::abs(p[d]) < tol;
+                      if (std::abs(p[d] - box[d]) < tol)
+                        upper = on_side = true, image[d] = 0;
+                    }
+                  if (upper)
+                    upper_dofs.emplace_back(image, c, local[i]);
+                  else if (on_side)
+                    lower_dofs[key(p, c)] = local[i];
+                }
+            }
+        for (const auto &[image, c, i] : upper_dofs)
+          {
+            const auto partner = lower_dofs.find(key(image, c));
+            AssertThrow(partner != lower_dofs.end(),
+                        ExcMessage("the cell mesh is not periodic: a node on "
+                                   "an upper side has no partner on the "
+                                   "opposite side"));
+            if (constraints.can_store_line(i) && !constraints.is_constrained(i))
+              {
+                constraints.add_line(i);
+                constraints.add_entry(i, partner->second, 1.);
+              }
+          }
+      }
 
     // Remove the translations: w = 0 at the interior vertex nearest the
     // center (interior, so it is not tied to periodic partners).

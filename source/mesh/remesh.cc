@@ -5,13 +5,11 @@
 #include <forma/mesh/mesh.h>
 #include <forma/mesh/remesh.h>
 
+#include "gmsh_session.h"
 #include <gmsh.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <map>
 #include <mutex>
 #include <numeric>
@@ -24,28 +22,6 @@ namespace forma
 
   namespace
   {
-    // Gmsh is a global singleton: one model at a time, always finalized.
-    std::mutex gmsh_mutex;
-
-    struct Session
-    {
-      Session()
-      {
-        gmsh::initialize();
-        gmsh::option::setNumber("General.Terminal", 0);
-        // Errors must not be thrown from inside Gmsh's OpenMP regions
-        // (that terminates the program): they are logged, and the result
-        // is checked instead.
-        gmsh::option::setNumber("General.AbortOnError", 0);
-        gmsh::option::setNumber("General.NumThreads", 1);
-        gmsh::model::add("forma-remesh");
-      }
-      ~Session()
-      {
-        gmsh::finalize();
-      }
-    };
-
     // Physical tags must be positive: ids are shifted by one in the file.
     int
     physical_tag(const unsigned int id)
@@ -89,51 +65,7 @@ namespace forma
     std::string
     gmsh_error(const std::string &what)
     {
-      std::string last;
-      try
-        {
-          gmsh::logger::getLastError(last);
-        }
-      catch (...)
-        {}
-      return "remeshing: Gmsh " + what + (last.empty() ? "" : ": " + last);
-    }
-
-    // Throw if meshing logged an error or left an entity without elements.
-    void
-    check_generated(const int dim)
-    {
-      std::string last;
-      gmsh::logger::getLastError(last);
-      AssertThrow(last.empty(), ExcMessage("remeshing: Gmsh failed: " + last));
-      gmsh::vectorpair entities;
-      gmsh::model::getEntities(entities, dim);
-      for (const auto &e : entities)
-        {
-          std::vector<int>                      types;
-          std::vector<std::vector<std::size_t>> tags, nodes;
-          gmsh::model::mesh::getElements(types, tags, nodes, dim, e.second);
-          AssertThrow(!types.empty(),
-                      ExcMessage("remeshing: Gmsh made no elements in a "
-                                 "region (a self-intersecting boundary?)."));
-        }
-    }
-
-    // The mesh Gmsh holds, written as a 2.2 ASCII file, returned as text.
-    std::string
-    written_mesh()
-    {
-      gmsh::option::setNumber("Mesh.MshFileVersion", 2.2);
-      gmsh::option::setNumber("Mesh.SaveAll", 0);
-      const auto file = std::filesystem::temp_directory_path() /
-                        ("forma-remesh-" + std::to_string(::getpid()) + ".msh");
-      gmsh::write(file.string());
-      std::ifstream      in(file);
-      std::ostringstream text;
-      text << in.rdbuf();
-      in.close();
-      std::filesystem::remove(file);
-      return text.str();
+      return internal::gmsh_error("remeshing", what);
     }
 
     using Key = std::array<unsigned int, 3>; // inside, outside, boundary id
@@ -348,7 +280,7 @@ namespace forma
             gmsh::option::setNumber("Mesh.SubdivisionAlgorithm", 1);
         }
       gmsh::model::mesh::generate(2);
-      check_generated(2);
+      internal::gmsh_check_generated(2, "remeshing");
       if (quads && !paired)
         {
           std::vector<int>                      types;
@@ -373,7 +305,7 @@ namespace forma
                 gmsh::model::mesh::setNode(tags[0], {p[0], p[1], 0.}, {});
               }
           }
-      return written_mesh();
+      return internal::gmsh_written_mesh();
     }
 
     // ------------------------------------------------------------- 3D
@@ -559,8 +491,8 @@ namespace forma
       gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 1);
       gmsh::option::setNumber("Mesh.Optimize", 1);
       gmsh::model::mesh::generate(3);
-      check_generated(3);
-      return written_mesh();
+      internal::gmsh_check_generated(3, "remeshing");
+      return internal::gmsh_written_mesh();
     }
   } // namespace
 
@@ -574,7 +506,7 @@ namespace forma
                 ExcMessage("remeshing: Gmsh cannot make hexahedral meshes."));
     AssertThrow(!boundaries.facets.empty(),
                 ExcMessage("remeshing: the mesh has no boundary."));
-    std::lock_guard<std::mutex> lock(gmsh_mutex);
+    std::lock_guard<std::mutex> lock(internal::gmsh_mutex());
     try
       {
         if constexpr (dim == 2)
@@ -585,17 +517,17 @@ namespace forma
             // it leaves triangles, subdivide a mesh of twice the size.
             if (quads)
               {
-                Session     session;
-                std::string msh = mesh_2d(boundaries, true, false);
+                internal::GmshSession session("forma-remesh");
+                std::string           msh = mesh_2d(boundaries, true, false);
                 if (!msh.empty())
                   return msh;
               }
-            Session session;
+            internal::GmshSession session("forma-remesh");
             return mesh_2d(boundaries, quads, quads);
           }
         else
           {
-            Session session;
+            internal::GmshSession session("forma-remesh");
             return mesh_3d(boundaries);
           }
       }

@@ -233,6 +233,8 @@ namespace forma
           run.gnorm0 = state.gnorm;
         if (!run.stop_reason.empty())
           ; // decided in Objective::update (a remesh)
+        else if (!h.empty() && h.back() <= run.parameters.value_target)
+          run.stop_reason = "target value reached";
         else if (k >= run.parameters.max_iterations)
           run.stop_reason = "maximum number of iterations";
         else if (state.gnorm <= run.parameters.gradient_tolerance * run.gnorm0)

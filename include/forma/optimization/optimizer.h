@@ -4,6 +4,7 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,9 @@ namespace forma
     bool         resume             = false;
     double       remesh_quality     = 0; ///< remesh below this; 0: never
     unsigned int max_remeshes       = 10;
+    /// Stop once J <= this (inverse problems with a reachable target; not
+    /// a parameter-file entry).
+    double value_target = -std::numeric_limits<double>::infinity();
 
     static void
     declare(dealii::ParameterHandler &prm);

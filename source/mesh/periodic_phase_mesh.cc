@@ -1,0 +1,195 @@
+#include <deal.II/base/exceptions.h>
+#include <deal.II/grid/grid_in.h>
+#include <deal.II/grid/tria.h>
+
+#include <forma/mesh/mesh.h>
+#include <forma/mesh/periodic_phase_mesh.h>
+#include <forma/microstructure/raster.h>
+
+#include "gmsh_session.h"
+#include <gmsh.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+namespace forma
+{
+  using namespace dealii;
+
+  namespace
+  {
+    const std::string context = "periodic phase mesh";
+
+    // The curves on the box side x_d = value, with their extent along the
+    // other direction.
+    std::vector<std::pair<std::array<double, 2>, int>>
+    side_curves(const unsigned int d, const double value, const double eps)
+    {
+      double lo[3] = {-eps, -eps, -eps}, hi[3] = {1e30, 1e30, eps};
+      lo[d] = value - eps, hi[d] = value + eps;
+      gmsh::vectorpair curves;
+      gmsh::model::getEntitiesInBoundingBox(
+        lo[0], lo[1], lo[2], hi[0], hi[1], hi[2], curves, 1);
+      std::vector<std::pair<std::array<double, 2>, int>> result;
+      for (const auto &c : curves)
+        {
+          double b[6];
+          gmsh::model::getBoundingBox(
+            1, c.second, b[0], b[1], b[2], b[3], b[4], b[5]);
+          result.push_back({{{b[1 - d], b[4 - d]}}, c.second});
+        }
+      std::sort(result.begin(), result.end());
+      return result;
+    }
+
+    std::string
+    generate(const std::vector<std::pair<std::vector<Point<2>>, unsigned int>>
+                            &polygons,
+             const Point<2> &box,
+             const double    size)
+    {
+      namespace occ     = gmsh::model::occ;
+      const double snap = 1e-7 * std::max(box[0], box[1]);
+      gmsh::option::setNumber("Geometry.ToleranceBoolean", snap);
+      const int        rectangle = occ::addRectangle(0, 0, 0, box[0], box[1]);
+      gmsh::vectorpair tools;
+      std::vector<unsigned int> tool_phase;
+      for (const auto &[polygon, phase] : polygons)
+        {
+          ConvexPolygon p = polygon;
+          p               = clip(p, Point<2>(), Tensor<1, 2>({-1., 0.}));
+          p               = clip(p, Point<2>(), Tensor<1, 2>({0., -1.}));
+          p               = clip(p, box, Tensor<1, 2>({1., 0.}));
+          p               = clip(p, box, Tensor<1, 2>({0., 1.}));
+          // Periodic images meet the sides up to round-off: snap, so that
+          // no sliver (and no extra curve on a side) is left.
+          ConvexPolygon snapped;
+          for (Point<2> v : p)
+            {
+              for (unsigned int d = 0; d < 2; ++d)
+                for (const double side : {0., box[d]})
+                  if (std::abs(v[d] - side) < snap)
+                    v[d] = side;
+              if (snapped.empty() || v.distance(snapped.back()) > snap)
+                snapped.push_back(v);
+            }
+          while (snapped.size() > 1 &&
+                 snapped.front().distance(snapped.back()) <= snap)
+            snapped.pop_back();
+          p = snapped;
+          if (p.size() < 3 || area(p) < snap * std::max(box[0], box[1]))
+            continue;
+          std::vector<int> points, lines;
+          for (const auto &v : p)
+            points.push_back(occ::addPoint(v[0], v[1], 0));
+          for (unsigned int i = 0; i < points.size(); ++i)
+            lines.push_back(
+              occ::addLine(points[i], points[(i + 1) % points.size()]));
+          tools.push_back(
+            {2, occ::addPlaneSurface({occ::addCurveLoop(lines)})});
+          tool_phase.push_back(phase);
+        }
+      gmsh::vectorpair              pieces;
+      std::vector<gmsh::vectorpair> children;
+      occ::fragment({{2, rectangle}}, tools, pieces, children);
+      occ::synchronize();
+
+      // A piece of a polygon gets its phase + 1, the rest of the box 0.
+      std::map<int, unsigned int> material;
+      for (const auto &piece : pieces)
+        material[piece.second] = 0;
+      for (unsigned int t = 0; t < tools.size(); ++t)
+        for (const auto &piece : children[t + 1])
+          material[piece.second] = tool_phase[t] + 1;
+      std::map<unsigned int, std::vector<int>> groups;
+      for (const auto &[tag, id] : material)
+        groups[id].push_back(tag);
+      for (const auto &[id, tags] : groups)
+        gmsh::model::addPhysicalGroup(2, tags, static_cast<int>(id) + 1);
+
+      // Opposite sides: the same curves, shifted by the box.
+      const double eps = 1e-7 * std::max(box[0], box[1]);
+      for (unsigned int d = 0; d < 2; ++d)
+        {
+          const auto low  = side_curves(d, 0, eps),
+                     high = side_curves(d, box[d], eps);
+          bool match      = low.size() == high.size();
+          for (unsigned int i = 0; match && i < low.size(); ++i)
+            match = std::abs(low[i].first[0] - high[i].first[0]) < 1e-6 &&
+                    std::abs(low[i].first[1] - high[i].first[1]) < 1e-6;
+          AssertThrow(match,
+                      ExcMessage(context +
+                                 ": the structure is not periodic "
+                                 "on the box: its sides x" +
+                                 std::to_string(d) + " = 0 and x" +
+                                 std::to_string(d) + " = " +
+                                 std::to_string(box[d]) + " do not match"));
+          std::vector<double> shift = {
+            1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+          shift[4 * d + 3] = box[d];
+          std::vector<int> slaves, masters;
+          for (unsigned int i = 0; i < low.size(); ++i)
+            {
+              slaves.push_back(high[i].second);
+              masters.push_back(low[i].second);
+            }
+          gmsh::model::mesh::setPeriodic(1, slaves, masters, shift);
+        }
+
+      gmsh::option::setNumber("Mesh.MeshSizeMax", size);
+      gmsh::option::setNumber("Mesh.MeshSizeMin", 0);
+      gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
+      gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
+      gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 1);
+      gmsh::option::setNumber("Mesh.Algorithm", 6); // Frontal-Delaunay
+      gmsh::model::mesh::generate(2);
+      internal::gmsh_check_generated(2, context);
+      return internal::gmsh_written_mesh();
+    }
+  } // namespace
+
+
+
+  void
+  periodic_phase_mesh(
+    const std::vector<std::pair<std::vector<Point<2>>, unsigned int>> &polygons,
+    const Point<2>                                                    &box,
+    const double                                                       size,
+    Triangulation<2>                                                  &tria)
+  {
+    AssertThrow(box[0] > 0 && box[1] > 0 && size > 0,
+                ExcMessage(context + ": the box and the element size must "
+                                     "be positive"));
+    AssertThrow(size < std::min(box[0], box[1]),
+                ExcMessage(context + ": the element size " +
+                           std::to_string(size) +
+                           " is not smaller than the box"));
+    std::string msh;
+    {
+      std::lock_guard<std::mutex> lock(internal::gmsh_mutex());
+      try
+        {
+          internal::GmshSession session("forma-periodic-phase-mesh");
+          msh = generate(polygons, box, size);
+        }
+      catch (const std::string &message) // what the Gmsh API throws
+        {
+          AssertThrow(false,
+                      ExcMessage(internal::gmsh_error(
+                        context, "failed (" + message + ")")));
+        }
+    }
+    Triangulation<2>   read;
+    std::istringstream in(msh);
+    GridIn<2>          grid_in(read);
+    grid_in.read_msh(in);
+    for (const auto &cell : read.active_cell_iterators())
+      cell->set_material_id(cell->material_id() -
+                            1); // physical tags are id + 1
+    check_mesh_validity(read, "the periodic phase mesh");
+    tria.clear();
+    tria.copy_triangulation(read);
+  }
+} // namespace forma
