@@ -180,11 +180,15 @@ namespace forma
         run.history.push_back(last_J);
         run.model.accepted(k, run.design(z), last_J);
         const double J0 = run.history.front();
-        run.context.print(
+        const std::string line =
           "[iteration " + std::to_string(k) + "/" +
           std::to_string(run.parameters.max_iterations) +
           "] J = " + fmt(last_J) +
-          (k > 0 ? ", J/J0 = " + fmt(last_J / J0, 4) : std::string()));
+          (k > 0 ? ", J/J0 = " + fmt(last_J / J0, 4) : std::string());
+        if (run.parameters.print_iterations)
+          run.context.print(line);
+        else
+          run.context.log(line);
         // Resume point: the last accepted design.
         if (run.context.is_root())
           {

@@ -1,7 +1,8 @@
 // Bad input to forma-laminate is rejected with a message that names the
 // problem, a non-zero exit code, and the results of an earlier good run
 // untouched: parameters outside their ranges, malformed images, a
-// structure without material, a 3D request, a malformed sweep range.
+// structure without material, a 3D request, a malformed sweep range, an
+// unreachable inverse target, a table file that is not a sweep's.
 
 #include "../tests.h"
 
@@ -60,5 +61,14 @@ main()
   expect_failure("sweep_beams_below_one",
                  base + "set Mode = sweep\nsubsection Sweep\n"
                         " set Beams per joint = 0.5\nend\n",
+                 good);
+  expect_failure("inverse_target_outside_hashin_shtrikman",
+                 base + "set Mode = inverse\nsubsection Inverse\n"
+                        " set Target Young's modulus = 0.9\n"
+                        " set Target Poisson's ratio = 0.4\nend\n",
+                 good);
+  expect_failure("inverse_table_without_columns",
+                 base + "set Mode = inverse\nsubsection Inverse\n"
+                        " set Table file = ring.csv\nend\n",
                  good);
 }

@@ -26,6 +26,8 @@ namespace forma
     /// Stop once J <= this (inverse problems with a reachable target; not
     /// a parameter-file entry).
     double value_target = -std::numeric_limits<double>::infinity();
+    /// Iteration lines to the screen (true) or to the log only.
+    bool print_iterations = true;
 
     static void
     declare(dealii::ParameterHandler &prm);

@@ -1,0 +1,83 @@
+// Inverse design with forma-laminate: the target (E, nu) is the homogenized
+// result of a known Hexagon structure that is not in the table, on the same
+// grid, so it is reachable. The inverse mode, started from its own coarse
+// table sweep and from a sweep's samples.csv, must reach it within the
+// tolerance (misfit sqrt((E/E* - 1)^2 + (nu - nu*)^2) <= 1e-3).
+
+#include <nlohmann/json.hpp>
+
+#include "../tests.h"
+
+#include <cmath>
+#include <filesystem>
+
+namespace
+{
+  const std::string base = "set Dimension = 2\n"
+                           "subsection Grid\n set Cells along height = 32\nend\n"
+                           "subsection Output\n set Write vtu = false\nend\n";
+  const std::string sweep =
+    "subsection Sweep\n set Families = hexagon, triangle\n"
+    " set p1 = 0.7:0.9:3\n set p2 = 0, 1\n set p3 = 0.5\n"
+    " set p4 = 0.5:0.9:3\nend\n";
+
+  nlohmann::json
+  summary(const std::string &directory)
+  {
+    return nlohmann::json::parse(read_file(directory + "/summary.json"));
+  }
+
+  void
+  check(const std::string &name,
+        const std::string &inverse_section,
+        const double       E,
+        const double       nu)
+  {
+    const int code = run_app(FORMA_APP,
+                             name,
+                             base + sweep + "set Output directory = " + name +
+                               "\nset Mode = inverse\nsubsection Inverse\n" +
+                               inverse_section + "end\n");
+    const auto   s  = summary(name);
+    const double dE = std::abs(s["result"]["E"].get<double>() / E - 1),
+                 dn = std::abs(s["result"]["nu"].get<double>() - nu);
+    dealii::deallog << name << ": exit code " << code << ", reached "
+                    << s["reached"].get<bool>() << ", |E/E* - 1| "
+                    << (dE <= 1e-3 ? "<= 1e-3" : "LARGE") << ", |nu - nu*| "
+                    << (dn <= 1e-3 ? "<= 1e-3" : "LARGE") << ", candidates "
+                    << (s["candidates"].size() <= 3 ? "<= 3" : "MORE")
+                    << std::endl;
+  }
+} // namespace
+
+int
+main()
+{
+  initlog();
+  // The target: a structure between the table's samples.
+  run_app(FORMA_APP,
+          "target",
+          base + "set Output directory = target\nset Mode = homogenize\n"
+                 "subsection Structure\n set Type = hexagon\n set p1 = 0.83\n"
+                 " set p2 = 0.4\n set p3 = 0.5\n set p4 = 0.62\nend\n");
+  const auto   t  = summary("target");
+  const double E  = t["result"]["E"].get<double>(),
+               nu = t["result"]["nu"].get<double>();
+  const std::string target =
+    " set Target Young's modulus = " + std::to_string(E) +
+    "\n set Target Poisson's ratio = " + std::to_string(nu) + "\n";
+
+  check("own_table", target + " set Table cells along height = 16\n", E, nu);
+
+  // A table from an earlier sweep.
+  run_app(FORMA_APP,
+          "table",
+          "set Dimension = 2\nset Output directory = table\n"
+          "set Mode = sweep\nsubsection Grid\n set Cells along height = 16\n"
+          "end\n" +
+            sweep);
+  check("table_file",
+        target + " set Table file = table/samples.csv\n",
+        E,
+        nu);
+}
