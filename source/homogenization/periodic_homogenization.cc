@@ -79,6 +79,75 @@ namespace forma
 
 
 
+  namespace
+  {
+    /**
+     * The periodic face pairs of a regular grid (all cells on level 0) of
+     * the box: the side x_d = L_d is the side x_d = 0 moved by L_d e_d, and
+     * for d = 0 also by `shift` (wrapped into the box), which makes the
+     * box a primitive cell of a sheared lattice.
+     */
+    template <typename Iterator, int dim>
+    std::vector<GridTools::PeriodicFacePair<Iterator>>
+    grid_face_pairs(const IteratorRange<Iterator> cells,
+                    const Point<dim>             &box,
+                    const Tensor<1, dim>         &shift)
+    {
+      std::vector<GridTools::PeriodicFacePair<Iterator>> pairs;
+      for (unsigned int d = 0; d < dim; ++d)
+        {
+          // Face centers by their coordinates across direction d, wrapped.
+          auto key = [&](Point<dim> c) {
+            std::array<long long, dim> k{};
+            for (unsigned int e = 0; e < dim; ++e)
+              if (e != d)
+                {
+                  c[e] = std::fmod(c[e], box[e]);
+                  if (c[e] < 0)
+                    c[e] += box[e];
+                  k[e] =
+                    std::llround(c[e] / (1e-9 * box[e])) % std::llround(1e9);
+                }
+            return k;
+          };
+          std::map<std::array<long long, dim>,
+                   std::pair<Iterator, unsigned int>>
+            upper;
+          for (const auto &cell : cells)
+            for (const unsigned int f : cell->face_indices())
+              if (cell->at_boundary(f) &&
+                  cell->face(f)->boundary_id() == 2 * d + 1)
+                upper[key(cell->face(f)->center())] = {cell, f};
+          for (const auto &cell : cells)
+            for (const unsigned int f : cell->face_indices())
+              if (cell->at_boundary(f) && cell->face(f)->boundary_id() == 2 * d)
+                {
+                  Point<dim> target = cell->face(f)->center();
+                  if (d == 0)
+                    target += shift;
+                  const auto partner = upper.find(key(target));
+                  AssertThrow(partner != upper.end(),
+                              ExcMessage("homogenization grid: a face on "
+                                         "the side x" +
+                                         std::to_string(d) +
+                                         " = 0 has no periodic partner (is "
+                                         "the shift a multiple of the cell "
+                                         "size?)"));
+                  GridTools::PeriodicFacePair<Iterator> pair;
+                  pair.cell[0]        = cell;
+                  pair.cell[1]        = partner->second.first;
+                  pair.face_idx[0]    = f;
+                  pair.face_idx[1]    = partner->second.second;
+                  pair.orientation[0] = true; // aligned, not flipped
+                  pairs.push_back(pair);
+                }
+        }
+      return pairs;
+    }
+  } // namespace
+
+
+
   template <int dim>
   struct PeriodicHomogenization<dim>::Impl
   {
@@ -106,6 +175,18 @@ namespace forma
 
     void
     setup(const unsigned int degree, const Point<dim> &box);
+
+    /// Periodicity (and symmetry) constraints, then setup_system().
+    void
+    make_constraints(const Point<dim> &box);
+
+    /// w = 0 at one interior vertex.
+    void
+    fix_translations(const Point<dim> &box);
+
+    /// Sparsity, matrix, null space, kernels for the closed constraints.
+    void
+    setup_system();
 
     void
     compute_kernel(const typename DoFHandler<dim>::active_cell_iterator &cell,
@@ -135,6 +216,9 @@ namespace forma
     mutable std::unique_ptr<FEValues<dim>>      fe_values;
     mutable std::vector<std::array<double, nv>> strains;
     double                                      box_volume = 0;
+    /// Grids: the side x_0 = L_0 is the side x_0 = 0 moved by L_0 e_0 +
+    /// shift (wrapped into the box), and the inversion symmetry.
+    GridLattice lattice;
   };
 
 
@@ -166,8 +250,12 @@ namespace forma
     std::vector<
       GridTools::PeriodicFacePair<typename Triangulation<dim>::cell_iterator>>
       periodic;
-    for (unsigned int d = 0; d < dim; ++d)
-      GridTools::collect_periodic_faces(*tria, 2 * d, 2 * d + 1, d, periodic);
+    if (congruent_cells)
+      periodic =
+        grid_face_pairs(tria->cell_iterators_on_level(0), box, lattice.shift);
+    else
+      for (unsigned int d = 0; d < dim; ++d)
+        GridTools::collect_periodic_faces(*tria, 2 * d, 2 * d + 1, d, periodic);
     for (unsigned int d = 0; d < dim; ++d)
       {
         unsigned int n = 0;
@@ -198,12 +286,24 @@ namespace forma
     owned = dof_handler.locally_owned_dofs();
     DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
 
+    make_constraints(box);
+    setup_system();
+  }
+
+
+
+  template <int dim>
+  void
+  PeriodicHomogenization<dim>::Impl::make_constraints(const Point<dim> &box)
+  {
     constraints.clear();
     constraints.reinit(relevant);
     if (congruent_cells)
-      for (unsigned int d = 0; d < dim; ++d)
-        DoFTools::make_periodicity_constraints(
-          dof_handler, 2 * d, 2 * d + 1, d, constraints);
+      DoFTools::make_periodicity_constraints<dim, dim, double>(
+        grid_face_pairs(dof_handler.cell_iterators_on_level(0),
+                        box,
+                        lattice.shift),
+        constraints);
     else
       {
         // Unstructured (shared, so every cell is here) meshes: deal.II 9.4's
@@ -263,6 +363,85 @@ namespace forma
           }
       }
 
+    // Odd fluctuations about the inversion center: w_j = -w_i for the dofs
+    // at points p and its image 2c - p (wrapped into the lattice's
+    // fundamental domain), w = 0 where they coincide (which also removes
+    // the translations).
+    if (lattice.inversion && Utilities::MPI::n_mpi_processes(comm) == 1)
+      {
+        const auto key = [&](const Point<dim> &p, const unsigned int c) {
+          std::array<long long, dim + 1> k;
+          for (unsigned int d = 0; d < dim; ++d)
+            k[d] = std::llround(p[d] / (1e-9 * box[d]));
+          k[dim] = c;
+          return k;
+        };
+        const auto wrap = [&](Point<dim> q) {
+          const double k0 = std::floor(q[0] / box[0] + 1e-9);
+          q[0] -= k0 * box[0];
+          for (unsigned int d = 1; d < dim; ++d)
+            {
+              q[d] -= k0 * lattice.shift[d];
+              q[d] -= std::floor(q[d] / box[d] + 1e-9) * box[d];
+            }
+          return q;
+        };
+        // The unconstrained dofs by their position wrapped into the
+        // fundamental domain [0, box).
+        std::map<std::array<long long, dim + 1>,
+                 std::pair<Point<dim>, types::global_dof_index>>
+                                             free_dofs;
+        std::vector<types::global_dof_index> local(fe->n_dofs_per_cell());
+        for (const auto &cell : dof_handler.active_cell_iterators())
+          {
+            cell->get_dof_indices(local);
+            for (unsigned int i = 0; i < local.size(); ++i)
+              if (!constraints.is_constrained(local[i]))
+                {
+                  const Point<dim> p = mapping->transform_unit_to_real_cell(
+                    cell, fe->unit_support_point(i));
+                  free_dofs[key(wrap(p),
+                                fe->system_to_component_index(i).first)] = {
+                    p, local[i]};
+                }
+          }
+        unsigned int fixed = 0;
+        for (const auto &[k, point_dof] : free_dofs)
+          {
+            const auto &[p, i] = point_dof;
+            const auto image   = free_dofs.find(
+              key(wrap(Point<dim>(2 * lattice.inversion_center - p)), k[dim]));
+            AssertThrow(image != free_dofs.end(),
+                        ExcMessage("homogenization grid: the inversion "
+                                   "center is not a symmetry center of the "
+                                   "grid"));
+            const types::global_dof_index j = image->second.second;
+            if (j == i)
+              {
+                constraints.add_line(i);
+                ++fixed;
+              }
+            else if (i < j)
+              {
+                constraints.add_line(j);
+                constraints.add_entry(j, i, -1.);
+              }
+          }
+        AssertThrow(fixed >= dim,
+                    ExcMessage("homogenization grid: the inversion center "
+                               "must be a grid vertex"));
+        constraints.close();
+      }
+    else
+      fix_translations(box);
+  }
+
+
+
+  template <int dim>
+  void
+  PeriodicHomogenization<dim>::Impl::fix_translations(const Point<dim> &box)
+  {
     // Remove the translations: w = 0 at the interior vertex nearest the
     // center (interior, so it is not tied to periodic partners).
     Point<dim> center;
@@ -308,7 +487,14 @@ namespace forma
       if (constraints.can_store_line(i))
         constraints.add_line(i);
     constraints.close();
+  }
 
+
+
+  template <int dim>
+  void
+  PeriodicHomogenization<dim>::Impl::setup_system()
+  {
     DynamicSparsityPattern dsp(relevant);
     DoFTools::make_sparsity_pattern(dof_handler, dsp, constraints, false);
     const std::string type =
@@ -417,11 +603,20 @@ namespace forma
     const Point<dim>                    &size,
     const std::array<unsigned int, dim> &n_cells,
     const SolverParameters              &solver,
-    const unsigned int                   degree)
+    const unsigned int                   degree,
+    const GridLattice                   &lattice)
     : impl(std::make_unique<Impl>(comm, solver))
   {
+    const Tensor<1, dim> &shift = lattice.shift;
+    AssertThrow(shift[0] == 0,
+                ExcMessage("the homogenization grid's shift must be across "
+                           "direction 0"));
     for (unsigned int d = 0; d < dim; ++d)
       {
+        const double cells = shift[d] * n_cells[d] / size[d];
+        AssertThrow(std::abs(cells - std::round(cells)) < 1e-8,
+                    ExcMessage("the homogenization grid's shift must be a "
+                               "multiple of the cell size"));
         AssertThrow(size[d] > 0,
                     ExcMessage("the homogenization cell needs a positive "
                                "size in every direction"));
@@ -438,6 +633,7 @@ namespace forma
                                               size);
     impl->tria            = std::move(tria);
     impl->congruent_cells = true;
+    impl->lattice         = lattice;
     impl->setup(degree, size);
   }
 

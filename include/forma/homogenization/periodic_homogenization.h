@@ -4,6 +4,7 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/point.h>
 #include <deal.II/base/symmetric_tensor.h>
+#include <deal.II/base/tensor.h>
 #include <deal.II/base/types.h>
 
 #include <array>
@@ -61,12 +62,36 @@ namespace forma
       std::string                     solver;            ///< the one used
     };
 
+    /// Symmetries of the structures a regular grid will homogenize.
+    struct GridLattice
+    {
+      /**
+       * Across direction 0, a multiple of the cell size: the side
+       * x_0 = size_0 continues at x_0 = 0 moved by `shift` (wrapped), so
+       * the box is a primitive cell of the sheared lattice spanned by
+       * size_0 e_0 + shift and size_d e_d. For hexagonal structures: half
+       * the sqrt(3) x 1 rectangle with shift (0, 1/2), the rectangle's C^H
+       * with half the unknowns.
+       */
+      dealii::Tensor<1, dim> shift;
+      /**
+       * Every material homogenized is symmetric under the point inversion
+       * x -> 2c - x about this grid vertex (2D: rotation by pi), so the
+       * fluctuations are odd about it: w(2c - x) = -w(x). Imposed as
+       * constraints on one process, this halves the unknowns again; the
+       * result is wrong for materials without the symmetry.
+       */
+      bool               inversion = false;
+      dealii::Point<dim> inversion_center;
+    };
+
     /// A regular grid of n_cells[d] Q`degree` elements on [0, size].
     PeriodicHomogenization(const MPI_Comm                       comm,
                            const dealii::Point<dim>            &size,
                            const std::array<unsigned int, dim> &n_cells,
                            const SolverParameters              &solver,
-                           const unsigned int                   degree = 1);
+                           const unsigned int                   degree  = 1,
+                           const GridLattice                   &lattice = {});
 
     /**
      * Any conforming mesh of the box [0, size] (quads or simplices) whose
