@@ -10,16 +10,17 @@ app=$root/build/bin/forma-laminate
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-max=${1:-577}
+max=${1:-578}
 
-echo "grid        unknowns   seconds"
-for ny in 58 116 148 231 346 462 577; do
-  [ "$ny" -le "$max" ] || break
+# Symmetry on (default: primitive half cell, odd fluctuations) and off
+# (the whole rectangle); "off" stops at 462 cells (memory).
+run() { # ny symmetry -> seconds
   cat > "$work/h.prm" <<PRM
-set Output directory = $work/h$ny
+set Output directory = $work/h
 set Mode = homogenize
 subsection Grid
-  set Cells along height = $ny
+  set Cells along height = $1
+  set Use symmetry = $2
 end
 subsection Structure
   set p1 = 0.8
@@ -31,9 +32,16 @@ subsection Output
 end
 PRM
   "$app" "$work/h.prm" > "$work/h.out"
-  unknowns=$(sed -n 's/.*cells, \([0-9]*\) unknowns/\1/p' "$work/h.out")
-  seconds=$(sed -n 's/homogenization: \([0-9.e-]*\) s wall/\1/p' "$work/h$ny/log.txt")
-  printf "%4d x %-4d %9s   %s\n" "$(python3 -c "print(round(3**0.5*$ny))")" "$ny" "$unknowns" "$seconds"
+  sed -n 's/homogenization: \([0-9.e-]*\) s wall/\1/p' "$work/h/log.txt"
+}
+echo "grid         rectangle unknowns   s (symmetry)   s (whole rectangle)"
+for ny in 58 116 148 232 346 462 578; do
+  [ "$ny" -le "$max" ] || break
+  nx=$(python3 -c "print(2 * round(3**0.5 * $ny / 2))")
+  on=$(run "$ny" true)
+  off=-
+  [ "$ny" -le 462 ] && off=$(run "$ny" false)
+  printf "%4d x %-4d %12d %14s %18s\n" "$nx" "$ny" $((2 * (nx + 1) * (ny + 1))) "$on" "$off"
 done
 
 # Sweep throughput: 24 structures on the 256 x 148 grid.

@@ -96,6 +96,8 @@ namespace
     bool                                        write_vtu = true;
     GrayPixels gray     = GrayPixels::hashin_shtrikman;
     bool       symmetry = true;
+    /// Structures with thinner beams, gaps or joints are under-resolved.
+    double min_feature_cells = 3;
   };
 
   /// What one homogenized structure gives.
@@ -127,9 +129,18 @@ namespace
     return r;
   }
 
+  /// Cells along the sqrt(3) x 1 rectangle for ny along its height: the
+  /// even number nearest sqrt(3) ny (near-square cells; even, so that the
+  /// primitive half cell is a grid).
+  unsigned int
+  grid_nx(const unsigned int ny)
+  {
+    return 2 * std::lround(HexagonalLaminate::width * ny / 2);
+  }
+
   /**
    * The homogenization grid of the family structures on ny cells along the
-   * height (nx = round(sqrt(3) ny) along the rectangle). With `Use
+   * height (nx = grid_nx(ny) along the rectangle). With `Use
    * symmetry`: when nx and ny are even, the primitive half [0, sqrt(3)/2] x
    * [0, 1] of the rectangle with the hexagonal lattice's shift (0, 1/2),
    * and odd fluctuations about the origin: the rectangle's C^H with a
@@ -138,12 +149,12 @@ namespace
   std::unique_ptr<PeriodicHomogenization<2>>
   family_grid(const MPI_Comm comm, const Setup &setup, const unsigned int ny)
   {
-    const unsigned int nx = std::lround(HexagonalLaminate::width * ny);
+    const unsigned int nx = grid_nx(ny);
     // Every family structure is symmetric under the rotation by pi about
     // the lattice point at the origin (a grid vertex): odd fluctuations.
     PeriodicHomogenization<2>::GridLattice lattice;
     lattice.inversion = setup.symmetry;
-    if (setup.symmetry && nx % 2 == 0 && ny % 2 == 0)
+    if (setup.symmetry && ny % 2 == 0)
       {
         lattice.shift = Tensor<1, 2>({0., HexagonalLaminate::height / 2});
         return std::make_unique<PeriodicHomogenization<2>>(
@@ -313,11 +324,18 @@ namespace
       {
         const HexagonalLaminate s  = read_structure(prm);
         const unsigned int      ny = setup.cells_along_height;
-        const unsigned int      nx = std::lround(HexagonalLaminate::width * ny);
+        const unsigned int      nx = grid_nx(ny);
         material                   = std::make_unique<PixelMaterial>(
           pixel_material(s, setup.base, setup.weak, setup.gray, nx, ny));
-        cell      = family_grid(context.communicator(), setup, ny);
-        structure = structure_json(s);
+        cell                 = family_grid(context.communicator(), setup, ny);
+        structure            = structure_json(s);
+        const double feature = s.min_feature_size() * ny / s.height;
+        structure["min_feature_cells"] = feature;
+        if (feature < setup.min_feature_cells)
+          context.print("warning: the thinnest beam, gap or joint spans " +
+                        sig(feature, 2) +
+                        " grid cells: under-resolved, the result is too "
+                        "stiff (refine Grid/Cells along height)");
         context.print("structure: " + s.family_name() +
                       (s.limit ? " limit" : "") + ", volume fraction " +
                       sig(s.volume_fraction_formula()) +
@@ -415,7 +433,7 @@ namespace
   }
 
   /// Columns of the sample table (after the structure parameters).
-  constexpr unsigned int n_fields = 14;
+  constexpr unsigned int n_fields = 15;
   enum Field
   {
     f_phi_formula,
@@ -431,7 +449,8 @@ namespace
     f_C00,
     f_C01,
     f_C11,
-    f_C22
+    f_C22,
+    f_min_feature_cells
   };
 
   /**
@@ -445,7 +464,7 @@ namespace
                  const unsigned int                    ny,
                  RunContext                           &context)
   {
-    const unsigned int nx      = std::lround(HexagonalLaminate::width * ny);
+    const unsigned int nx      = grid_nx(ny);
     const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(
                          context.communicator()),
                        rank = Utilities::MPI::this_mpi_process(
@@ -483,7 +502,9 @@ namespace
                      V[0][0],
                      V[0][1],
                      V[1][1],
-                     V[2][2]};
+                     V[2][2],
+                     structures[k].min_feature_size() * ny /
+                       HexagonalLaminate::height};
               std::copy(f, f + n_fields, table.begin() + k * n_fields);
             }
         context.print("sweep: " + std::to_string(end) + "/" +
@@ -503,7 +524,7 @@ namespace
     const auto               &structures = grid.structures;
     const double              level = grid.level, band = grid.band;
     const unsigned int        ny = setup.cells_along_height;
-    const unsigned int        nx = std::lround(HexagonalLaminate::width * ny);
+    const unsigned int        nx = grid_nx(ny);
     const std::vector<double> table =
       homogenize_all(structures, setup, ny, context);
 
@@ -513,7 +534,7 @@ namespace
         std::ofstream csv(context.path("samples.csv"));
         csv << "family,limit,p1,p2,p3,p4,theta,alpha_degrees,beams_per_joint,"
                "phi_formula,phi,E,nu,kappa,mu,a1,a2,isotropy_residual,"
-               "hs_violation,C00,C01,C11,C22\n";
+               "hs_violation,C00,C01,C11,C22,min_feature_cells\n";
         csv << std::setprecision(8);
         for (unsigned int k = 0; k < structures.size(); ++k)
           {
@@ -538,9 +559,21 @@ namespace
                         table[k * n_fields + f_E] / setup.base.E}});
       return s;
     };
-    const auto all      = samples_of([](unsigned int) { return true; });
+    // Samples whose beams or gaps the grid does not resolve are too stiff
+    // (gray pixels bridge the gaps): they stay in samples.csv but not in
+    // the coverage.
+    const auto resolved = [&](const unsigned int k) {
+      return table[k * n_fields + f_min_feature_cells] >=
+             setup.min_feature_cells;
+    };
+    const auto all      = samples_of(resolved);
     const auto coverage = coverage_coefficients(all, setup.base, level, band);
-    double     worst = -1e300, max_a = 0;
+    const auto n_unresolved = structures.size() - samples_of(resolved).size();
+    if (n_unresolved > 0)
+      context.print("coverage leaves out " + std::to_string(n_unresolved) +
+                    " under-resolved samples (beams, gaps or joints under " +
+                    sig(setup.min_feature_cells) + " cells)");
+    double worst = -1e300, max_a = 0;
     for (unsigned int k = 0; k < structures.size(); ++k)
       {
         worst = std::max(worst, table[k * n_fields + f_hs_violation]);
@@ -551,17 +584,22 @@ namespace
                             std::abs(table[k * n_fields + f_a1]),
                             std::abs(table[k * n_fields + f_a2])});
       }
-    context.print("coverage at E/Eb = " + sig(level) + ": nu from " +
-                  sig(coverage.nu_left) + " to " + sig(coverage.nu_right) +
-                  " (" + std::to_string(coverage.n_in_band) +
-                  " samples), Delta_L = " + sig(coverage.delta_left) +
-                  ", Delta_R = " + sig(coverage.delta_right));
+    if (coverage.n_in_band == 0)
+      context.print("coverage at E/Eb = " + sig(level) +
+                    ": no resolved sample within the band " + sig(band));
+    else
+      context.print("coverage at E/Eb = " + sig(level) + ": nu from " +
+                    sig(coverage.nu_left) + " to " + sig(coverage.nu_right) +
+                    " (" + std::to_string(coverage.n_in_band) +
+                    " samples), Delta_L = " + sig(coverage.delta_left) +
+                    ", Delta_R = " + sig(coverage.delta_right));
     context.print(
       std::string("all samples inside their Hashin-Shtrikman bounds: ") +
       (worst <= 0 ? "yes" : "NO") + "; largest anisotropy " + sig(max_a, 2) +
       " (samples with E/Eb >= 1e-3)");
     nlohmann::json &S                = context.summary;
     S["samples"]                     = structures.size();
+    S["under_resolved_samples"]      = n_unresolved;
     S["grid"]                        = {nx, ny};
     S["coverage"]                    = {{"level", level},
                                         {"band", band},
@@ -594,7 +632,8 @@ namespace
           {
             const auto c =
               coverage_coefficients(samples_of([&](unsigned int k) {
-                                      return structures[k].p3 == p3;
+                                      return resolved(k) &&
+                                             structures[k].p3 == p3;
                                     }),
                                     setup.base,
                                     level,
@@ -671,7 +710,8 @@ namespace
                 for (unsigned int k = 0; k < structures.size(); ++k)
                   {
                     const double phi = table[k * n_fields + f_phi];
-                    if (phi >= lo - 1e-12 && (phi < hi || b + 1 == n_bands))
+                    if (resolved(k) && phi >= lo - 1e-12 &&
+                        (phi < hi || b + 1 == n_bands))
                       s.points.push_back(
                         {{table[k * n_fields + f_nu],
                           table[k * n_fields + f_E] / setup.base.E}});
@@ -689,12 +729,24 @@ namespace
               named.family = families[f];
               s.label      = named.family_name() + (limit ? " limit" : "");
               for (unsigned int k = 0; k < structures.size(); ++k)
-                if (structures[k].family == families[f])
+                if (resolved(k) && structures[k].family == families[f])
                   s.points.push_back(
                     {{table[k * n_fields + f_nu],
                       table[k * n_fields + f_E] / setup.base.E}});
               series.push_back(s);
             }
+        if (n_unresolved > 0)
+          {
+            PlotSeries s;
+            s.color = {{170, 170, 170}};
+            s.label = "under-resolved";
+            for (unsigned int k = 0; k < structures.size(); ++k)
+              if (!resolved(k))
+                s.points.push_back(
+                  {{table[k * n_fields + f_nu],
+                    table[k * n_fields + f_E] / setup.base.E}});
+            series.insert(series.begin(), s);
+          }
         series.push_back(bound_curve(1, {{0, 0, 0}}, "HS bound phi=1"));
         if (phi_max - phi_min <= 0.05)
           series.push_back(bound_curve(std::min(1., phi_min),
@@ -877,7 +929,7 @@ namespace
 
     // Refinement on the Grid resolution.
     const unsigned int ny   = setup.cells_along_height;
-    const unsigned int nx   = std::lround(HexagonalLaminate::width * ny);
+    const unsigned int nx   = grid_nx(ny);
     const auto         cell = family_grid(MPI_COMM_SELF, setup, ny);
     // Every rank refines the same candidates (the runs are short, and the
     // optimizer's collective output stays consistent).
@@ -1044,7 +1096,7 @@ namespace
 
     // The regular grid at the same parameters.
     const unsigned int ny   = setup.cells_along_height;
-    const unsigned int nx   = std::lround(HexagonalLaminate::width * ny);
+    const unsigned int nx   = grid_nx(ny);
     const auto         grid = family_grid(MPI_COMM_SELF, setup, ny);
     auto               at   = [&](const double value) {
       HexagonalLaminate t        = s;
@@ -1163,8 +1215,9 @@ namespace
       "Cells along height",
       "148",
       Patterns::Integer(2, 4000),
-      "Family structures: the 3:sqrt(3) cell gets round(sqrt(3) n) "
-      "x n square-ish Q1 cells (148 -> 256 x 148).");
+      "Family structures: the 3:sqrt(3) cell gets m x n near-square Q1 "
+      "cells, m the even number nearest sqrt(3) n (148 -> 256 x 148). "
+      "Even n lets the symmetry use the primitive half cell.");
     prm.declare_entry(
       "Gray pixels",
       "hashin-shtrikman",
@@ -1176,12 +1229,21 @@ namespace
       "(the stiffest physical mixture: results stay "
       "attainable).");
     prm.declare_entry(
+      "Minimum feature cells",
+      "3",
+      Patterns::Double(0),
+      "A structure whose thinnest beam, gap between beams or joint "
+      "(across the beams) spans fewer grid cells is under-resolved: gray "
+      "pixels bridge the gaps, so it comes out too stiff. homogenize warns; "
+      "sweep keeps it in samples.csv (min_feature_cells), draws it gray "
+      "and leaves it out of the coverage.");
+    prm.declare_entry(
       "Use symmetry",
       "true",
       Patterns::Bool(),
       "Family structures: use their symmetries, with the same C^H: odd "
       "fluctuations about a lattice point (rotation by pi, on one "
-      "process), and, when both cell counts are even, only the primitive "
+      "process), and, when n is even, only the primitive "
       "half [0, sqrt(3)/2] x [0, 1] of the rectangle (periodic with the "
       "hexagonal lattice's shift). About 5x faster. false: the whole "
       "rectangle, no symmetry.");
@@ -1189,9 +1251,10 @@ namespace
       "Solver",
       "auto",
       Patterns::Selection("auto|direct|cg-amg"),
-      "direct: UMFPACK on one rank, KLU on several; cg-amg: CG "
-      "with ML AMG (slow for strong void contrast); auto: direct "
-      "up to 400000 unknowns.");
+      "direct: sparse Cholesky (CHOLMOD) on one rank, KLU on "
+      "several; cg-amg: CG with ML AMG (slow for strong void "
+      "contrast); auto: direct up to 400000 unknowns (after the "
+      "symmetry and periodicity constraints).");
     prm.leave_subsection();
 
     prm.enter_subsection("Structure");
@@ -1376,6 +1439,7 @@ namespace
     setup.cells_along_height = prm.get_integer("Cells along height");
     setup.solver.type        = prm.get("Solver");
     setup.symmetry           = prm.get_bool("Use symmetry");
+    setup.min_feature_cells  = prm.get_double("Minimum feature cells");
     setup.gray               = prm.get("Gray pixels") == "linear" ?
                                  GrayPixels::linear :
                                  GrayPixels::hashin_shtrikman;

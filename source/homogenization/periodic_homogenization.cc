@@ -497,10 +497,14 @@ namespace forma
   {
     DynamicSparsityPattern dsp(relevant);
     DoFTools::make_sparsity_pattern(dof_handler, dsp, constraints, false);
+    // auto counts the unknowns left by the constraints (serial).
+    const types::global_dof_index unknowns =
+      dof_handler.n_dofs() - (Utilities::MPI::n_mpi_processes(comm) == 1 ?
+                                constraints.n_constraints() :
+                                0);
     const std::string type =
       solver_parameters.type == "auto" ?
-        (dof_handler.n_dofs() <= solver_parameters.direct_limit ? "direct" :
-                                                                  "cg-amg") :
+        (unknowns <= solver_parameters.direct_limit ? "direct" : "cg-amg") :
         solver_parameters.type;
     AssertThrow(type == "direct" || type == "cg-amg",
                 ExcMessage("unknown homogenization solver '" + type +

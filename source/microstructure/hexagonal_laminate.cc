@@ -150,6 +150,34 @@ namespace forma
 
 
 
+  double
+  HexagonalLaminate::min_feature_size() const
+  {
+    // Joint width W = p1 * tile edge, length L = 2 * apothem * (1 - p1):
+    // hexagon edge 1/sqrt(3), apothem 1/2; triangle edge 1, apothem
+    // 1/(2 sqrt(3)) (see critical_angle()).
+    const bool   hexagon = family == Family::hexagon;
+    const double W       = p1 * (hexagon ? 1 / std::sqrt(3.) : 1.);
+    const double L       = (1 - p1) * (hexagon ? 1. : 1 / std::sqrt(3.));
+    double       size    = L;
+    if (!limit)
+      {
+        const double across = W * std::cos(lamination_angle());
+        const auto   slot   = [&](const double width) {
+          size = std::min(size, p4 * width * across);
+          if (p4 < 1)
+            size = std::min(size, (1 - p4) * width * across);
+        };
+        slot(p3);
+        const double rest = 1 - static_cast<unsigned int>(1 / p3 + 1e-9) * p3;
+        if (rest > 1e-9)
+          slot(rest);
+      }
+    return size;
+  }
+
+
+
   std::vector<double>
   HexagonalLaminate::joint_axis_angles() const
   {

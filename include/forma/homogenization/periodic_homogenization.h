@@ -43,8 +43,9 @@ namespace forma
   public:
     struct SolverParameters
     {
-      /// direct (Amesos KLU) | cg-amg | auto (direct up to `direct_limit`
-      /// unknowns, cg-amg beyond).
+      /// direct (CHOLMOD on one process, Amesos KLU on several) | cg-amg |
+      /// auto (direct up to `direct_limit` unknowns left by the
+      /// constraints, cg-amg beyond).
       std::string  type         = "auto";
       unsigned int direct_limit = 400000;
       double       tolerance    = 1e-10;

@@ -77,6 +77,17 @@ namespace forma
     double
     critical_angle() const;
 
+    /**
+     * The smallest length a grid must resolve: the joint length (the gap
+     * between tiles) and, for finite structures, the thickness of the
+     * beams and of the gaps between them, measured across the beams
+     * (p4 p3 W cos(alpha) and (1 - p4) p3 W cos(alpha) for joint width W
+     * and lamination angle alpha; the remainder beam likewise). Chiral
+     * beams get thin as alpha approaches the critical angle.
+     */
+    double
+    min_feature_size() const;
+
     /// Axis angles of the three joint orientations (radians).
     std::vector<double>
     joint_axis_angles() const;
