@@ -81,6 +81,20 @@ namespace forma
 
   namespace
   {
+    /// A point (relative to the box, to 1e-9) and a component as a map key.
+    template <int dim>
+    std::array<long long, dim + 1>
+    position_key(const Point<dim>  &p,
+                 const unsigned int c,
+                 const Point<dim>  &box)
+    {
+      std::array<long long, dim + 1> k;
+      for (unsigned int d = 0; d < dim; ++d)
+        k[d] = std::llround(p[d] / (1e-9 * box[d]));
+      k[dim] = c;
+      return k;
+    }
+
     /**
      * The periodic face pairs of a regular grid (all cells on level 0) of
      * the box: the side x_d = L_d is the side x_d = 0 moved by L_d e_d, and
@@ -312,11 +326,7 @@ namespace forma
         // Tie every dof on an upper side to the dof at its image in the
         // lowest corner of its periodic class instead, by support points.
         const auto key = [&](const Point<dim> &p, const unsigned int c) {
-          std::array<long long, dim + 1> k;
-          for (unsigned int d = 0; d < dim; ++d)
-            k[d] = std::llround(p[d] / (1e-9 * box[d]));
-          k[dim] = c;
-          return k;
+          return position_key(p, c, box);
         };
         std::map<std::array<long long, dim + 1>, types::global_dof_index>
           lower_dofs;
@@ -330,18 +340,23 @@ namespace forma
               cell->get_dof_indices(local);
               for (unsigned int i = 0; i < local.size(); ++i)
                 {
-                  const Point<dim> p = mapping->transform_unit_to_real_cell(
+                  Point<dim> p = mapping->transform_unit_to_real_cell(
                     cell, fe->unit_support_point(i));
                   const unsigned int c = fe->system_to_component_index(i).first;
                   bool               upper = false, on_side = false;
-                  Point<dim>         image = p;
+                  // Snap to the sides (round-off of the mesh file).
                   for (unsigned int d = 0; d < dim; ++d)
                     {
                       const double tol = 1e-8 * box[d];
-                      on_side |= std::abs(p[d]) < tol;
-                      if (std::abs(p[d] - box[d]) < tol)
-                        upper = on_side = true, image[d] = 0;
+                      if (std::abs(p[d]) < tol)
+                        p[d] = 0, on_side = true;
+                      else if (std::abs(p[d] - box[d]) < tol)
+                        p[d] = box[d], on_side = upper = true;
                     }
+                  Point<dim> image = p;
+                  for (unsigned int d = 0; d < dim; ++d)
+                    if (p[d] == box[d])
+                      image[d] = 0;
                   if (upper)
                     upper_dofs.emplace_back(image, c, local[i]);
                   else if (on_side)
@@ -370,11 +385,7 @@ namespace forma
     if (lattice.inversion && Utilities::MPI::n_mpi_processes(comm) == 1)
       {
         const auto key = [&](const Point<dim> &p, const unsigned int c) {
-          std::array<long long, dim + 1> k;
-          for (unsigned int d = 0; d < dim; ++d)
-            k[d] = std::llround(p[d] / (1e-9 * box[d]));
-          k[dim] = c;
-          return k;
+          return position_key(p, c, box);
         };
         const auto wrap = [&](Point<dim> q) {
           const double k0 = std::floor(q[0] / box[0] + 1e-9);
@@ -617,16 +628,16 @@ namespace forma
                            "direction 0"));
     for (unsigned int d = 0; d < dim; ++d)
       {
-        const double cells = shift[d] * n_cells[d] / size[d];
-        AssertThrow(std::abs(cells - std::round(cells)) < 1e-8,
-                    ExcMessage("the homogenization grid's shift must be a "
-                               "multiple of the cell size"));
         AssertThrow(size[d] > 0,
                     ExcMessage("the homogenization cell needs a positive "
                                "size in every direction"));
         AssertThrow(n_cells[d] >= 2,
                     ExcMessage("the homogenization grid needs at least 2 "
                                "cells per direction"));
+        const double cells = shift[d] * n_cells[d] / size[d];
+        AssertThrow(std::abs(cells - std::round(cells)) < 1e-8,
+                    ExcMessage("the homogenization grid's shift must be a "
+                               "multiple of the cell size"));
       }
     auto tria =
       std::make_unique<parallel::distributed::Triangulation<dim>>(comm);
@@ -896,6 +907,18 @@ namespace forma
   PeriodicHomogenization<dim>::n_dofs() const
   {
     return impl->dof_handler.n_dofs();
+  }
+
+
+
+  template <int dim>
+  types::global_dof_index
+  PeriodicHomogenization<dim>::n_unknowns() const
+  {
+    types::global_dof_index n = 0;
+    for (const auto i : impl->owned)
+      n += !impl->constraints.is_constrained(i);
+    return Utilities::MPI::sum(n, impl->comm);
   }
 
 

@@ -51,7 +51,7 @@ namespace forma
         std::vector<std::pair<std::vector<Point<2>>, unsigned int>> polygons;
         for (const auto &p : s.polygons())
           polygons.push_back(p);
-        periodic_phase_mesh(polygons, box, size, mesh);
+        periodic_phase_mesh(polygons, box, size, mesh, context.communicator());
       }
       std::vector<double> density;
       const auto tensor   = phase_tensors(s, setup.base, setup.weak, density);
@@ -76,7 +76,7 @@ namespace forma
       const auto mesh_fit = isotropic_fit(C_mesh);
       context.print("conforming mesh: " + std::to_string(conforming.n_cells()) +
                     " P" + std::to_string(degree) + " triangles, " +
-                    std::to_string(conforming.n_dofs()) +
+                    std::to_string(conforming.n_unknowns()) +
                     " unknowns: E/Eb = " + sig(mesh_fit.E / setup.base.E) +
                     ", nu = " + sig(mesh_fit.nu) + ", volume fraction " +
                     sig(phi_mesh));
@@ -129,24 +129,22 @@ namespace forma
         "; nu(grid) - nu(mesh) = " + sig(r.fit.nu - mesh_fit.nu, 2) +
         (matched ? "" : " (E NOT matched in [0.02, 1])"));
 
+      Sample mesh_sample;
+      mesh_sample.phi = mesh_sample.phi_formula = phi_mesh;
+      mesh_sample.C                             = C_mesh;
+      mesh_sample.fit                           = mesh_fit;
+      mesh_sample.anisotropy                    = anisotropy(C_mesh);
+      mesh_sample.hs =
+        hashin_shtrikman(setup.base, setup.weak, std::min(1., phi_mesh));
+      mesh_sample.hs_violation           = mesh_sample.hs.violation(mesh_fit);
       context.summary["structure"]       = structure_json(s);
       context.summary["conforming_mesh"] = {
         {"element_size", size},
         {"degree", degree},
         {"cells", conforming.n_cells()},
-        {"unknowns", conforming.n_dofs()},
+        {"unknowns", conforming.n_unknowns()},
         {"volume_fraction", phi_mesh},
-        {"result",
-         sample_json(
-           {phi_mesh,
-            phi_mesh,
-            C_mesh,
-            mesh_fit,
-            anisotropy(C_mesh),
-            hashin_shtrikman(setup.base, setup.weak, std::min(1., phi_mesh)),
-            hashin_shtrikman(setup.base, setup.weak, std::min(1., phi_mesh))
-              .violation(mesh_fit)},
-           setup)}};
+        {"result", sample_json(mesh_sample, setup)}};
       context.summary["grid"]         = {{"cells", {nx, ny}},
                                          {"result", sample_json(same, setup)}};
       context.summary["matched_grid"] = {{"parameter", name},

@@ -119,7 +119,7 @@ namespace forma
         type != "image" && cell->volume() < 0.75 * HexagonalLaminate::width *
                                               HexagonalLaminate::height;
       context.print("grid: " + std::to_string(cell->n_cells()) + " cells, " +
-                    std::to_string(cell->n_dofs()) + " unknowns" +
+                    std::to_string(cell->n_unknowns()) + " unknowns" +
                     (half ? " (the primitive half cell)" : ""));
       Timer        timer;
       const Sample r = evaluate(*cell, *material, setup);
@@ -139,7 +139,8 @@ namespace forma
                       "resolve it (refine Grid/Cells along height)");
       context.summary["structure"] = structure;
       context.summary["grid"]      = {{"cells", cell->n_cells()},
-                                      {"unknowns", cell->n_dofs()}};
+                                      {"unknowns", cell->n_unknowns()},
+                                      {"dofs", cell->n_dofs()}};
       context.summary["result"]    = sample_json(r, setup);
       if (setup.write_vtu)
         cell->write_vtu(context.path("fields"),

@@ -46,7 +46,7 @@ namespace forma
             used = 0;
           }
         AssertThrow(used == t.size() && !t.empty(),
-                    ExcMessage("Sweep/" + name + ": '" + t +
+                    ExcMessage(name + ": '" + t +
                                "' is not a number (use 'a:b:n' or a list)"));
         return v;
       };
@@ -55,22 +55,21 @@ namespace forma
         {
           const auto parts = Utilities::split_string_list(trimmed, ':');
           AssertThrow(parts.size() == 3,
-                      ExcMessage("Sweep/" + name +
-                                 ": a range is 'a:b:n', got '" + trimmed +
-                                 "'"));
+                      ExcMessage(name + ": a range is 'a:b:n', got '" +
+                                 trimmed + "'"));
           const double       a = number(parts[0]), b = number(parts[1]);
           const double       nd = number(parts[2]);
           const unsigned int n  = static_cast<unsigned int>(nd);
           AssertThrow(n >= 1 && n == nd,
-                      ExcMessage("Sweep/" + name + ": the count in '" +
-                                 trimmed + "' must be a positive integer"));
+                      ExcMessage(name + ": the count in '" + trimmed +
+                                 "' must be a positive integer"));
           for (unsigned int k = 0; k < n; ++k)
             values.push_back(n == 1 ? a : a + (b - a) * k / (n - 1));
         }
       else
         for (const auto &t : Utilities::split_string_list(trimmed, ','))
           values.push_back(number(t));
-      AssertThrow(!values.empty(), ExcMessage("Sweep/" + name + " is empty"));
+      AssertThrow(!values.empty(), ExcMessage(name + " is empty"));
       return values;
     }
 
@@ -220,16 +219,21 @@ namespace forma
       SweepGrid g;
       prm.enter_subsection("Sweep");
       for (const auto &f : Utilities::split_string_list(prm.get("Families")))
-        g.families.push_back(HexagonalLaminate::family_from_string(f));
+        {
+          const auto family = HexagonalLaminate::family_from_string(f);
+          if (std::find(g.families.begin(), g.families.end(), family) ==
+              g.families.end())
+            g.families.push_back(family);
+        }
       g.limit = prm.get_bool("Limit structures");
       auto &v = g.values;
       for (const char *name : {"p1", "p2", "p3", "p4", "theta", "alpha"})
-        v[name] = parse_values(prm.get(name), name);
+        v[name] = parse_values(prm.get(name), std::string("Sweep/") + name);
       const std::string beams = Utilities::trim(prm.get("Beams per joint"));
       if (!beams.empty())
         {
           v["p3"].clear();
-          for (const double n : parse_values(beams, "Beams per joint"))
+          for (const double n : parse_values(beams, "Sweep/Beams per joint"))
             {
               AssertThrow(n >= 1,
                           ExcMessage("Sweep/Beams per joint: " + sig(n) +
@@ -290,6 +294,7 @@ namespace forma
         std::to_string(nx) + " x " + std::to_string(ny) + " grid" +
         (cell->n_cells() < nx * ny ? " (the primitive half cell)" : ""));
       std::vector<double> table(structures.size() * n_fields, 0.);
+      std::string         error;
       const unsigned int  batch =
         std::max<unsigned int>(n_ranks, structures.size() / 10 + 1);
       for (unsigned int start = 0; start < structures.size(); start += batch)
@@ -297,31 +302,43 @@ namespace forma
           const unsigned int end =
             std::min<unsigned int>(structures.size(), start + batch);
           for (unsigned int k = start; k < end; ++k)
-            if (k % n_ranks == rank)
-              {
-                const auto material = pixel_material(
-                  structures[k], setup.base, setup.weak, setup.gray, nx, ny);
-                const Sample      r = evaluate(*cell, material, setup);
-                const VoigtMatrix V = to_voigt(r.C);
-                const double      f[n_fields] = {
-                       structures[k].volume_fraction_formula(),
-                       r.phi,
-                       r.fit.E,
-                       r.fit.nu,
-                       r.fit.kappa,
-                       r.fit.mu,
-                       r.anisotropy.a1,
-                       r.anisotropy.a2,
-                       r.anisotropy.residual,
-                       r.hs_violation,
-                       V[0][0],
-                       V[0][1],
-                       V[1][1],
-                       V[2][2],
-                       structures[k].min_feature_size() * ny /
-                         HexagonalLaminate::height};
-                std::copy(f, f + n_fields, table.begin() + k * n_fields);
-              }
+            if (k % n_ranks == rank && error.empty())
+              try
+                {
+                  const auto material = pixel_material(
+                    structures[k], setup.base, setup.weak, setup.gray, nx, ny);
+                  const Sample      r = evaluate(*cell, material, setup);
+                  const VoigtMatrix V = to_voigt(r.C);
+                  const double      f[n_fields] = {
+                         structures[k].volume_fraction_formula(),
+                         r.phi,
+                         r.fit.E,
+                         r.fit.nu,
+                         r.fit.kappa,
+                         r.fit.mu,
+                         r.anisotropy.a1,
+                         r.anisotropy.a2,
+                         r.anisotropy.residual,
+                         r.hs_violation,
+                         V[0][0],
+                         V[0][1],
+                         V[1][1],
+                         V[2][2],
+                         structures[k].min_feature_size() * ny /
+                           HexagonalLaminate::height};
+                  std::copy(f, f + n_fields, table.begin() + k * n_fields);
+                }
+              catch (const std::exception &e)
+                {
+                  // Finish the batch collectively, then fail on every rank.
+                  error = "structure " + std::to_string(k + 1) + " (" +
+                          structures[k].family_name() +
+                          ", p1 = " + sig(structures[k].p1) + "): " + e.what();
+                }
+          const auto errors =
+            Utilities::MPI::all_gather(context.communicator(), error);
+          for (const auto &e : errors)
+            AssertThrow(e.empty(), ExcMessage("sweep: " + e));
           context.print("sweep: " + std::to_string(end) + "/" +
                         std::to_string(structures.size()) + " structures");
         }
@@ -594,7 +611,13 @@ namespace forma
       setup.weak_ratio = prm.get_double("Void stiffness ratio");
       for (const auto &t :
            Utilities::split_string_list(prm.get("CLM Poisson's ratios")))
-        setup.clm_poisson.push_back(parse_values(t, "CLM Poisson's ratios")[0]);
+        {
+          const auto nu = parse_values(t, "Base material/CLM Poisson's ratios");
+          AssertThrow(nu.size() == 1 && nu[0] > -1 && nu[0] < 0.5,
+                      ExcMessage("Base material/CLM Poisson's ratios: '" + t +
+                                 "' is not one Poisson's ratio in (-1, 0.5)"));
+          setup.clm_poisson.push_back(nu[0]);
+        }
       prm.leave_subsection();
       AssertThrow(setup.weak_ratio > 0,
                   ExcMessage(

@@ -44,7 +44,7 @@ namespace forma
           csv << "family,limit,p1,p2,p3,p4,theta,alpha_degrees,beams_per_joint,"
                  "phi_formula,phi,E,nu,kappa,mu,a1,a2,isotropy_residual,"
                  "hs_violation,C00,C01,C11,C22,min_feature_cells\n";
-          csv << std::setprecision(8);
+          csv << std::setprecision(std::numeric_limits<double>::max_digits10);
           for (unsigned int k = 0; k < structures.size(); ++k)
             {
               const auto &s = structures[k];

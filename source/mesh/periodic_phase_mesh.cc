@@ -1,4 +1,5 @@
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/mpi.h>
 #include <deal.II/grid/grid_in.h>
 #include <deal.II/grid/tria.h>
 
@@ -13,6 +14,7 @@
 #include <cmath>
 #include <map>
 #include <sstream>
+#include <tuple>
 
 namespace forma
 {
@@ -110,15 +112,19 @@ namespace forma
         gmsh::model::addPhysicalGroup(2, tags, static_cast<int>(id) + 1);
 
       // Opposite sides: the same curves, shifted by the box.
-      const double eps = 1e-7 * std::max(box[0], box[1]);
+      // OpenCASCADE pads bounding boxes (by at least 1e-7): search with
+      // a margin well above that, compare relative to the box.
+      const double scale = std::max(box[0], box[1]);
+      const double eps   = std::max(1e-6, 1e-5 * scale);
       for (unsigned int d = 0; d < 2; ++d)
         {
           const auto low  = side_curves(d, 0, eps),
                      high = side_curves(d, box[d], eps);
-          bool match      = low.size() == high.size();
+          bool match      = !low.empty() && low.size() == high.size();
           for (unsigned int i = 0; match && i < low.size(); ++i)
-            match = std::abs(low[i].first[0] - high[i].first[0]) < 1e-6 &&
-                    std::abs(low[i].first[1] - high[i].first[1]) < 1e-6;
+            match =
+              std::abs(low[i].first[0] - high[i].first[0]) < 1e-6 * scale &&
+              std::abs(low[i].first[1] - high[i].first[1]) < 1e-6 * scale;
           AssertThrow(match,
                       ExcMessage(context +
                                  ": the structure is not periodic "
@@ -157,7 +163,8 @@ namespace forma
     const std::vector<std::pair<std::vector<Point<2>>, unsigned int>> &polygons,
     const Point<2>                                                    &box,
     const double                                                       size,
-    Triangulation<2>                                                  &tria)
+    Triangulation<2>                                                  &tria,
+    const MPI_Comm                                                     comm)
   {
     AssertThrow(box[0] > 0 && box[1] > 0 && size > 0,
                 ExcMessage(context + ": the box and the element size must "
@@ -166,21 +173,26 @@ namespace forma
                 ExcMessage(context + ": the element size " +
                            std::to_string(size) +
                            " is not smaller than the box"));
-    std::string msh;
-    {
-      std::lock_guard<std::mutex> lock(internal::gmsh_mutex());
+    // Meshed once, on the root, so that every rank reads the same mesh.
+    std::string msh, error;
+    if (Utilities::MPI::this_mpi_process(comm) == 0)
       try
         {
-          internal::GmshSession session("forma-periodic-phase-mesh");
+          std::lock_guard<std::mutex> lock(internal::gmsh_mutex());
+          internal::GmshSession       session("forma-periodic-phase-mesh");
           msh = generate(polygons, box, size);
         }
       catch (const std::string &message) // what the Gmsh API throws
         {
-          AssertThrow(false,
-                      ExcMessage(internal::gmsh_error(
-                        context, "failed (" + message + ")")));
+          error = internal::gmsh_error(context, "failed (" + message + ")");
         }
-    }
+      catch (const std::exception &e)
+        {
+          error = e.what();
+        }
+    std::tie(msh, error) =
+      Utilities::MPI::broadcast(comm, std::make_pair(msh, error));
+    AssertThrow(error.empty(), ExcMessage(error));
     Triangulation<2>   read;
     std::istringstream in(msh);
     GridIn<2>          grid_in(read);

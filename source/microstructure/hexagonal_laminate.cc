@@ -11,6 +11,22 @@ namespace forma
 
   namespace
   {
+    // The beam pattern across a joint (period = its width): slot centers
+    // and widths as fractions of the width, symmetric about the center;
+    // 1/p3 slots of width p3 and a remainder slot at the sides.
+    std::vector<std::pair<double, double>>
+    beam_slots(const double p3)
+    {
+      std::vector<std::pair<double, double>> slots;
+      const unsigned int n = static_cast<unsigned int>(1 / p3 + 1e-9);
+      const double       r = 1 - n * p3;
+      for (unsigned int k = 0; k < n; ++k)
+        slots.emplace_back(-0.5 + r / 2 + (k + 0.5) * p3, p3);
+      if (r > 1e-9)
+        slots.emplace_back(0.5, r);
+      return slots;
+    }
+
     Tensor<1, 2>
     direction(const double angle)
     {
@@ -163,16 +179,15 @@ namespace forma
     if (!limit)
       {
         const double across = W * std::cos(lamination_angle());
-        const auto   slot   = [&](const double width) {
-          size = std::min(size, p4 * width * across);
-          if (p4 < 1)
-            size = std::min(size, (1 - p4) * width * across);
-        };
-        slot(p3);
-        const double rest = 1 - static_cast<unsigned int>(1 / p3 + 1e-9) * p3;
-        if (rest > 1e-9)
-          slot(rest);
+        for (const auto &slot : beam_slots(p3))
+          {
+            size = std::min(size, p4 * slot.second * across);
+            if (p4 < 1)
+              size = std::min(size, (1 - p4) * slot.second * across);
+          }
       }
+    else
+      size = std::min(size, W);
     return size;
   }
 
@@ -197,18 +212,9 @@ namespace forma
     const std::vector<double> axes  = joint_axis_angles();
     const double              tan_a = std::tan(lamination_angle());
 
-    // The beam pattern across a joint (period = its width): slot centers
-    // and widths as fractions of the width, symmetric about the center.
-    std::vector<std::pair<double, double>> slots;
-    if (!limit)
-      {
-        const unsigned int n = static_cast<unsigned int>(1 / p3 + 1e-9);
-        const double       r = 1 - n * p3;
-        for (unsigned int k = 0; k < n; ++k)
-          slots.emplace_back(-0.5 + r / 2 + (k + 0.5) * p3, p3);
-        if (r > 1e-9)
-          slots.emplace_back(0.5, r);
-      }
+    // The beams across a joint (none in limit structures).
+    const std::vector<std::pair<double, double>> slots =
+      limit ? std::vector<std::pair<double, double>>() : beam_slots(p3);
 
     for (const Tile &tile : tiles(family))
       {

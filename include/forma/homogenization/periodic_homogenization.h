@@ -124,6 +124,11 @@ namespace forma
     dealii::types::global_dof_index
     n_dofs() const;
 
+    /// Degrees of freedom left by the periodicity and symmetry
+    /// constraints: the size of the system actually solved.
+    dealii::types::global_dof_index
+    n_unknowns() const;
+
     dealii::types::global_cell_index
     n_cells() const;
 

@@ -39,7 +39,7 @@ namespace forma
     sig(const double x, const int digits = 4);
 
     /// "a:b:n" (n values from a to b) or a comma separated list; `name`
-    /// for the error message.
+    /// (section/entry) for the error message.
     std::vector<double>
     parse_values(const std::string &text, const std::string &name);
 

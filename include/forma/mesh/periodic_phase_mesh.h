@@ -1,6 +1,7 @@
 #ifndef forma_mesh_periodic_phase_mesh_h
 #define forma_mesh_periodic_phase_mesh_h
 
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/point.h>
 
 #include <utility>
@@ -23,9 +24,10 @@ namespace forma
    * images). The nodes on opposite sides of the box match (Gmsh periodic
    * meshing), as PeriodicHomogenization needs.
    *
-   * `size` is the target element size. Throws with a message if the
-   * polygons are not periodic on the box (the sides do not match) or Gmsh
-   * fails.
+   * `size` is the target element size. Gmsh runs on the root of `comm`,
+   * which sends the mesh to the other ranks. Throws (on every rank) with a
+   * message if the polygons are not periodic on the box (the sides do not
+   * match) or Gmsh fails.
    */
   void
   periodic_phase_mesh(
@@ -33,7 +35,8 @@ namespace forma
                                 &polygons,
     const dealii::Point<2>      &box,
     const double                 size,
-    dealii::Triangulation<2, 2> &tria);
+    dealii::Triangulation<2, 2> &tria,
+    const MPI_Comm               comm = MPI_COMM_SELF);
 } // namespace forma
 
 #endif
