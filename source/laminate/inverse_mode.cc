@@ -251,13 +251,27 @@ namespace forma
               model.lower   = {0.02, 0, 0.02};
               model.upper   = {0.98, 1, 1};
             }
+          // The line search asks for J and then the gradient at the same
+          // design, and the result is the last accepted one: keep the last
+          // homogenization.
+          std::vector<double> last_q;
+          Sample              last;
+          auto                sample_at = [&](const std::vector<double> &q) {
+            if (q != last_q)
+              {
+                last   = moduli(with(s0, q));
+                last_q = q;
+              }
+            return last;
+          };
           auto J = [&](const std::vector<double> &q) {
-            const Sample r = moduli(with(s0, q));
+            const Sample r = sample_at(q);
             return misfit(r.fit.E, r.fit.nu);
           };
           model.value    = J;
           model.gradient = [&](const std::vector<double> &q,
                                std::vector<double>       &dJ) {
+            const double value = J(q); // usually cached by the line search
             // Central differences, one-sided at the bounds.
             dJ.assign(q.size(), 0);
             for (unsigned int i = 0; i < q.size(); ++i)
@@ -268,13 +282,13 @@ namespace forma
                 qm[i] = std::max(q[i] - h, model.lower[i]);
                 dJ[i] = (J(qp) - J(qm)) / (qp[i] - qm[i]);
               }
-            return J(q);
+            return value;
           };
           model.accepted =
             [](unsigned int, const std::vector<double> &, double) {};
           const auto   result = optimize(model, op, context);
           const auto   s      = with(s0, result.design);
-          const auto   r      = moduli(s);
+          const auto   r      = sample_at(result.design);
           const double Jc     = misfit(r.fit.E, r.fit.nu);
           context.print("inverse: candidate " + std::to_string(c + 1) +
                         " reaches E/Eb = " + sig(r.fit.E / setup.base.E) +

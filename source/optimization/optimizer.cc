@@ -179,7 +179,7 @@ namespace forma
         const unsigned int k = run.history.size();
         run.history.push_back(last_J);
         run.model.accepted(k, run.design(z), last_J);
-        const double J0 = run.history.front();
+        const double      J0 = run.history.front();
         const std::string line =
           "[iteration " + std::to_string(k) + "/" +
           std::to_string(run.parameters.max_iterations) +

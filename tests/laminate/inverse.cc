@@ -4,18 +4,18 @@
 // table sweep and from a sweep's samples.csv, must reach it within the
 // tolerance (misfit sqrt((E/E* - 1)^2 + (nu - nu*)^2) <= 1e-3).
 
-#include <nlohmann/json.hpp>
-
 #include "../tests.h"
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <filesystem>
 
 namespace
 {
-  const std::string base = "set Dimension = 2\n"
-                           "subsection Grid\n set Cells along height = 32\nend\n"
-                           "subsection Output\n set Write vtu = false\nend\n";
+  const std::string base =
+    "set Dimension = 2\n"
+    "subsection Grid\n set Cells along height = 32\nend\n"
+    "subsection Output\n set Write vtu = false\nend\n";
   const std::string sweep =
     "subsection Sweep\n set Families = hexagon, triangle\n"
     " set p1 = 0.7:0.9:3\n set p2 = 0, 1\n set p3 = 0.5\n"
@@ -33,14 +33,14 @@ namespace
         const double       E,
         const double       nu)
   {
-    const int code = run_app(FORMA_APP,
+    const int    code = run_app(FORMA_APP,
                              name,
                              base + sweep + "set Output directory = " + name +
                                "\nset Mode = inverse\nsubsection Inverse\n" +
                                inverse_section + "end\n");
-    const auto   s  = summary(name);
-    const double dE = std::abs(s["result"]["E"].get<double>() / E - 1),
-                 dn = std::abs(s["result"]["nu"].get<double>() - nu);
+    const auto   s    = summary(name);
+    const double dE   = std::abs(s["result"]["E"].get<double>() / E - 1),
+                 dn   = std::abs(s["result"]["nu"].get<double>() - nu);
     dealii::deallog << name << ": exit code " << code << ", reached "
                     << s["reached"].get<bool>() << ", |E/E* - 1| "
                     << (dE <= 1e-3 ? "<= 1e-3" : "LARGE") << ", |nu - nu*| "
@@ -76,8 +76,5 @@ main()
           "set Mode = sweep\nsubsection Grid\n set Cells along height = 16\n"
           "end\n" +
             sweep);
-  check("table_file",
-        target + " set Table file = table/samples.csv\n",
-        E,
-        nu);
+  check("table_file", target + " set Table file = table/samples.csv\n", E, nu);
 }
