@@ -413,4 +413,23 @@ namespace forma
       y_label, 14, (top + bottom + Image::text_width(y_label, 2)) / 2, 2, true);
     img.write_png(file_name);
   }
+
+
+
+  void
+  write_image_png(const std::string                &file_name,
+                  const int                         width,
+                  const int                         height,
+                  const std::vector<unsigned char> &rgb)
+  {
+    AssertThrow(width > 0 && height > 0 &&
+                  rgb.size() == 3 * static_cast<std::size_t>(width) * height,
+                dealii::ExcMessage(
+                  "write_image_png: " + std::to_string(rgb.size()) +
+                  " bytes do not make a " + std::to_string(width) + " x " +
+                  std::to_string(height) + " RGB image"));
+    Image img(width, height);
+    img.rgb = rgb;
+    img.write_png(file_name);
+  }
 } // namespace forma

@@ -48,6 +48,14 @@ namespace forma
 
 
   std::string
+  RunContext::persistent_path(const std::string &file_name) const
+  {
+    return (fs::path(output_directory) / file_name).string();
+  }
+
+
+
+  std::string
   RunContext::path(const std::string &file_name) const
   {
     return (fs::path(staging_directory) / file_name).string();

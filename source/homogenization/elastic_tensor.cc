@@ -143,11 +143,27 @@ namespace forma
 
 
 
-  SymmetricTensor<4, 2>
-  rotate(const SymmetricTensor<4, 2> &C, const double angle)
+  OrthotropicModuli
+  orthotropic_moduli(const SymmetricTensor<4, 2> &C)
   {
-    const double          c = std::cos(angle), s = std::sin(angle);
-    const double          R[2][2] = {{c, -s}, {s, c}};
+    AssertThrow(smallest_eigenvalue(C) > 0,
+                ExcMessage("orthotropic moduli of a tensor that is not "
+                           "positive definite"));
+    const VoigtMatrix S = invert(to_voigt(C));
+    OrthotropicModuli m;
+    m.E1   = 1 / S[0][0];
+    m.E2   = 1 / S[1][1];
+    m.G12  = 1 / S[2][2];
+    m.nu12 = -S[0][1] / S[0][0];
+    m.nu21 = -S[0][1] / S[1][1];
+    return m;
+  }
+
+
+
+  SymmetricTensor<4, 2>
+  transform(const SymmetricTensor<4, 2> &C, const Tensor<2, 2> &A)
+  {
     SymmetricTensor<4, 2> result;
     for (unsigned int i = 0; i < 2; ++i)
       for (unsigned int j = i; j < 2; ++j)
@@ -160,10 +176,19 @@ namespace forma
                   for (unsigned int r = 0; r < 2; ++r)
                     for (unsigned int t = 0; t < 2; ++t)
                       sum +=
-                        R[i][p] * R[j][q] * R[k][r] * R[l][t] * C[p][q][r][t];
+                        A[i][p] * A[j][q] * A[k][r] * A[l][t] * C[p][q][r][t];
               result[i][j][k][l] = sum;
             }
     return result;
+  }
+
+
+
+  SymmetricTensor<4, 2>
+  rotate(const SymmetricTensor<4, 2> &C, const double angle)
+  {
+    const double c = std::cos(angle), s = std::sin(angle);
+    return transform(C, Tensor<2, 2>({{c, -s}, {s, c}}));
   }
 
 

@@ -246,11 +246,13 @@ namespace forma
     for (unsigned int d = 0; d < dim; ++d)
       box_volume *= box[d];
 
-    // Faces on x_d = 0 / x_d = box_d carry ids 2d / 2d + 1.
+    // Faces on x_d = 0 / x_d = box_d carry ids 2d / 2d + 1, others 2 dim.
     for (const auto &cell : tria->active_cell_iterators())
       for (const unsigned int f : cell->face_indices())
         if (cell->face(f)->at_boundary())
           {
+            // Hole boundaries of perforated cells are not periodic.
+            cell->face(f)->set_boundary_id(2 * dim);
             const Point<dim> c = cell->face(f)->center();
             for (unsigned int d = 0; d < dim; ++d)
               {
@@ -684,6 +686,30 @@ namespace forma
 
 
   template <int dim>
+  PeriodicHomogenization<dim>::PeriodicHomogenization(
+    const MPI_Comm                 comm,
+    const Triangulation<dim, dim> &mesh,
+    const Point<dim>              &box,
+    const SolverParameters        &solver,
+    const unsigned int             degree)
+    : impl(std::make_unique<Impl>(comm, solver))
+  {
+    AssertThrow(mesh.n_active_cells() > 0,
+                ExcMessage("the homogenization mesh is empty"));
+    for (const auto &v : mesh.get_vertices())
+      for (unsigned int d = 0; d < dim; ++d)
+        AssertThrow(v[d] >= -1e-8 * box[d] && v[d] <= box[d] * (1 + 1e-8),
+                    ExcMessage("the homogenization mesh reaches out of the "
+                               "box [0, L]"));
+    auto tria = std::make_unique<parallel::shared::Triangulation<dim>>(comm);
+    tria->copy_triangulation(mesh);
+    impl->tria = std::move(tria);
+    impl->setup(degree, box);
+  }
+
+
+
+  template <int dim>
   PeriodicHomogenization<dim>::~PeriodicHomogenization() = default;
 
 
@@ -854,10 +880,78 @@ namespace forma
                                             const types::material_id)>
       &cell_data) const
   {
+    write_vtu(file_stem,
+              cell_data_names,
+              cell_data,
+              Tensor<2, dim>(unit_symmetric_tensor<dim>()));
+  }
+
+
+
+  namespace
+  {
+    // DataOut whose patches are moved by x -> F x, with the first `n_vector`
+    // dim-vectors of data mapped by F^-T.
+    template <int dim>
+    class MappedDataOut : public DataOut<dim>
+    {
+    public:
+      MappedDataOut(const Tensor<2, dim> &F, const unsigned int n_vectors)
+        : F(F)
+        , n_vectors(n_vectors)
+      {}
+
+      void
+      map_patches()
+      {
+        patches                  = DataOut<dim>::get_patches();
+        const Tensor<2, dim> G_T = transpose(invert(F));
+        for (auto &patch : patches)
+          {
+            for (auto &v : patch.vertices)
+              v = Point<dim>(F * v);
+            for (unsigned int k = 0; k < n_vectors; ++k)
+              for (unsigned int q = 0; q < patch.data.size(1); ++q)
+                {
+                  Tensor<1, dim> w;
+                  for (unsigned int d = 0; d < dim; ++d)
+                    w[d] = patch.data(k * dim + d, q);
+                  w = G_T * w;
+                  for (unsigned int d = 0; d < dim; ++d)
+                    patch.data(k * dim + d, q) = w[d];
+                }
+          }
+      }
+
+      const std::vector<DataOutBase::Patch<dim, dim>> &
+      get_patches() const override
+      {
+        return patches;
+      }
+
+    private:
+      const Tensor<2, dim>                      F;
+      const unsigned int                        n_vectors;
+      std::vector<DataOutBase::Patch<dim, dim>> patches;
+    };
+  } // namespace
+
+
+
+  template <int dim>
+  void
+  PeriodicHomogenization<dim>::write_vtu(
+    const std::string              &file_stem,
+    const std::vector<std::string> &cell_data_names,
+    const std::function<std::vector<double>(const Point<dim> &,
+                                            const types::material_id)>
+                         &cell_data,
+    const Tensor<2, dim> &F) const
+  {
     const Impl &m = *impl;
     AssertThrow(m.fluctuation.size() == Impl::nv,
                 ExcMessage("write_vtu() needs a homogenize() first"));
-    DataOut<dim> out;
+    MappedDataOut<dim> out(F, Impl::nv);
     out.attach_dof_handler(m.dof_handler);
     const std::vector<DataComponentInterpretation::DataComponentInterpretation>
       vector(dim, DataComponentInterpretation::component_is_part_of_vector);
@@ -885,6 +979,7 @@ namespace forma
                           cell_data_names[k],
                           DataOut<dim>::type_cell_data);
     out.build_patches(*m.mapping);
+    out.map_patches();
     const std::string directory =
       file_stem.find('/') == std::string::npos ?
         "./" :

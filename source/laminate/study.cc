@@ -21,58 +21,6 @@ namespace forma
   {
     using namespace dealii;
 
-    std::string
-    sig(const double x, const int digits)
-    {
-      std::ostringstream s;
-      s << std::setprecision(digits) << x;
-      return s.str();
-    }
-
-    // "a:b:n" (n values from a to b) or a comma separated list.
-    std::vector<double>
-    parse_values(const std::string &text, const std::string &name)
-    {
-      std::vector<double> values;
-      auto                number = [&](const std::string &t) {
-        std::size_t used = 0;
-        double      v    = 0;
-        try
-          {
-            v = std::stod(t, &used);
-          }
-        catch (...)
-          {
-            used = 0;
-          }
-        AssertThrow(used == t.size() && !t.empty(),
-                    ExcMessage(name + ": '" + t +
-                               "' is not a number (use 'a:b:n' or a list)"));
-        return v;
-      };
-      const std::string trimmed = Utilities::trim(text);
-      if (trimmed.find(':') != std::string::npos)
-        {
-          const auto parts = Utilities::split_string_list(trimmed, ':');
-          AssertThrow(parts.size() == 3,
-                      ExcMessage(name + ": a range is 'a:b:n', got '" +
-                                 trimmed + "'"));
-          const double       a = number(parts[0]), b = number(parts[1]);
-          const double       nd = number(parts[2]);
-          const unsigned int n  = static_cast<unsigned int>(nd);
-          AssertThrow(n >= 1 && n == nd,
-                      ExcMessage(name + ": the count in '" + trimmed +
-                                 "' must be a positive integer"));
-          for (unsigned int k = 0; k < n; ++k)
-            values.push_back(n == 1 ? a : a + (b - a) * k / (n - 1));
-        }
-      else
-        for (const auto &t : Utilities::split_string_list(trimmed, ','))
-          values.push_back(number(t));
-      AssertThrow(!values.empty(), ExcMessage(name + " is empty"));
-      return values;
-    }
-
     Sample
     evaluate(PeriodicHomogenization<2> &cell,
              const PixelMaterial       &material,

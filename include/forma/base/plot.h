@@ -43,6 +43,13 @@ namespace forma
                 const std::string             &y_label,
                 const std::array<double, 2>   &x_range,
                 const std::array<double, 2>   &y_range);
+
+  /// Write an RGB image (rows from the top, 3 bytes per pixel) as PNG.
+  void
+  write_image_png(const std::string                &file_name,
+                  const int                         width,
+                  const int                         height,
+                  const std::vector<unsigned char> &rgb);
 } // namespace forma
 
 #endif

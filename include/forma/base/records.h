@@ -51,6 +51,15 @@ namespace forma
    * one expression per masked component (`mask`), others zero. Throws a
    * message naming `entry` when an expression does not parse.
    */
+  /// "a:b:n" (n values from a to b) or a comma separated list of numbers;
+  /// `name` (section/entry) for the error message.
+  std::vector<double>
+  parse_values(const std::string &text, const std::string &name);
+
+  /// x with `digits` significant digits.
+  std::string
+  sig(const double x, const int digits = 4);
+
   template <int dim>
   std::unique_ptr<dealii::FunctionParser<dim>>
   make_function(const std::vector<std::string>      &expressions,

@@ -35,6 +35,14 @@ namespace forma
       return staging_directory;
     }
 
+    /**
+     * Path of a file directly in the output directory, outside the staging
+     * area: for progress files that must survive a failed or killed run
+     * (e.g. a sweep's checkpoint, read back to resume).
+     */
+    std::string
+    persistent_path(const std::string &file_name) const;
+
     /// Path of a result file inside the staging directory.
     std::string
     path(const std::string &file_name) const;

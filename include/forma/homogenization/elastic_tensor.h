@@ -67,6 +67,17 @@ namespace forma
   IsotropicModuli
   isotropic_fit(const dealii::SymmetricTensor<4, 2> &C);
 
+  /// Engineering constants of an orthotropic tensor in its current axes
+  /// (from the compliance S = C^-1): E1 = 1/S00, E2 = 1/S11, G12 = 1/S22,
+  /// nu12 = -S01/S00 (strain along 2 per strain along 1 under stress 1).
+  struct OrthotropicModuli
+  {
+    double E1 = 0, E2 = 0, G12 = 0, nu12 = 0, nu21 = 0;
+  };
+
+  OrthotropicModuli
+  orthotropic_moduli(const dealii::SymmetricTensor<4, 2> &C);
+
   struct Anisotropy
   {
     double a1 = 0; ///< |C00 - C11| / max(C00, C11)          (eq. 4.10)
@@ -78,6 +89,17 @@ namespace forma
 
   Anisotropy
   anisotropy(const dealii::SymmetricTensor<4, 2> &C);
+
+  /**
+   * C'_ijkl = A_ip A_jq A_kr A_lt C_pqrt. With A a rotation this turns the
+   * material; with A = F^-1 (F maps a reference cell onto a parallelogram
+   * cell) it is the tensor that acts on the reference cell (thesis eq. 4.6),
+   * and with A = F it maps back (eq. 4.7). The result's minor symmetries
+   * are kept; major symmetry holds when C has it.
+   */
+  dealii::SymmetricTensor<4, 2>
+  transform(const dealii::SymmetricTensor<4, 2> &C,
+            const dealii::Tensor<2, 2>          &A);
 
   /// C expressed in axes rotated by `angle` (counterclockwise): the tensor
   /// of the material turned by `angle`.

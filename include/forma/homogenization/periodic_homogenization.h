@@ -104,6 +104,18 @@ namespace forma
                            const SolverParameters                &solver,
                            const unsigned int                     degree = 1);
 
+    /**
+     * A conforming mesh of the solid part of the box [0, box] of a
+     * perforated cell (holes are not meshed, e.g. periodic_level_set_mesh):
+     * |Y| is the box's volume. The solid must be one piece across the
+     * periodic sides (a floating piece makes the problem singular).
+     */
+    PeriodicHomogenization(const MPI_Comm                         comm,
+                           const dealii::Triangulation<dim, dim> &mesh,
+                           const dealii::Point<dim>              &box,
+                           const SolverParameters                &solver,
+                           const unsigned int                     degree = 1);
+
     ~PeriodicHomogenization();
 
     Result
@@ -120,6 +132,20 @@ namespace forma
       const std::function<std::vector<double>(const dealii::Point<dim> &,
                                               const dealii::types::material_id)>
         &cell_data) const;
+
+    /**
+     * The same for a cell homogenized through a reference cell (see
+     * ParallelogramCell): points are written at F x and the fluctuations,
+     * computed in the basis of the cell's sides, as F^-T w.
+     */
+    void
+    write_vtu(
+      const std::string              &file_stem,
+      const std::vector<std::string> &cell_data_names,
+      const std::function<std::vector<double>(const dealii::Point<dim> &,
+                                              const dealii::types::material_id)>
+                                   &cell_data,
+      const dealii::Tensor<2, dim> &F) const;
 
     dealii::types::global_dof_index
     n_dofs() const;

@@ -4,6 +4,7 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/symmetric_tensor.h>
 
+#include <forma/base/records.h>
 #include <forma/homogenization/bounds.h>
 #include <forma/homogenization/elastic_tensor.h>
 #include <forma/homogenization/periodic_homogenization.h>
@@ -34,14 +35,8 @@ namespace forma
    */
   namespace laminate
   {
-    /// x with `digits` significant digits.
-    std::string
-    sig(const double x, const int digits = 4);
-
-    /// "a:b:n" (n values from a to b) or a comma separated list; `name`
-    /// (section/entry) for the error message.
-    std::vector<double>
-    parse_values(const std::string &text, const std::string &name);
+    using forma::parse_values;
+    using forma::sig;
 
     /// Base material, grid and solver: what every mode shares.
     struct Setup

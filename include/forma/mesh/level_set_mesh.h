@@ -1,0 +1,66 @@
+#ifndef forma_mesh_level_set_mesh_h
+#define forma_mesh_level_set_mesh_h
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/point.h>
+
+#include <functional>
+#include <string>
+
+namespace dealii
+{
+  template <int dim, int spacedim>
+  class Triangulation;
+}
+
+namespace forma
+{
+  struct LevelSetMeshParameters
+  {
+    /// Marching squares cells along the box's longer side (thesis: 256).
+    unsigned int grid = 256;
+    /// Largest element edge inside the material.
+    double size = 0.05;
+    /// Element edge along the material boundary.
+    double boundary_size = 0.025;
+  };
+
+  struct LevelSetMeshInfo
+  {
+    double       area            = 0; ///< of the meshed material
+    unsigned int boundary_loops  = 0;
+    unsigned int dropped_islands = 0; ///< floating material pieces removed
+    unsigned int dropped_holes   = 0; ///< holes smaller than an element
+  };
+
+  /**
+   * A conforming triangle mesh of the material {phi < 0} of the periodic
+   * box [0, box] (thesis ch. 4.5.1: marching squares, then a constrained
+   * mesher; here Gmsh). The zero contour is traced by marching squares on a
+   * periodic grid, resampled to `boundary_size` and every vertex is
+   * projected onto phi = 0 (Newton steps along the gradient), so the
+   * boundary is exact at the vertices whatever the grid. The parts of the
+   * box's sides inside the material are subdivided identically on opposite
+   * sides (one element per boundary segment), so the nodes match as
+   * PeriodicHomogenization's mesh constructor needs.
+   *
+   * Material pieces that touch no side of the box cannot carry load in a
+   * periodic structure (they float): they are dropped and counted, as are
+   * holes smaller than an element.
+   *
+   * `phi` must be periodic on the box. Gmsh runs on the root of `comm`,
+   * which sends the mesh to the other ranks; errors are thrown on every
+   * rank with a message naming `context`.
+   */
+  void
+  periodic_level_set_mesh(
+    const std::function<double(const dealii::Point<2> &)> &phi,
+    const dealii::Point<2>                                &box,
+    const LevelSetMeshParameters                          &parameters,
+    dealii::Triangulation<2, 2>                           &tria,
+    const MPI_Comm                                         comm = MPI_COMM_SELF,
+    LevelSetMeshInfo                                      *info = nullptr,
+    const std::string                                     &context = "cell");
+} // namespace forma
+
+#endif

@@ -1,0 +1,99 @@
+#ifndef forma_microstructure_rhombic_structure_h
+#define forma_microstructure_rhombic_structure_h
+
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+
+#include <forma/microstructure/inflation_graph.h>
+
+#include <array>
+#include <functional>
+#include <string>
+
+namespace forma
+{
+  /**
+   * The rhombic microstructure family of thesis ch. 4.4 and 4.10.1
+   * (Fig. 4.3): an inflation graph with 12 nodes in a rhombic cell with the
+   * rhombus's two reflection symmetries, so that every structure's
+   * homogenized tensor is orthotropic with axes along the diagonals
+   * (ch. 4.6.1).
+   *
+   * Cells. The reference cell Q is the square [0, 2]^2 (Panetta's [-1, 1]^2
+   * moved to the origin, so the radii below are on the usual scale). The
+   * rhombus R with the smaller angle alpha in (0, pi/2] is its image under
+   * x = F x_Q, F = [a1 a2] with unit sides a1 = (cos(alpha/2), -sin(alpha/2))
+   * and a2 = (cos(alpha/2), sin(alpha/2)): R has sides of length 2 and its
+   * long diagonal a1 + a2 along x, so C^H in the x, y axes is orthotropic.
+   * The structure is built in R (disks are round in R) and tiles R
+   * periodically with period vectors 2 a1, 2 a2.
+   *
+   * Parameters (p1..p8 are p[0]..p[7]). With O the cell center and A, B the
+   * corners at the ends of one side of Q, positions are barycentric in the
+   * triangle OAB and then mapped by F:
+   *  - node 1: the side midpoint (A + B) / 2, fixed: it joins the
+   *    neighbouring cell, and its radius p5 is the joint's thickness;
+   *  - node 2: O + p1 (A - O) + p2 (B - O), i.e. barycentric
+   *    (1 - p1 - p2, p1, p2);
+   *  - node 3: O + p3 (A - O), on the diagonal through A;
+   *  - node 4: O + p4 (B - O), on the other diagonal;
+   *  - radii p5, p6, p7, p8 of nodes 1, 2, 3, 4.
+   * Edges in OAB: 1-2, 2-3, 2-4, 3-4. The two diagonal reflections give the
+   * other three quarters: 12 nodes (nodes 3 and 4 lie on the mirror lines,
+   * so each has 2 images) and 16 edges. Nodes 2, 3 and 4 and the 3-4 ring
+   * around the center make re-entrant (auxetic) structures when node 2 lies
+   * inside the ring and convex ones when it lies outside.
+   *
+   * Every vertex blends with the length `blending` (the thesis keeps
+   * b = 0.01 fixed); see InflationGraph for the joints.
+   */
+  struct RhombicStructure
+  {
+    static constexpr unsigned int n_parameters = 8;
+    static constexpr double       side         = 2;
+
+    std::array<double, n_parameters> p = {
+      {0.3, 0.3, 0.5, 0.5, 0.2, 0.12, 0.12, 0.12}};
+    double alpha    = M_PI / 2;
+    double blending = 0.01;
+
+    /// The sweep ranges of thesis ch. 4.10.2: offsets p1, p2 in
+    /// [0.1, 0.5], p3, p4 in [0.1, 0.9], radii in [0.05, 0.3].
+    static std::array<std::array<double, 2>, n_parameters>
+    ranges();
+
+    /// "p1" ... "p8"
+    static std::string
+    parameter_name(const unsigned int i);
+
+    /// Throws a clear error if a parameter, alpha or the blending is out of
+    /// range.
+    void
+    check() const;
+
+    /// F: the reference square onto the rhombus.
+    dealii::Tensor<2, 2>
+    cell_map() const;
+
+    /**
+     * The periodic inflation graph in R around the cell: the cell's 12
+     * nodes and 16 edges and those of the neighbouring cells whose
+     * primitives reach into R. `Number` is double or Sacado::Fad::DFad<double>
+     * (derivatives with respect to p).
+     */
+    template <typename Number>
+    InflationGraph<Number>
+    graph(const std::array<Number, n_parameters> &parameters) const;
+
+    /// The structure's level set on the reference square (negative in the
+    /// material), periodic on [0, 2]^2. The graph is built once.
+    std::function<double(const dealii::Point<2> &)>
+    level_set() const;
+
+    /// The 12 node positions on the reference square (for drawing).
+    std::array<dealii::Point<2>, 12>
+    reference_nodes() const;
+  };
+} // namespace forma
+
+#endif

@@ -1,0 +1,120 @@
+#ifndef forma_rhombic_study_h
+#define forma_rhombic_study_h
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/symmetric_tensor.h>
+
+#include <forma/base/records.h>
+#include <forma/homogenization/elastic_tensor.h>
+#include <forma/homogenization/periodic_homogenization.h>
+#include <forma/mesh/level_set_mesh.h>
+#include <forma/microstructure/rhombic_structure.h>
+
+#include <nlohmann/json.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace dealii
+{
+  class ParameterHandler;
+}
+
+namespace forma
+{
+  class RunContext;
+
+  /**
+   * The forma-rhombic application (thesis ch. 4) as library pieces: its
+   * parameters, the homogenization of one rhombic structure on a periodic
+   * P2 mesh of its level set through the reference square (ch. 4.5.2), and
+   * the modes, each in its own source file.
+   */
+  namespace rhombic
+  {
+    /// Base material, cell mesh and solver: what every mode shares.
+    struct Setup
+    {
+      double                 base_E = 1, base_nu = 0;
+      PlaneModel             plane = PlaneModel::plane_stress;
+      IsotropicModuli        base;
+      std::vector<double>    clm_poisson;
+      double                 blending = 0.01;
+      LevelSetMeshParameters mesh;
+      unsigned int           degree = 2;
+      PeriodicHomogenization<2>::SolverParameters solver;
+      bool                                        write_vtu = true;
+      /// a1, a2 at most this: the structure counts as isotropic (thesis
+      /// ch. 4.6.2 uses 0.005).
+      double isotropy_tolerance = 0.005;
+    };
+
+    /// What one homogenized structure gives; C in the rhombus's diagonal
+    /// axes (long diagonal along x), where it is orthotropic.
+    struct Sample
+    {
+      double                        phi = 0;
+      dealii::SymmetricTensor<4, 2> C, C_reference;
+      IsotropicModuli               fit;
+      OrthotropicModuli             orthotropic;
+      Anisotropy                    anisotropy;
+      LevelSetMeshInfo              mesh;
+      unsigned int                  cells = 0, vertices = 0;
+      unsigned long long            dofs = 0;
+    };
+
+    /**
+     * Mesh the structure's cell (root meshes, all ranks of `comm` solve) and
+     * homogenize it. If `cell` is given it receives the homogenization
+     * object (fields for write_vtu()).
+     */
+    Sample
+    evaluate(const RhombicStructure                     &structure,
+             const Setup                                &setup,
+             const MPI_Comm                              comm,
+             std::unique_ptr<PeriodicHomogenization<2>> *cell = nullptr);
+
+    /// The Structure section (range-checked).
+    RhombicStructure
+    read_structure(dealii::ParameterHandler &prm, const Setup &setup);
+
+    nlohmann::json
+    structure_json(const RhombicStructure &s);
+
+    /// Tensors, moduli, anisotropy, mesh and CLM moduli of a sample.
+    nlohmann::json
+    sample_json(const Sample &r, const Setup &setup);
+
+    /// A picture of `tiles` x `tiles` cells of the structure (material dark,
+    /// the cell outlined), `pixels` wide.
+    void
+    write_structure_png(const std::string      &file_name,
+                        const RhombicStructure &structure,
+                        const unsigned int      tiles  = 3,
+                        const unsigned int      pixels = 600);
+
+    /// Every section and entry of the application's parameter file.
+    void
+    declare_parameters(dealii::ParameterHandler &prm);
+
+    /// Setup from the Base material, Mesh, Solver and Output sections
+    /// (recorded in the summary).
+    Setup
+    parse_setup(dealii::ParameterHandler &prm, RunContext &context);
+
+    /// One structure -> summary.json, structure.png, cell.vtu.
+    void
+    homogenize_mode(dealii::ParameterHandler &prm,
+                    const Setup              &setup,
+                    RunContext               &context);
+
+    /// A parameter grid -> samples.csv, coverage.png (resumable).
+    void
+    sweep_mode(dealii::ParameterHandler &prm,
+               const Setup              &setup,
+               RunContext               &context);
+  } // namespace rhombic
+} // namespace forma
+
+#endif

@@ -1,0 +1,42 @@
+// forma-rhombic: homogenization on rhombic cells and the rhombic
+// microstructure family (thesis ch. 4). The modes live in the library
+// (forma/rhombic/study.h).
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <forma/base/application.h>
+#include <forma/base/run_context.h>
+#include <forma/rhombic/study.h>
+
+namespace
+{
+  using namespace dealii;
+  using namespace forma::rhombic;
+
+  void
+  run(ParameterHandler &prm, const std::string &, forma::RunContext &context)
+  {
+    AssertThrow(prm.get_integer("Dimension") == 2,
+                ExcMessage(
+                  "forma-rhombic homogenizes 2D cells: set Dimension = 2"));
+    const Setup       setup = parse_setup(prm, context);
+    const std::string mode  = prm.get("Mode");
+    if (mode == "homogenize")
+      homogenize_mode(prm, setup, context);
+    else
+      sweep_mode(prm, setup, context);
+  }
+} // namespace
+
+int
+main(int argc, char **argv)
+{
+  forma::ApplicationDescription app;
+  app.name        = "forma-rhombic";
+  app.description = "Homogenization of the rhombic microstructure family on "
+                    "parallelogram cells (thesis ch. 4).";
+  app.modes       = {"homogenize", "sweep"};
+  app.declare_parameters = declare_parameters;
+  app.run                = run;
+  return forma::run_application(argc, argv, app);
+}

@@ -1,0 +1,606 @@
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/grid/grid_in.h>
+#include <deal.II/grid/tria.h>
+
+#include <forma/mesh/level_set_mesh.h>
+#include <forma/mesh/mesh.h>
+
+#include "gmsh_session.h"
+#include <gmsh.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <sstream>
+#include <tuple>
+
+namespace forma
+{
+  using namespace dealii;
+
+  namespace
+  {
+    // A vertex of a traced boundary loop.
+    struct LoopVertex
+    {
+      Point<2> x;
+      bool     fixed = false; ///< box corner or where the contour meets a side
+      bool     side_segment_follows = false; ///< the next segment is on a side
+    };
+
+    double
+    signed_area(const std::vector<Point<2>> &polygon)
+    {
+      double a = 0;
+      for (unsigned int i = 0; i < polygon.size(); ++i)
+        {
+          const Point<2> &p = polygon[i],
+                         &q = polygon[(i + 1) % polygon.size()];
+          a += p[0] * q[1] - q[0] * p[1];
+        }
+      return a / 2;
+    }
+
+    bool
+    inside(const std::vector<Point<2>> &polygon, const Point<2> &x)
+    {
+      bool in = false;
+      for (unsigned int i = 0, j = polygon.size() - 1; i < polygon.size();
+           j = i++)
+        if ((polygon[i][1] > x[1]) != (polygon[j][1] > x[1]) &&
+            x[0] < polygon[j][0] + (polygon[i][0] - polygon[j][0]) *
+                                     (x[1] - polygon[j][1]) /
+                                     (polygon[i][1] - polygon[j][1]))
+          in = !in;
+      return in;
+    }
+
+    /**
+     * The material's boundary loops in the box by marching squares on a
+     * periodic grid: contour segments (material on their left) and the
+     * parts of the box's sides in the material, counterclockwise, chained.
+     */
+    class Tracer
+    {
+    public:
+      Tracer(const std::function<double(const Point<2> &)> &phi,
+             const Point<2>                                &box,
+             const unsigned int                             grid)
+        : phi(phi)
+        , box(box)
+      {
+        const double longer = std::max(box[0], box[1]);
+        n[0]                = std::max(
+          4u, static_cast<unsigned int>(std::lround(grid * box[0] / longer)));
+        n[1] = std::max(
+          4u, static_cast<unsigned int>(std::lround(grid * box[1] / longer)));
+        values.resize((n[0] + 1) * (n[1] + 1));
+        const double tiny = 1e-12 * longer;
+        for (unsigned int j = 0; j <= n[1]; ++j)
+          for (unsigned int i = 0; i <= n[0]; ++i)
+            {
+              double v;
+              if (i == n[0])
+                v = value(0, j); // periodic: the same samples
+              else if (j == n[1])
+                v = value(i, 0);
+              else
+                v = phi(node(i, j));
+              // No sample exactly on the contour: a zero counts as void.
+              values[index(i, j)] = (v == 0 ? tiny : v);
+              AssertThrow(std::isfinite(v),
+                          ExcMessage("the level set is not finite at (" +
+                                     std::to_string(node(i, j)[0]) + ", " +
+                                     std::to_string(node(i, j)[1]) + ")"));
+            }
+      }
+
+      std::vector<std::vector<LoopVertex>>
+      loops()
+      {
+        for (unsigned int j = 0; j < n[1]; ++j)
+          for (unsigned int i = 0; i < n[0]; ++i)
+            add_cell(i, j);
+        add_box_sides();
+        std::vector<std::vector<LoopVertex>> result;
+        std::map<std::int64_t, bool>         visited;
+        for (const auto &[start, ignored] : next)
+          {
+            if (visited[start])
+              continue;
+            std::vector<LoopVertex> loop;
+            std::int64_t            k = start;
+            do
+              {
+                visited[k] = true;
+                LoopVertex v;
+                v.x                    = position(k);
+                v.fixed                = is_fixed(k);
+                v.side_segment_follows = side_segment.count(k) > 0;
+                loop.push_back(v);
+                const auto it = next.find(k);
+                AssertThrow(it != next.end(),
+                            ExcMessage("marching squares left an open "
+                                       "contour (internal error)"));
+                k = it->second;
+            } while (k != start);
+            result.push_back(std::move(loop));
+          }
+        return result;
+      }
+
+    private:
+      enum Kind : std::int64_t
+      {
+        grid_node  = 0,
+        horizontal = 1, // crossing on the edge (i, j) - (i + 1, j)
+        vertical   = 2  // crossing on the edge (i, j) - (i, j + 1)
+      };
+
+      std::int64_t
+      key(const Kind kind, const unsigned int i, const unsigned int j) const
+      {
+        return (static_cast<std::int64_t>(kind) * (n[0] + 1) + i) * (n[1] + 1) +
+               j;
+      }
+
+      unsigned int
+      index(const unsigned int i, const unsigned int j) const
+      {
+        return j * (n[0] + 1) + i;
+      }
+
+      double
+      value(const unsigned int i, const unsigned int j) const
+      {
+        return values[index(i, j)];
+      }
+
+      Point<2>
+      node(const unsigned int i, const unsigned int j) const
+      {
+        return Point<2>(i == n[0] ? box[0] : box[0] * i / n[0],
+                        j == n[1] ? box[1] : box[1] * j / n[1]);
+      }
+
+      bool
+      material(const unsigned int i, const unsigned int j) const
+      {
+        return value(i, j) < 0;
+      }
+
+      // The root of phi on a grid edge: secant steps bracketed by the
+      // samples (Illinois), computed on the wrapped edge so that opposite
+      // sides get the same points.
+      Point<2>
+      crossing(const Kind kind, const unsigned int i, const unsigned int j)
+      {
+        const unsigned int wi = (kind == vertical && i == n[0]) ? 0 : i;
+        const unsigned int wj = (kind == horizontal && j == n[1]) ? 0 : j;
+        const std::int64_t k  = key(kind, wi, wj);
+        auto               it = crossings.find(k);
+        if (it == crossings.end())
+          {
+            const unsigned int i1 = wi + (kind == horizontal),
+                               j1 = wj + (kind == vertical);
+            const Point<2> a = node(wi, wj), b = node(i1, j1);
+            double ta = 0, tb = 1, fa = value(wi, wj), fb = value(i1, j1);
+            int    side = 0;
+            double t    = fa / (fa - fb);
+            for (unsigned int step = 0; step < 30; ++step)
+              {
+                t              = (ta * fb - tb * fa) / (fb - fa);
+                const double f = phi(a + t * (b - a));
+                if (std::abs(f) < 1e-13 * std::max(box[0], box[1]))
+                  break;
+                if ((f < 0) == (fa < 0))
+                  {
+                    ta = t, fa = f;
+                    if (side == -1)
+                      fb /= 2;
+                    side = -1;
+                  }
+                else
+                  {
+                    tb = t, fb = f;
+                    if (side == 1)
+                      fa /= 2;
+                    side = 1;
+                  }
+                if (tb - ta < 1e-12)
+                  break;
+              }
+            it = crossings.insert({k, a + t * (b - a)}).first;
+          }
+        Point<2> x = it->second;
+        if (wi != i)
+          x[0] = box[0];
+        if (wj != j)
+          x[1] = box[1];
+        return x;
+      }
+
+      Point<2>
+      position(const std::int64_t k)
+      {
+        const unsigned int j = k % (n[1] + 1);
+        const unsigned int i = (k / (n[1] + 1)) % (n[0] + 1);
+        const Kind kind      = static_cast<Kind>(k / ((n[0] + 1) * (n[1] + 1)));
+        return kind == grid_node ? node(i, j) : crossing(kind, i, j);
+      }
+
+      bool
+      is_fixed(const std::int64_t k) const
+      {
+        const unsigned int j = k % (n[1] + 1);
+        const unsigned int i = (k / (n[1] + 1)) % (n[0] + 1);
+        const Kind kind      = static_cast<Kind>(k / ((n[0] + 1) * (n[1] + 1)));
+        const bool on_x_side = (i == 0 || i == n[0]);
+        const bool on_y_side = (j == 0 || j == n[1]);
+        if (kind == grid_node)
+          return on_x_side && on_y_side; // a corner
+        // A crossing on a side: the contour meets the box there.
+        return (kind == vertical && on_x_side) ||
+               (kind == horizontal && on_y_side);
+      }
+
+      void
+      link(const std::int64_t from, const std::int64_t to)
+      {
+        AssertThrow(next.insert({from, to}).second,
+                    ExcMessage("marching squares: a point with two outgoing "
+                               "segments (internal error)"));
+      }
+
+      void
+      add_cell(const unsigned int i, const unsigned int j)
+      {
+        // Corners and edges counterclockwise; edge e joins corner e, e + 1.
+        const std::array<std::array<unsigned int, 2>, 4> c = {
+          {{{i, j}}, {{i + 1, j}}, {{i + 1, j + 1}}, {{i, j + 1}}}};
+        const std::array<std::int64_t, 4> edge = {{key(horizontal, i, j),
+                                                   key(vertical, i + 1, j),
+                                                   key(horizontal, i, j + 1),
+                                                   key(vertical, i, j)}};
+        std::vector<std::int64_t>         exits, entries; // along the walk
+        std::vector<unsigned int>         exit_at, entry_at;
+        for (unsigned int e = 0; e < 4; ++e)
+          {
+            const bool m0 = material(c[e][0], c[e][1]),
+                       m1 = material(c[(e + 1) % 4][0], c[(e + 1) % 4][1]);
+            if (m0 && !m1)
+              exits.push_back(edge[e]), exit_at.push_back(e);
+            else if (!m0 && m1)
+              entries.push_back(edge[e]), entry_at.push_back(e);
+          }
+        if (exits.empty())
+          return;
+        if (exits.size() == 1)
+          {
+            link(exits[0], entries[0]);
+            return;
+          }
+        // Saddle: the center decides whether the material connects across.
+        double center = 0;
+        for (const auto &corner : c)
+          center += value(corner[0], corner[1]) / 4;
+        for (unsigned int a = 0; a < 2; ++a)
+          {
+            // The entry next along the walk (the material connects through
+            // the center) or the other one (separated corners).
+            const unsigned int after = (entry_at[0] + 4 - exit_at[a]) % 4 <
+                                           (entry_at[1] + 4 - exit_at[a]) % 4 ?
+                                         0 :
+                                         1;
+            link(exits[a], entries[center < 0 ? after : 1 - after]);
+          }
+      }
+
+      // The box's sides counterclockwise, split at the grid nodes.
+      void
+      add_box_sides()
+      {
+        std::vector<std::array<unsigned int, 2>> ring;
+        for (unsigned int i = 0; i < n[0]; ++i)
+          ring.push_back({{i, 0}});
+        for (unsigned int j = 0; j < n[1]; ++j)
+          ring.push_back({{n[0], j}});
+        for (unsigned int i = n[0]; i > 0; --i)
+          ring.push_back({{i, n[1]}});
+        for (unsigned int j = n[1]; j > 0; --j)
+          ring.push_back({{0, j}});
+        for (unsigned int r = 0; r < ring.size(); ++r)
+          {
+            const auto &a = ring[r], &b = ring[(r + 1) % ring.size()];
+            const bool  ma = material(a[0], a[1]), mb = material(b[0], b[1]);
+            const auto  ka = key(grid_node, a[0], a[1]),
+                       kb  = key(grid_node, b[0], b[1]);
+            std::int64_t kc;
+            if (a[1] == b[1])
+              kc = key(horizontal, std::min(a[0], b[0]), a[1]);
+            else
+              kc = key(vertical, a[0], std::min(a[1], b[1]));
+            if (ma && mb)
+              link(ka, kb), side_segment.insert({ka, true});
+            else if (ma)
+              link(ka, kc), side_segment.insert({ka, true});
+            else if (mb)
+              link(kc, kb), side_segment.insert({kc, true});
+          }
+      }
+
+      const std::function<double(const Point<2> &)> &phi;
+      const Point<2>                                 box;
+      std::array<unsigned int, 2>                    n;
+      std::vector<double>                            values;
+      std::map<std::int64_t, Point<2>>               crossings;
+      std::map<std::int64_t, std::int64_t>           next;
+      std::map<std::int64_t, bool>                   side_segment;
+    };
+
+
+    // Newton steps along the gradient onto phi = 0, kept in the box.
+    Point<2>
+    project(const std::function<double(const Point<2> &)> &phi,
+            Point<2>                                       x,
+            const Point<2>                                &box,
+            const double                                   step_limit)
+    {
+      const double   h  = 1e-7 * std::max(box[0], box[1]);
+      const Point<2> x0 = x;
+      for (unsigned int it = 0; it < 6; ++it)
+        {
+          const double f = phi(x);
+          Tensor<1, 2> g;
+          for (unsigned int d = 0; d < 2; ++d)
+            {
+              Point<2> a = x, b = x;
+              a[d] -= h, b[d] += h;
+              g[d] = (phi(b) - phi(a)) / (2 * h);
+            }
+          if (g.norm_square() == 0)
+            break;
+          const Tensor<1, 2> dx = -f * g / g.norm_square();
+          x += dx;
+          if (dx.norm() < 1e-12 * std::max(box[0], box[1]))
+            break;
+        }
+      // A contour point never moves further than the tracing error; keep
+      // clear of the sides so that no unmatched node lands on one.
+      if (x.distance(x0) > step_limit)
+        x = x0;
+      for (unsigned int d = 0; d < 2; ++d)
+        x[d] = std::clamp(x[d], 1e-6 * box[d], box[d] * (1 - 1e-6));
+      return x;
+    }
+
+
+    // Resample a loop: sides and contour runs between fixed vertices,
+    // boundary_size apart; contour vertices projected onto phi = 0.
+    std::vector<Point<2>>
+    resample(const std::vector<LoopVertex>                 &loop,
+             const std::function<double(const Point<2> &)> &phi,
+             const Point<2>                                &box,
+             const double                                   h,
+             const double                                   grid_spacing)
+    {
+      std::vector<unsigned int> fixed;
+      for (unsigned int i = 0; i < loop.size(); ++i)
+        if (loop[i].fixed)
+          fixed.push_back(i);
+      std::vector<Point<2>> result;
+      const auto            sample_run = [&](const std::vector<Point<2>> &run,
+                                  const bool                   on_side,
+                                  const bool                   closed) {
+        // run: the polyline from its first to its last point (closed: back
+        // to the first); emits all its points but the last.
+        std::vector<double> s(1, 0.);
+        for (unsigned int i = 1; i < run.size(); ++i)
+          s.push_back(s.back() + run[i].distance(run[i - 1]));
+        const double       length = s.back();
+        const unsigned int pieces =
+          std::max(closed ? 3u : 1u,
+                   static_cast<unsigned int>(std::ceil(length / h - 1e-9)));
+        if (on_side)
+          {
+            // Straight: equal pieces, the same on the opposite side.
+            const unsigned int pieces =
+              std::max(1u,
+                       static_cast<unsigned int>(std::ceil(
+                         run.front().distance(run.back()) / h - 1e-9)));
+            for (unsigned int k = 0; k < pieces; ++k)
+              result.push_back(run.front() + (static_cast<double>(k) / pieces) *
+                                               (run.back() - run.front()));
+            return;
+          }
+        result.push_back(closed && !on_side ?
+                           project(phi, run[0], box, 2 * grid_spacing) :
+                           run[0]);
+        unsigned int seg = 0;
+        for (unsigned int k = 1; k < pieces; ++k)
+          {
+            const double t = length * k / pieces;
+            while (seg + 2 < run.size() && s[seg + 1] < t)
+              ++seg;
+            const double w =
+              (t - s[seg]) / std::max(s[seg + 1] - s[seg], 1e-300);
+            const Point<2> x = run[seg] + w * (run[seg + 1] - run[seg]);
+            result.push_back(on_side ? x :
+                                       project(phi, x, box, 2 * grid_spacing));
+          }
+      };
+      if (fixed.empty())
+        {
+          std::vector<Point<2>> run;
+          for (const auto &v : loop)
+            run.push_back(v.x);
+          run.push_back(loop[0].x);
+          sample_run(run, false, true);
+          return result;
+        }
+      for (unsigned int f = 0; f < fixed.size(); ++f)
+        {
+          const unsigned int    a = fixed[f], b = fixed[(f + 1) % fixed.size()];
+          std::vector<Point<2>> run;
+          for (unsigned int i = a;; i = (i + 1) % loop.size())
+            {
+              run.push_back(loop[i].x);
+              if (i != a && i == b)
+                break;
+              if (fixed.size() == 1 && run.size() > loop.size())
+                break;
+            }
+          sample_run(run, loop[a].side_segment_follows, false);
+        }
+      return result;
+    }
+
+
+    std::string
+    generate(const std::vector<std::vector<Point<2>>> &outer,
+             const std::vector<std::vector<Point<2>>> &holes,
+             const std::vector<int>                   &hole_owner,
+             const LevelSetMeshParameters             &parameters)
+    {
+      namespace geo = gmsh::model::geo;
+      std::vector<int> lines_all;
+      const auto       add_loop = [&](const std::vector<Point<2>> &loop) {
+        std::vector<int> points, lines;
+        for (const auto &x : loop)
+          points.push_back(
+            geo::addPoint(x[0], x[1], 0, parameters.boundary_size));
+        for (unsigned int i = 0; i < points.size(); ++i)
+          {
+            lines.push_back(
+              geo::addLine(points[i], points[(i + 1) % points.size()]));
+            lines_all.push_back(lines.back());
+          }
+        return geo::addCurveLoop(lines);
+      };
+      std::vector<int> surfaces;
+      for (unsigned int o = 0; o < outer.size(); ++o)
+        {
+          std::vector<int> loops = {add_loop(outer[o])};
+          for (unsigned int k = 0; k < holes.size(); ++k)
+            if (hole_owner[k] == static_cast<int>(o))
+              loops.push_back(add_loop(holes[k]));
+          surfaces.push_back(geo::addPlaneSurface(loops));
+        }
+      // One element per boundary segment: the nodes on opposite sides are
+      // the resampled points, which match.
+      for (const int l : lines_all)
+        geo::mesh::setTransfiniteCurve(l, 2);
+      geo::synchronize();
+      gmsh::model::addPhysicalGroup(2, surfaces, 1);
+      gmsh::option::setNumber("Mesh.MeshSizeMax", parameters.size);
+      gmsh::option::setNumber("Mesh.MeshSizeMin", 0);
+      gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 1);
+      gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
+      gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
+      gmsh::option::setNumber("Mesh.Algorithm", 6); // Frontal-Delaunay
+      gmsh::model::mesh::generate(2);
+      internal::gmsh_check_generated(2, "level set mesh");
+      return internal::gmsh_written_mesh();
+    }
+  } // namespace
+
+
+
+  void
+  periodic_level_set_mesh(const std::function<double(const Point<2> &)> &phi,
+                          const Point<2>                                &box,
+                          const LevelSetMeshParameters &parameters,
+                          Triangulation<2>             &tria,
+                          const MPI_Comm                comm,
+                          LevelSetMeshInfo             *info,
+                          const std::string            &context)
+  {
+    AssertThrow(box[0] > 0 && box[1] > 0,
+                ExcMessage(context + ": the box must have positive sides"));
+    AssertThrow(parameters.grid >= 8 && parameters.grid <= 8192,
+                ExcMessage(context + ": the marching squares grid " +
+                           std::to_string(parameters.grid) +
+                           " is outside [8, 8192]"));
+    AssertThrow(parameters.size > 0 && parameters.boundary_size > 0 &&
+                  parameters.boundary_size <= parameters.size &&
+                  parameters.size < std::min(box[0], box[1]),
+                ExcMessage(context +
+                           ": need 0 < boundary size <= element "
+                           "size < the box (boundary size " +
+                           std::to_string(parameters.boundary_size) +
+                           ", element size " + std::to_string(parameters.size) +
+                           ")"));
+    std::string      msh, error;
+    LevelSetMeshInfo local_info;
+    if (Utilities::MPI::this_mpi_process(comm) == 0)
+      try
+        {
+          Tracer       tracer(phi, box, parameters.grid);
+          const double spacing = std::max(box[0], box[1]) / parameters.grid;
+          std::vector<std::vector<Point<2>>> outer, holes;
+          for (const auto &loop : tracer.loops())
+            {
+              const bool touches =
+                std::any_of(loop.begin(), loop.end(), [](const LoopVertex &v) {
+                  return v.fixed;
+                });
+              std::vector<Point<2>> polygon =
+                resample(loop, phi, box, parameters.boundary_size, spacing);
+              const double a = signed_area(polygon);
+              if (touches)
+                outer.push_back(std::move(polygon));
+              else if (a > 0)
+                ++local_info.dropped_islands;
+              else if (-a < std::pow(parameters.boundary_size, 2))
+                ++local_info.dropped_holes;
+              else
+                holes.push_back(std::move(polygon));
+            }
+          AssertThrow(!outer.empty(),
+                      ExcMessage(context + ": the material does not reach "
+                                           "the sides of the cell, so it "
+                                           "cannot form a periodic "
+                                           "structure"));
+          std::vector<int> owner(holes.size(), -1);
+          for (unsigned int k = 0; k < holes.size(); ++k)
+            for (unsigned int o = 0; o < outer.size(); ++o)
+              if (inside(outer[o], holes[k][0]))
+                owner[k] = o;
+          local_info.boundary_loops = outer.size() + holes.size();
+          std::lock_guard<std::mutex> lock(internal::gmsh_mutex());
+          internal::GmshSession       session("forma-level-set-mesh");
+          msh = generate(outer, holes, owner, parameters);
+        }
+      catch (const std::string &message) // what the Gmsh API throws
+        {
+          error = internal::gmsh_error(context, "failed (" + message + ")");
+        }
+      catch (const std::exception &e)
+        {
+          error = e.what();
+        }
+    std::tie(msh, error) =
+      Utilities::MPI::broadcast(comm, std::make_pair(msh, error));
+    AssertThrow(error.empty(), ExcMessage(error));
+    Triangulation<2>   read;
+    std::istringstream in(msh);
+    GridIn<2>          grid_in(read);
+    grid_in.read_msh(in);
+    double area = 0;
+    for (const auto &cell : read.active_cell_iterators())
+      {
+        cell->set_material_id(0);
+        area += cell->measure();
+      }
+    check_mesh_validity(read, context + " mesh");
+    tria.clear();
+    tria.copy_triangulation(read);
+    if (info)
+      {
+        *info      = Utilities::MPI::broadcast(comm, local_info);
+        info->area = area;
+      }
+  }
+} // namespace forma

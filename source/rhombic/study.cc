@@ -1,0 +1,381 @@
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/utilities.h>
+#include <deal.II/grid/tria.h>
+
+#include <forma/base/plot.h>
+#include <forma/base/run_context.h>
+#include <forma/homogenization/bounds.h>
+#include <forma/homogenization/parallelogram_cell.h>
+#include <forma/rhombic/study.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace forma
+{
+  namespace rhombic
+  {
+    using namespace dealii;
+
+    Sample
+    evaluate(const RhombicStructure                     &structure,
+             const Setup                                &setup,
+             const MPI_Comm                              comm,
+             std::unique_ptr<PeriodicHomogenization<2>> *keep)
+    {
+      constexpr double        L = RhombicStructure::side;
+      const ParallelogramCell parallelogram(structure.cell_map());
+      Sample                  r;
+      Triangulation<2>        tria;
+      periodic_level_set_mesh(structure.level_set(),
+                              Point<2>(L, L),
+                              setup.mesh,
+                              tria,
+                              comm,
+                              &r.mesh,
+                              "rhombic cell");
+      auto cell = std::make_unique<PeriodicHomogenization<2>>(
+        comm, tria, Point<2>(L, L), setup.solver, setup.degree);
+      const SymmetricTensor<4, 2> base =
+        parallelogram.to_reference(setup.base.tensor());
+      r.C_reference =
+        cell
+          ->homogenize(
+            [&](const Point<2> &, const types::material_id) { return base; })
+          .C;
+      r.C           = parallelogram.from_reference(r.C_reference);
+      r.phi         = r.mesh.area / (L * L);
+      r.fit         = isotropic_fit(r.C);
+      r.orthotropic = orthotropic_moduli(r.C);
+      r.anisotropy  = anisotropy(r.C);
+      r.cells       = tria.n_active_cells();
+      r.vertices    = tria.n_used_vertices();
+      r.dofs        = cell->n_dofs();
+      if (keep)
+        *keep = std::move(cell);
+      return r;
+    }
+
+
+
+    RhombicStructure
+    read_structure(ParameterHandler &prm, const Setup &setup)
+    {
+      RhombicStructure s;
+      prm.enter_subsection("Structure");
+      s.alpha = prm.get_double("Angle") * numbers::PI / 180;
+      const auto p =
+        parse_values(prm.get("Parameters"), "Structure/Parameters");
+      prm.leave_subsection();
+      AssertThrow(p.size() == RhombicStructure::n_parameters,
+                  ExcMessage(
+                    "Structure/Parameters: " + std::to_string(p.size()) +
+                    " values given, the family has 8 (p1..p8)"));
+      std::copy(p.begin(), p.end(), s.p.begin());
+      s.blending = setup.blending;
+      s.check();
+      return s;
+    }
+
+
+
+    nlohmann::json
+    structure_json(const RhombicStructure &s)
+    {
+      return {{"p", s.p},
+              {"angle_degrees", s.alpha * 180 / numbers::PI},
+              {"blending", s.blending}};
+    }
+
+
+
+    nlohmann::json
+    sample_json(const Sample &r, const Setup &setup)
+    {
+      const auto voigt = [](const SymmetricTensor<4, 2> &C) {
+        const VoigtMatrix V    = to_voigt(C);
+        nlohmann::json    rows = nlohmann::json::array();
+        for (unsigned int i = 0; i < 3; ++i)
+          rows.push_back({V[i][0], V[i][1], V[i][2]});
+        return rows;
+      };
+      nlohmann::json j = {{"C_voigt", voigt(r.C)},
+                          {"C_reference_voigt", voigt(r.C_reference)},
+                          {"phi", r.phi},
+                          {"E", r.fit.E},
+                          {"nu", r.fit.nu},
+                          {"E_relative", r.fit.E / setup.base.E},
+                          {"E1", r.orthotropic.E1},
+                          {"E2", r.orthotropic.E2},
+                          {"G12", r.orthotropic.G12},
+                          {"nu12", r.orthotropic.nu12},
+                          {"a1", r.anisotropy.a1},
+                          {"a2", r.anisotropy.a2},
+                          {"isotropy_residual", r.anisotropy.residual},
+                          {"isotropic",
+                           r.anisotropy.a1 <= setup.isotropy_tolerance &&
+                             r.anisotropy.a2 <= setup.isotropy_tolerance},
+                          {"mesh",
+                           {{"vertices", r.vertices},
+                            {"cells", r.cells},
+                            {"dofs", r.dofs},
+                            {"boundary_loops", r.mesh.boundary_loops},
+                            {"dropped_islands", r.mesh.dropped_islands},
+                            {"dropped_holes", r.mesh.dropped_holes}}}};
+      for (const double nu : setup.clm_poisson)
+        {
+          const IsotropicModuli to =
+            IsotropicModuli::of_material(setup.base_E, nu, setup.plane);
+          const IsotropicModuli m =
+            isotropic_fit(clm_transform(r.C, setup.base, to));
+          j["clm"].push_back({{"base_nu", nu}, {"E", m.E}, {"nu", m.nu}});
+        }
+      return j;
+    }
+
+
+
+    void
+    write_structure_png(const std::string      &file_name,
+                        const RhombicStructure &structure,
+                        const unsigned int      tiles,
+                        const unsigned int      pixels)
+    {
+      const Tensor<2, 2> F = structure.cell_map(), G = invert(F);
+      const auto         phi = structure.level_set();
+      constexpr double   L   = RhombicStructure::side;
+      // The diagonals' extents, `tiles` cells around the cell's center.
+      const double c      = std::cos(structure.alpha / 2),
+                   s      = std::sin(structure.alpha / 2);
+      const double half_x = tiles * L * c / 2 * 1.02,
+                   half_y = tiles * L * s / 2 * 1.02;
+      const Point<2> center(L * c, 0);
+      const double   sin_alpha = std::sin(structure.alpha);
+      const int      W         = pixels;
+      const int      H = std::max(16, static_cast<int>(W * half_y / half_x));
+      const double   pixel = 2 * half_x / W;
+      std::vector<unsigned char> rgb(3 * W * H);
+      for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+          {
+            const Point<2>     X(center[0] - half_x + (x + 0.5) * pixel,
+                             center[1] + half_y - (y + 0.5) * pixel);
+            const Tensor<1, 2> q = G * X;
+            Point<2>           wrapped;
+            bool               outline = false;
+            for (unsigned int d = 0; d < 2; ++d)
+              {
+                wrapped[d] = q[d] - L * std::floor(q[d] / L);
+                // The central cell's sides (in reference units).
+                const double other = q[1 - d];
+                outline |= other > -0.01 && other < L + 0.01 &&
+                           (std::abs(q[d]) < 0.6 * pixel / sin_alpha ||
+                            std::abs(q[d] - L) < 0.6 * pixel / sin_alpha);
+              }
+            std::array<unsigned char, 3> color = {{235, 235, 235}};
+            if (phi(wrapped) < 0)
+              color = {{45, 55, 70}};
+            if (outline)
+              color = {{200, 40, 40}};
+            std::copy(color.begin(),
+                      color.end(),
+                      rgb.begin() + 3 * (y * W + x));
+          }
+      write_image_png(file_name, W, H, rgb);
+    }
+
+
+
+    void
+    declare_parameters(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Base material");
+      prm.declare_entry("Young's modulus",
+                        "1",
+                        Patterns::Double(0),
+                        "E of the base material; results scale with it.");
+      prm.declare_entry("Poisson's ratio",
+                        "0",
+                        Patterns::Double(-1, 0.5),
+                        "nu of the base material (3D); the thesis uses 0.");
+      prm.declare_entry("Plane model",
+                        "plane stress",
+                        Patterns::Selection("plane stress|plane strain"),
+                        "2D model of the base material; results are 2D "
+                        "moduli (see doc/rhombic.md).");
+      prm.declare_entry(
+        "CLM Poisson's ratios",
+        "",
+        Patterns::Anything(),
+        "Comma separated base Poisson's ratios for which the results are "
+        "also given by the CLM transform (eq. 4.11), without recomputing.");
+      prm.leave_subsection();
+
+      prm.enter_subsection("Structure");
+      prm.declare_entry("Angle",
+                        "90",
+                        Patterns::Double(),
+                        "Smaller angle alpha of the rhombic cell, degrees, in "
+                        "[22.5, 90] (the thesis's map covers [45, 90]).");
+      prm.declare_entry(
+        "Parameters",
+        "0.3, 0.3, 0.5, 0.5, 0.2, 0.12, 0.12, 0.12",
+        Patterns::Anything(),
+        "p1..p8 (thesis Fig. 4.3, see doc/rhombic.md): node 2 barycentric "
+        "offsets p1, p2 toward the corners A, B; nodes 3, 4 on the "
+        "diagonals at p3, p4 of the way to the corners; radii p5..p8 of "
+        "nodes 1..4. Sweep ranges: [0.1, 0.5]^2 x [0.1, 0.9]^2 x "
+        "[0.05, 0.3]^4.");
+      prm.declare_entry("Blending",
+                        "0.01",
+                        Patterns::Double(0),
+                        "Joint blending length b (the thesis fixes 0.01), "
+                        "in units of the cell side 2.");
+      prm.leave_subsection();
+
+      prm.enter_subsection("Mesh");
+      prm.declare_entry(
+        "Marching squares grid",
+        "128",
+        Patterns::Integer(8, 8192),
+        "Grid cells per side tracing the boundary (thesis: 256). The "
+        "boundary vertices are then projected onto the exact level set, "
+        "so the grid only needs to resolve the topology.");
+      prm.declare_entry("Element size",
+                        "0.05",
+                        Patterns::Double(0),
+                        "Largest triangle edge (the cell side is 2).");
+      prm.declare_entry("Boundary element size",
+                        "0.025",
+                        Patterns::Double(0),
+                        "Triangle edge along the material boundary.");
+      prm.declare_entry("Element degree",
+                        "2",
+                        Patterns::Integer(1, 4),
+                        "Polynomial degree of the triangles (thesis: 2, "
+                        "essential for accurate stresses and tensors).");
+      prm.leave_subsection();
+
+      prm.enter_subsection("Solver");
+      prm.declare_entry("Type",
+                        "auto",
+                        Patterns::Selection("auto|direct|cg-amg"),
+                        "direct: sparse Cholesky (CHOLMOD) on one rank, KLU "
+                        "on several; cg-amg: CG with ML AMG; auto: direct up "
+                        "to 400000 unknowns.");
+      prm.leave_subsection();
+
+      prm.enter_subsection("Sweep");
+      const auto  ranges      = RhombicStructure::ranges();
+      const char *defaults[8] = {"0.25",
+                                 "0.25",
+                                 "0.3:0.7:3",
+                                 "0.3:0.7:3",
+                                 "0.2",
+                                 "0.08:0.2:3",
+                                 "0.1",
+                                 "0.1"};
+      for (unsigned int i = 0; i < RhombicStructure::n_parameters; ++i)
+        prm.declare_entry(RhombicStructure::parameter_name(i),
+                          defaults[i],
+                          Patterns::Anything(),
+                          "Values of " + RhombicStructure::parameter_name(i) +
+                            ": 'a:b:n' (n values from a to b) or a list "
+                            "(thesis range [" +
+                            std::to_string(ranges[i][0]).substr(0, 4) + ", " +
+                            std::to_string(ranges[i][1]).substr(0, 4) + "]).");
+      prm.declare_entry("Angles",
+                        "90",
+                        Patterns::Anything(),
+                        "Cell angles alpha in degrees.");
+      prm.declare_entry(
+        "Resume",
+        "false",
+        Patterns::Bool(),
+        "Reuse the samples of an interrupted sweep from "
+        "<Output directory>/sweep_progress.csv (written after every "
+        "batch, removed when the sweep completes).");
+      prm.leave_subsection();
+
+      prm.enter_subsection("Output");
+      prm.declare_entry("Write vtu",
+                        "true",
+                        Patterns::Bool(),
+                        "homogenize: write the cell mesh with the "
+                        "fluctuations (cell.vtu).");
+      prm.declare_entry("Isotropy tolerance",
+                        "0.005",
+                        Patterns::Double(0),
+                        "A structure with a1 and a2 (eq. 4.10) at most this "
+                        "counts as isotropic (thesis ch. 4.6.2: 0.005).");
+      prm.leave_subsection();
+    }
+
+
+
+    Setup
+    parse_setup(ParameterHandler &prm, RunContext &context)
+    {
+      Setup setup;
+      prm.enter_subsection("Base material");
+      setup.base_E  = prm.get_double("Young's modulus");
+      setup.base_nu = prm.get_double("Poisson's ratio");
+      setup.plane   = plane_model_from_string(prm.get("Plane model"));
+      for (const auto &t :
+           Utilities::split_string_list(prm.get("CLM Poisson's ratios")))
+        {
+          const auto nu = parse_values(t, "Base material/CLM Poisson's ratios");
+          AssertThrow(nu.size() == 1 && nu[0] > -1 && nu[0] < 0.5,
+                      ExcMessage("Base material/CLM Poisson's ratios: '" + t +
+                                 "' is not one Poisson's ratio in (-1, 0.5)"));
+          setup.clm_poisson.push_back(nu[0]);
+        }
+      prm.leave_subsection();
+      AssertThrow(setup.base_E > 0,
+                  ExcMessage("Base material/Young's modulus must be positive"));
+      setup.base =
+        IsotropicModuli::of_material(setup.base_E, setup.base_nu, setup.plane);
+
+      prm.enter_subsection("Structure");
+      setup.blending = prm.get_double("Blending");
+      prm.leave_subsection();
+
+      prm.enter_subsection("Mesh");
+      setup.mesh.grid          = prm.get_integer("Marching squares grid");
+      setup.mesh.size          = prm.get_double("Element size");
+      setup.mesh.boundary_size = prm.get_double("Boundary element size");
+      setup.degree             = prm.get_integer("Element degree");
+      prm.leave_subsection();
+      AssertThrow(setup.mesh.size > 0 && setup.mesh.size <= 0.5 &&
+                    setup.mesh.boundary_size > 0 &&
+                    setup.mesh.boundary_size <= setup.mesh.size,
+                  ExcMessage("Mesh: need 0 < Boundary element size <= "
+                             "Element size <= 0.5 (the cell side is 2)"));
+
+      prm.enter_subsection("Solver");
+      setup.solver.type = prm.get("Type");
+      prm.leave_subsection();
+
+      prm.enter_subsection("Output");
+      setup.write_vtu          = prm.get_bool("Write vtu");
+      setup.isotropy_tolerance = prm.get_double("Isotropy tolerance");
+      prm.leave_subsection();
+
+      context.summary["base_material"] = {
+        {"E", setup.base_E},
+        {"nu", setup.base_nu},
+        {"plane_model",
+         setup.plane == PlaneModel::plane_stress ? "plane stress" :
+                                                   "plane strain"},
+        {"E_2d", setup.base.E},
+        {"nu_2d", setup.base.nu}};
+      context.summary["mesh_parameters"] = {
+        {"marching_squares_grid", setup.mesh.grid},
+        {"element_size", setup.mesh.size},
+        {"boundary_element_size", setup.mesh.boundary_size},
+        {"degree", setup.degree}};
+      return setup;
+    }
+  } // namespace rhombic
+} // namespace forma

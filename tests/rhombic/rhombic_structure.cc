@@ -1,0 +1,131 @@
+// The rhombic family (thesis ch. 4.4, 4.10.1) and its homogenization:
+//  - the level set has the rhombus's two reflection symmetries and the
+//    cell's periodicity;
+//  - derivatives of the level set with respect to p1..p8 by Sacado match
+//    central differences (what shape derivatives will use);
+//  - C^H is orthotropic in the diagonal axes (ch. 4.6.1) up to the mesh's
+//    asymmetry, converges under mesh refinement, and the CLM transform
+//    (eq. 4.11) agrees with a direct computation for another base
+//    Poisson's ratio.
+
+#include <forma/homogenization/bounds.h>
+#include <forma/microstructure/rhombic_structure.h>
+#include <forma/rhombic/study.h>
+
+#include "../tests.h"
+#include <Sacado.hpp>
+
+using namespace dealii;
+using namespace forma;
+
+int
+main(int argc, char **argv)
+{
+  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  initlog();
+
+  RhombicStructure s;
+  s.alpha                  = M_PI / 3;
+  s.p                      = {{0.2, 0.15, 0.3, 0.7, 0.25, 0.08, 0.1, 0.08}};
+  const auto         graph = s.graph<double>(s.p);
+  const Tensor<2, 2> F     = s.cell_map();
+
+  // Symmetries (in R: reflections about the x and y axes through the
+  // cell's center) and periodicity (on the reference square).
+  {
+    const Point<2> center(F * Point<2>(1, 1));
+    double         asym = 0, aper = 0;
+    for (unsigned int k = 0; k < 200; ++k)
+      {
+        const Point<2>     q(2.0 * ((k * 37) % 200) / 200,
+                         2.0 * ((k * 91) % 200) / 200);
+        const Point<2>     x(F * q);
+        const Tensor<1, 2> d = x - center;
+        const double       v = graph.value(x);
+        asym                 = std::max(asym,
+                        std::abs(v - graph.value(center +
+                                                 Tensor<1, 2>({d[0], -d[1]}))));
+        asym                 = std::max(asym,
+                        std::abs(v - graph.value(center +
+                                                 Tensor<1, 2>({-d[0], d[1]}))));
+        const auto phi       = s.level_set();
+        aper =
+          std::max(aper,
+                   std::abs(phi(Point<2>(0, q[1])) - phi(Point<2>(2, q[1]))));
+        aper =
+          std::max(aper,
+                   std::abs(phi(Point<2>(q[0], 0)) - phi(Point<2>(q[0], 2))));
+      }
+    deallog << "reflection symmetry defect "
+            << (asym < 1e-12 ? "< 1e-12" : "TOO LARGE")
+            << ", periodicity defect " << (aper < 1e-9 ? "< 1e-9" : "TOO LARGE")
+            << std::endl;
+  }
+
+  // Sacado derivatives against central differences.
+  {
+    using AD = Sacado::Fad::DFad<double>;
+    std::array<AD, 8> p_ad;
+    for (unsigned int i = 0; i < 8; ++i)
+      p_ad[i] = AD(8, i, s.p[i]);
+    const auto graph_ad = s.graph<AD>(p_ad);
+    double     worst    = 0;
+    for (unsigned int k = 0; k < 50; ++k)
+      {
+        const Point<2> x(F * Point<2>(0.2 + 1.6 * ((k * 13) % 50) / 50.,
+                                      0.2 + 1.6 * ((k * 29) % 50) / 50.));
+        const AD       v = graph_ad.value(x);
+        for (unsigned int i = 0; i < 8; ++i)
+          {
+            const double h  = 1e-6;
+            auto         pp = s.p, pm = s.p;
+            pp[i] += h, pm[i] -= h;
+            const double fd =
+              (s.graph<double>(pp).value(x) - s.graph<double>(pm).value(x)) /
+              (2 * h);
+            worst = std::max(worst, std::abs(fd - v.dx(i)));
+          }
+      }
+    deallog << "dphi/dp: Sacado vs central differences "
+            << (worst < 1e-6 ? "< 1e-6" : "TOO LARGE") << std::endl;
+  }
+
+  // Homogenization: orthotropy, convergence, CLM.
+  rhombic::Setup setup;
+  setup.base = IsotropicModuli::from_young_poisson(1, 0);
+  std::vector<SymmetricTensor<4, 2>> C;
+  for (const double h : {0.1, 0.05, 0.025})
+    {
+      setup.mesh.size          = h;
+      setup.mesh.boundary_size = h / 2;
+      const auto r             = rhombic::evaluate(s, setup, MPI_COMM_WORLD);
+      C.push_back(r.C);
+      const VoigtMatrix V = to_voigt(r.C);
+      deallog << "h = " << h << ": E1 = " << rounded(r.orthotropic.E1, 3)
+              << ", E2 = " << rounded(r.orthotropic.E2, 3)
+              << ", G12 = " << rounded(r.orthotropic.G12, 3)
+              << ", nu12 = " << rounded(r.orthotropic.nu12, 3)
+              << ", phi = " << rounded(r.phi, 3) << ", shear coupling "
+              << (std::hypot(V[0][2], V[1][2]) < 1e-3 * V.norm() ?
+                    "< 1e-3 |C|" :
+                    "TOO LARGE")
+              << std::endl;
+    }
+  const double e1 = (C[0] - C[2]).norm() / C[2].norm(),
+               e2 = (C[1] - C[2]).norm() / C[2].norm();
+  deallog << "refinement: |C_h - C_h/4| / |C| "
+          << (e1 < 0.1 ? "< 0.1" : "TOO LARGE") << ", |C_h/2 - C_h/4| / |C| "
+          << (e2 < 0.3 * e1 ? "< 0.3 of it" : "NOT SMALLER") << std::endl;
+
+  // CLM: base nu 0 -> 0.3 against a direct computation.
+  {
+    const auto to    = IsotropicModuli::from_young_poisson(1, 0.3);
+    const auto C_clm = clm_transform(C[2], setup.base, to);
+    setup.base       = to;
+    const auto r     = rhombic::evaluate(s, setup, MPI_COMM_WORLD);
+    deallog << "CLM vs direct for base nu = 0.3: |C_clm - C| / |C| "
+            << ((C_clm - r.C).norm() / r.C.norm() < 2e-3 ? "< 2e-3" :
+                                                           "TOO LARGE")
+            << std::endl;
+  }
+}
