@@ -23,8 +23,12 @@ namespace
     const std::string mode  = prm.get("Mode");
     if (mode == "homogenize")
       homogenize_mode(prm, setup, context);
-    else
+    else if (mode == "sweep")
       sweep_mode(prm, setup, context);
+    else if (mode == "inverse")
+      inverse_mode(prm, setup, context);
+    else
+      verify_gradient_mode(prm, setup, context);
   }
 } // namespace
 
@@ -35,7 +39,7 @@ main(int argc, char **argv)
   app.name        = "forma-rhombic";
   app.description = "Homogenization of the rhombic microstructure family on "
                     "parallelogram cells (thesis ch. 4).";
-  app.modes       = {"homogenize", "sweep"};
+  app.modes       = {"homogenize", "sweep", "inverse", "verify gradient"};
   app.declare_parameters = declare_parameters;
   app.run                = run;
   return forma::run_application(argc, argv, app);

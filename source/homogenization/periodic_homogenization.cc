@@ -230,6 +230,8 @@ namespace forma
     mutable std::unique_ptr<FEValues<dim>>      fe_values;
     mutable std::vector<std::array<double, nv>> strains;
     double                                      box_volume = 0;
+    /// The last homogenize()'s cell tensors (Voigt), locally owned cells.
+    std::vector<Tensor<2, nv>> cell_tensors;
     /// Grids: the side x_0 = L_0 is the side x_0 = 0 moved by L_0 e_0 +
     /// shift (wrapped into the box), and the inversion symmetry.
     GridLattice lattice;
@@ -733,7 +735,8 @@ namespace forma
     std::vector<Vector<double>>          F(nv, Vector<double>(n));
     std::vector<types::global_dof_index> local(n);
     typename Impl::Kernel                own_kernel;
-    std::vector<Tensor<2, nv>>           cell_tensor;
+    std::vector<Tensor<2, nv>>          &cell_tensor = m.cell_tensors;
+    cell_tensor.clear();
     cell_tensor.reserve(m.tria->n_active_cells());
     for (const auto &cell : m.dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
@@ -884,6 +887,115 @@ namespace forma
               cell_data_names,
               cell_data,
               Tensor<2, dim>(unit_symmetric_tensor<dim>()));
+  }
+
+
+
+  template <int dim>
+  std::vector<std::array<SymmetricTensor<4, dim>, dim>>
+  PeriodicHomogenization<dim>::vertex_shape_gradient() const
+  {
+    const Impl        &m  = *impl;
+    constexpr unsigned nv = Impl::nv;
+    AssertThrow(m.fluctuation.size() == nv,
+                ExcMessage("vertex_shape_gradient() needs a homogenize() "
+                           "first"));
+    AssertThrow(!m.congruent_cells || !m.lattice.inversion,
+                ExcMessage("vertex_shape_gradient() is for cell meshes"));
+    // The geometry's own linear shape functions carry the vertex motion.
+    const ReferenceCell reference = m.tria->get_reference_cells()[0];
+    std::unique_ptr<FiniteElement<dim>> linear;
+    if (reference.is_hyper_cube())
+      linear = std::make_unique<FE_Q<dim>>(1);
+    else
+      linear = std::make_unique<FE_SimplexP<dim>>(1);
+    FEValues<dim> fv(*m.mapping,
+                     *m.fe,
+                     *m.quadrature,
+                     update_gradients | update_JxW_values);
+    FEValues<dim> lv(*m.mapping, *linear, *m.quadrature, update_gradients);
+    const FEValuesExtractors::Vector displacement(0);
+    const unsigned int n = m.fe->n_dofs_per_cell(), nq = m.quadrature->size();
+    std::vector<std::vector<Tensor<2, dim>>> grad_w(
+      nv, std::vector<Tensor<2, dim>>(nq));
+    std::vector<types::global_dof_index> local(n);
+    // g[(v * dim + k) * nv * nv + a * nv + b] = dC_ab / dX_vk
+    std::vector<double> g(m.tria->n_vertices() * dim * nv * nv, 0.);
+    unsigned int        index = 0;
+    for (const auto &cell : m.dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const Tensor<2, nv> &V = m.cell_tensors[index++];
+          fv.reinit(cell);
+          lv.reinit(typename Triangulation<dim>::active_cell_iterator(cell));
+          cell->get_dof_indices(local);
+          for (unsigned int c = 0; c < nv; ++c)
+            {
+              std::fill(grad_w[c].begin(), grad_w[c].end(), Tensor<2, dim>());
+              for (unsigned int i = 0; i < n; ++i)
+                {
+                  const double wi = m.fluctuation[c](local[i]);
+                  if (wi != 0)
+                    for (unsigned int q = 0; q < nq; ++q)
+                      grad_w[c][q] += wi * fv[displacement].gradient(i, q);
+                }
+            }
+          for (unsigned int q = 0; q < nq; ++q)
+            {
+              // Total strains (Voigt) and stresses (tensors) of the cases.
+              std::array<std::array<double, nv>, nv> e;
+              std::array<Tensor<2, dim>, nv>         sigma;
+              for (unsigned int a = 0; a < nv; ++a)
+                {
+                  strain_to_voigt<dim>(test_strain<dim>(a) +
+                                         symmetrize(grad_w[a][q]),
+                                       e[a].data());
+                  std::array<double, nv> sv{};
+                  for (unsigned int r = 0; r < nv; ++r)
+                    for (unsigned int t = 0; t < nv; ++t)
+                      sv[r] += V[r][t] * e[a][t];
+                  for (unsigned int r = 0; r < nv; ++r)
+                    {
+                      const auto [i, j] = voigt_pair<dim>(r);
+                      sigma[a][i][j] = sigma[a][j][i] = sv[r];
+                    }
+                }
+              const double JxW = fv.JxW(q) / m.box_volume;
+              for (unsigned int v = 0; v < cell->n_vertices(); ++v)
+                {
+                  const Tensor<1, dim> gl = lv.shape_grad(v, q);
+                  const unsigned int   vi = cell->vertex_index(v);
+                  for (unsigned int a = 0; a < nv; ++a)
+                    for (unsigned int b = a; b < nv; ++b)
+                      {
+                        double energy = 0;
+                        for (unsigned int r = 0; r < nv; ++r)
+                          for (unsigned int t = 0; t < nv; ++t)
+                            energy += e[a][r] * V[r][t] * e[b][t];
+                        const Tensor<1, dim> d =
+                          JxW * (energy * gl -
+                                 transpose(grad_w[a][q]) * (sigma[b] * gl) -
+                                 transpose(grad_w[b][q]) * (sigma[a] * gl));
+                        for (unsigned int k = 0; k < dim; ++k)
+                          g[(vi * dim + k) * nv * nv + a * nv + b] += d[k];
+                      }
+                }
+            }
+        }
+    Utilities::MPI::sum(g, m.comm, g);
+    std::vector<std::array<SymmetricTensor<4, dim>, dim>> result(
+      m.tria->n_vertices());
+    for (unsigned int v = 0; v < result.size(); ++v)
+      for (unsigned int k = 0; k < dim; ++k)
+        for (unsigned int a = 0; a < nv; ++a)
+          for (unsigned int b = a; b < nv; ++b)
+            {
+              const auto [i, j]        = voigt_pair<dim>(a);
+              const auto [r, t]        = voigt_pair<dim>(b);
+              result[v][k][i][j][r][t] = result[v][k][r][t][i][j] =
+                g[(v * dim + k) * nv * nv + a * nv + b];
+            }
+    return result;
   }
 
 

@@ -3,6 +3,7 @@
 #include <deal.II/base/utilities.h>
 #include <deal.II/grid/tria.h>
 
+#include <forma/adjoint/gradient_check.h>
 #include <forma/base/plot.h>
 #include <forma/base/run_context.h>
 #include <forma/homogenization/bounds.h>
@@ -297,6 +298,51 @@ namespace forma
         "<Output directory>/sweep_progress.csv (written after every "
         "batch, removed when the sweep completes).");
       prm.leave_subsection();
+
+      prm.enter_subsection("Inverse");
+      prm.declare_entry("Target",
+                        "isotropic",
+                        Patterns::Selection("isotropic|structure"),
+                        "isotropic: the tensor of (E, nu) below; structure: "
+                        "the C^H of 'Target parameters' on the same cell "
+                        "(a reachable target: recovery).");
+      prm.declare_entry("Target parameters",
+                        "0.3, 0.2, 0.4, 0.6, 0.2, 0.12, 0.1, 0.1",
+                        Patterns::Anything(),
+                        "p1..p8 of the target structure (Target = "
+                        "structure).");
+      prm.declare_entry("Target Young's modulus",
+                        "0.05",
+                        Patterns::Double(0, 1),
+                        "Target E relative to the base's 2D Young's modulus.");
+      prm.declare_entry("Target Poisson's ratio",
+                        "0.3",
+                        Patterns::Double(-1, 1),
+                        "Target Poisson's ratio (isotropic target).");
+      prm.declare_entry("Free parameters",
+                        "p1, p2, p3, p4, p5, p6, p7, p8",
+                        Patterns::Anything(),
+                        "Parameters the optimization varies (within the "
+                        "sweep ranges); the others keep the Structure "
+                        "section's values.");
+      prm.declare_entry("Volume weight",
+                        "0",
+                        Patterns::Double(0),
+                        "w_v: regularization by the volume fraction.");
+      prm.declare_entry("Proximity weight",
+                        "0",
+                        Patterns::Double(0),
+                        "w_p: regularization by |p - p_start|^2.");
+      prm.declare_entry("Tolerance",
+                        "0.01",
+                        Patterns::Double(0),
+                        "Stop when |C^H - C*| / |C*| is at most this.");
+      prm.declare_entry("Max iterations",
+                        "40",
+                        Patterns::Integer(1, 1000),
+                        "L-BFGS iterations (ROL, bound constrained).");
+      prm.leave_subsection();
+      GradientCheckParameters::declare(prm);
 
       prm.enter_subsection("Output");
       prm.declare_entry("Write vtu",

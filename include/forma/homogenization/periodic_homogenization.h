@@ -122,6 +122,22 @@ namespace forma
     homogenize(const MaterialFunction &material);
 
     /**
+     * Shape derivative of the last homogenize()'s C^H with respect to the
+     * mesh's vertex positions (cell meshes; the box stays fixed): entry
+     * [v][k] is dC^H / dX_vk, so a vertex velocity field theta gives
+     * dC^H = sum_v,k theta_vk [v][k] (indices of the triangulation's
+     * vertices). With chi_a = A_a x + w_a and sigma_a = C eps(chi_a),
+     *   dC_ab = 1/|Y| int eps_a : C : eps_b div theta
+     *           - (grad w_a grad theta) : sigma_b - sigma_a : (grad w_b grad
+     *           theta),
+     * the derivative of the discrete mutual energies along the mesh motion
+     * (the cell problems are self-adjoint and their solutions stationary,
+     * so no adjoint solve is needed). Periodic partners must move alike.
+     */
+    std::vector<std::array<dealii::SymmetricTensor<4, dim>, dim>>
+    vertex_shape_gradient() const;
+
+    /**
      * Write the last homogenize()'s fluctuations w_a (as point data) and the
      * given cell data to `file_stem`.vtu (serial) or .pvtu + pieces.
      */

@@ -109,6 +109,19 @@ namespace forma
                     const Setup              &setup,
                     RunContext               &context);
 
+    /// A target (E, nu) -> structure parameters by bound-constrained
+    /// L-BFGS (ROL) with shape derivatives, remeshing every design.
+    void
+    inverse_mode(dealii::ParameterHandler &prm,
+                 const Setup              &setup,
+                 RunContext               &context);
+
+    /// Taylor test of dJ/dp for the Inverse section's objective.
+    void
+    verify_gradient_mode(dealii::ParameterHandler &prm,
+                         const Setup              &setup,
+                         RunContext               &context);
+
     /// A parameter grid -> samples.csv, coverage.png (resumable).
     void
     sweep_mode(dealii::ParameterHandler &prm,

@@ -1,0 +1,60 @@
+#ifndef forma_rhombic_inverse_problem_h
+#define forma_rhombic_inverse_problem_h
+
+#include <forma/rhombic/cell_model.h>
+#include <forma/rhombic/study.h>
+
+#include <array>
+#include <vector>
+
+namespace forma
+{
+  namespace rhombic
+  {
+    /**
+     * Inverse homogenization (thesis eq. 4.4): the distance of C^H to an
+     * isotropic target, relative to the target,
+     *   J(p) = |C^H(p) - C*|^2 / |C*|^2 + w_v phi(p) + w_p |p - p0|^2,
+     * with the volume fraction phi and the proximity to the start p0 as
+     * optional regularizations; only the `free` parameters vary, within
+     * the sweep ranges. C* is isotropic (E*, nu*) or the C^H of a given
+     * structure on the same cell (a reachable target, for recovery).
+     */
+    struct InverseProblem
+    {
+      dealii::SymmetricTensor<4, 2> target;
+      double                        target_E = 0, target_nu = 0;
+      double                        volume_weight = 0, proximity_weight = 0;
+      std::array<double, RhombicStructure::n_parameters> start{};
+      std::vector<unsigned int>                          free;
+      double                                             tolerance = 0.01;
+      /// Target = structure: the parameters whose C^H is the target.
+      std::array<double, RhombicStructure::n_parameters> target_structure{};
+
+      /// The Inverse section (range-checked); the start is `structure`.
+      static InverseProblem
+      read(dealii::ParameterHandler &prm,
+           const Setup              &setup,
+           const RhombicStructure   &structure,
+           const MPI_Comm            comm);
+
+      /// s with its free parameters set to z.
+      RhombicStructure
+      with(const RhombicStructure &s, const std::vector<double> &z) const;
+
+      /// The free parameters of s.
+      std::vector<double>
+      free_values(const RhombicStructure &s) const;
+
+      /// |C^H - C*| / |C*|
+      double
+      misfit(const Sample &r) const;
+
+      /// J of a cell model's design; with `gradient` also dJ/dz.
+      double
+      objective(const CellModel &model, std::vector<double> *gradient) const;
+    };
+  } // namespace rhombic
+} // namespace forma
+
+#endif

@@ -1,0 +1,162 @@
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/utilities.h>
+
+#include <forma/rhombic/inverse_problem.h>
+
+#include <algorithm>
+
+namespace forma
+{
+  namespace rhombic
+  {
+    using namespace dealii;
+
+    namespace
+    {
+      // Sum over all ijkl: the tensor (Frobenius) inner product.
+      double
+      inner(const SymmetricTensor<4, 2> &A, const SymmetricTensor<4, 2> &B)
+      {
+        double s = 0;
+        for (unsigned int i = 0; i < 2; ++i)
+          for (unsigned int j = 0; j < 2; ++j)
+            for (unsigned int k = 0; k < 2; ++k)
+              for (unsigned int l = 0; l < 2; ++l)
+                s += A[i][j][k][l] * B[i][j][k][l];
+        return s;
+      }
+    } // namespace
+
+
+
+    InverseProblem
+    InverseProblem::read(ParameterHandler       &prm,
+                         const Setup            &setup,
+                         const RhombicStructure &structure,
+                         const MPI_Comm          comm)
+    {
+      InverseProblem problem;
+      prm.enter_subsection("Inverse");
+      const std::string kind = prm.get("Target");
+      problem.target_E       = prm.get_double("Target Young's modulus");
+      problem.target_nu      = prm.get_double("Target Poisson's ratio");
+      const std::string target_parameters = prm.get("Target parameters");
+      problem.volume_weight               = prm.get_double("Volume weight");
+      problem.proximity_weight            = prm.get_double("Proximity weight");
+      problem.tolerance                   = prm.get_double("Tolerance");
+      const auto names =
+        Utilities::split_string_list(prm.get("Free parameters"));
+      prm.leave_subsection();
+      for (const auto &name : names)
+        {
+          unsigned int i = 0;
+          while (i < RhombicStructure::n_parameters &&
+                 RhombicStructure::parameter_name(i) != name)
+            ++i;
+          AssertThrow(i < RhombicStructure::n_parameters,
+                      ExcMessage("Inverse/Free parameters: '" + name +
+                                 "' is not one of p1 ... p8"));
+          if (std::find(problem.free.begin(), problem.free.end(), i) ==
+              problem.free.end())
+            problem.free.push_back(i);
+        }
+      AssertThrow(!problem.free.empty(),
+                  ExcMessage("Inverse/Free parameters: none given"));
+      std::sort(problem.free.begin(), problem.free.end());
+      problem.start = structure.p;
+      if (kind == "isotropic")
+        {
+          AssertThrow(problem.target_E > 0 && problem.target_E < 1,
+                      ExcMessage("Inverse/Target Young's modulus (relative to "
+                                 "the base's 2D modulus) must be in (0, 1)"));
+          AssertThrow(problem.target_nu > -1 && problem.target_nu < 1,
+                      ExcMessage("Inverse/Target Poisson's ratio must be in "
+                                 "(-1, 1)"));
+          problem.target =
+            IsotropicModuli::from_young_poisson(problem.target_E * setup.base.E,
+                                                problem.target_nu)
+              .tensor();
+        }
+      else
+        {
+          // The C^H of a known structure on the same cell: a reachable,
+          // generally anisotropic target (recovery tests).
+          const auto p =
+            parse_values(target_parameters, "Inverse/Target parameters");
+          AssertThrow(p.size() == RhombicStructure::n_parameters,
+                      ExcMessage("Inverse/Target parameters: " +
+                                 std::to_string(p.size()) +
+                                 " values given, the family has 8"));
+          RhombicStructure t = structure;
+          std::copy(p.begin(), p.end(), t.p.begin());
+          t.check();
+          problem.target_structure = t.p;
+          const Sample r           = evaluate(t, setup, comm);
+          problem.target           = r.C;
+          problem.target_E         = r.fit.E / setup.base.E;
+          problem.target_nu        = r.fit.nu;
+        }
+      return problem;
+    }
+
+
+
+    RhombicStructure
+    InverseProblem::with(const RhombicStructure    &s,
+                         const std::vector<double> &z) const
+    {
+      RhombicStructure result = s;
+      for (unsigned int k = 0; k < free.size(); ++k)
+        result.p[free[k]] = z[k];
+      return result;
+    }
+
+
+
+    std::vector<double>
+    InverseProblem::free_values(const RhombicStructure &s) const
+    {
+      std::vector<double> z;
+      for (const unsigned int i : free)
+        z.push_back(s.p[i]);
+      return z;
+    }
+
+
+
+    double
+    InverseProblem::misfit(const Sample &r) const
+    {
+      return (r.C - target).norm() / target.norm();
+    }
+
+
+
+    double
+    InverseProblem::objective(const CellModel     &model,
+                              std::vector<double> *gradient) const
+    {
+      const Sample           &r  = model.sample();
+      const RhombicStructure &s  = model.structure();
+      const double            t2 = inner(target, target);
+      const auto              D  = r.C - target;
+      double                  J  = inner(D, D) / t2 + volume_weight * r.phi;
+      for (const unsigned int i : free)
+        J += proximity_weight * (s.p[i] - start[i]) * (s.p[i] - start[i]);
+      if (gradient)
+        {
+          const auto g = model.gradient();
+          gradient->assign(free.size(), 0.);
+          for (unsigned int k = 0; k < free.size(); ++k)
+            {
+              const unsigned int i = free[k];
+              (*gradient)[k]       = 2 * inner(D, g.C[i]) / t2 +
+                               volume_weight * g.phi[i] +
+                               2 * proximity_weight * (s.p[i] - start[i]);
+            }
+        }
+      return J;
+    }
+  } // namespace rhombic
+} // namespace forma
