@@ -731,6 +731,7 @@ namespace forma
       m.matrix = 0;
     std::vector<TrilinosWrappers::MPI::Vector> rhs(
       nv, TrilinosWrappers::MPI::Vector(m.owned, m.comm));
+    FullMatrix<double> average(nv, nv); // int_Y V
     FullMatrix<double>                   K(n, n);
     std::vector<Vector<double>>          F(nv, Vector<double>(n));
     std::vector<types::global_dof_index> local(n);
@@ -755,6 +756,9 @@ namespace forma
           if (!m.congruent_cells)
             m.compute_kernel(cell, own_kernel);
           const auto &kernel = m.congruent_cells ? m.shared_kernel : own_kernel;
+          for (unsigned int a = 0; a < nv; ++a)
+            for (unsigned int b = 0; b < nv; ++b)
+              average(a, b) += kernel.measure * V[a][b];
           K                  = 0;
           unsigned int p     = 0;
           for (unsigned int a = 0; a < nv; ++a)
@@ -817,10 +821,31 @@ namespace forma
         m.fluctuation[c] = w[c];
       }
 
-    // Mutual energies, cell by cell:
+    FullMatrix<double> energy(nv, nv);
+    if (!m.congruent_cells)
+      {
+        // Unstructured meshes, whose kernels are per cell: as w_c is
+        // stationary, a(chi_c, chi_d) = a(A_c x, chi_d) = int V_cd - f_c . w_d
+        // (f_c the condensed right-hand side): no second pass over the cells.
+        for (unsigned int c = 0; c < nv; ++c)
+          for (unsigned int d = 0; d < nv; ++d)
+            energy(c, d) = Utilities::MPI::sum(average(c, d), m.comm) -
+                           (rhs[c] * w[d]);
+        for (unsigned int c = 0; c < nv; ++c)
+          for (unsigned int d = 0; d < nv; ++d)
+            {
+              const double e    = 0.5 * (energy(c, d) + energy(d, c));
+              const auto [i, j] = voigt_pair<dim>(c);
+              const auto [k, l] = voigt_pair<dim>(d);
+              result.C[i][j][k][l] = e / m.box_volume;
+            }
+        return result;
+      }
+
+    // Grids (shared kernels): mutual energies cell by cell, symmetric and
+    // positive definite by construction:
     // int (A_c + B w_c)^T V (A_d + B w_d)
     //   = |K| V_cd + V_c. (int B) w_d + V_d. (int B) w_c + w_c^T K(V) w_d.
-    FullMatrix<double>                     energy(nv, nv);
     std::array<std::array<double, nv>, nv> s;
     std::vector<Vector<double>>            w_local(nv, Vector<double>(n));
     Vector<double>                         Kw(n);

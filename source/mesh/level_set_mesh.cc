@@ -3,6 +3,7 @@
 #include <deal.II/grid/grid_in.h>
 #include <deal.II/grid/tria.h>
 
+#include <forma/base/application.h>
 #include <forma/mesh/level_set_mesh.h>
 #include <forma/mesh/mesh.h>
 
@@ -56,6 +57,71 @@ namespace forma
           in = !in;
       return in;
     }
+
+    // Do the closed segments [a, b] and [c, d] intersect?
+    bool
+    segments_cross(const Point<2> &a,
+                   const Point<2> &b,
+                   const Point<2> &c,
+                   const Point<2> &d)
+    {
+      const auto orient =
+        [](const Point<2> &p, const Point<2> &q, const Point<2> &r) {
+          const double v =
+            (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+          return (v > 0) - (v < 0);
+        };
+      const int o1 = orient(a, b, c), o2 = orient(a, b, d),
+                o3 = orient(c, d, a), o4 = orient(c, d, b);
+      return o1 != o2 && o3 != o4 && o1 * o2 <= 0 && o3 * o4 <= 0;
+    }
+
+    /// Whether loop k crosses itself or any other loop (non-adjacent
+    /// segments only), by a bounding-box sweep over all segments.
+    std::vector<bool>
+    crossing_loops(const std::vector<std::vector<Point<2>>> &loops)
+    {
+      struct Segment
+      {
+        double       x_lo, x_hi;
+        unsigned int loop, index;
+      };
+      std::vector<Segment> segments;
+      for (unsigned int k = 0; k < loops.size(); ++k)
+        for (unsigned int i = 0; i < loops[k].size(); ++i)
+          {
+            const Point<2> &a = loops[k][i],
+                           &b = loops[k][(i + 1) % loops[k].size()];
+            segments.push_back(
+              {std::min(a[0], b[0]), std::max(a[0], b[0]), k, i});
+          }
+      std::sort(segments.begin(),
+                segments.end(),
+                [](const Segment &s, const Segment &t) {
+                  return s.x_lo < t.x_lo;
+                });
+      std::vector<bool> crossed(loops.size(), false);
+      for (unsigned int i = 0; i < segments.size(); ++i)
+        for (unsigned int j = i + 1;
+             j < segments.size() && segments[j].x_lo <= segments[i].x_hi;
+             ++j)
+          {
+            const Segment     &s = segments[i], &t = segments[j];
+            const auto        &L = loops[s.loop], &M = loops[t.loop];
+            const unsigned int n = L.size();
+            if (s.loop == t.loop &&
+                (s.index == t.index || (s.index + 1) % n == t.index ||
+                 (t.index + 1) % n == s.index))
+              continue; // neighbours share a vertex
+            if (segments_cross(L[s.index],
+                               L[(s.index + 1) % n],
+                               M[t.index],
+                               M[(t.index + 1) % M.size()]))
+              crossed[s.loop] = crossed[t.loop] = true;
+          }
+      return crossed;
+    }
+
 
     /**
      * The material's boundary loops in the box by marching squares on a
@@ -462,7 +528,8 @@ namespace forma
     generate(const std::vector<std::vector<Point<2>>> &outer,
              const std::vector<std::vector<Point<2>>> &holes,
              const std::vector<int>                   &hole_owner,
-             const LevelSetMeshParameters             &parameters)
+             const LevelSetMeshParameters             &parameters,
+             const int                                 algorithm)
     {
       namespace geo = gmsh::model::geo;
       std::vector<int> lines_all;
@@ -499,7 +566,7 @@ namespace forma
       gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 1);
       gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
       gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
-      gmsh::option::setNumber("Mesh.Algorithm", 6); // Frontal-Delaunay
+      gmsh::option::setNumber("Mesh.Algorithm", algorithm);
       gmsh::model::mesh::generate(2);
       internal::gmsh_check_generated(2, "level set mesh");
       return internal::gmsh_written_mesh();
@@ -563,23 +630,72 @@ namespace forma
                                            "the sides of the cell, so it "
                                            "cannot form a periodic "
                                            "structure"));
+          // Resampled contours of features near the boundary element size
+          // may touch: a small hole that does is filled, anything else is
+          // an error that names the cause.
+          {
+            std::vector<std::vector<Point<2>>> all = outer;
+            all.insert(all.end(), holes.begin(), holes.end());
+            const auto crossed = crossing_loops(all);
+            for (unsigned int k = 0; k < outer.size(); ++k)
+              AssertThrow(!crossed[k],
+                          ExcMessage(context +
+                                     ": the resampled material boundary "
+                                     "crosses itself: a gap or a joint is "
+                                     "thinner than the boundary element "
+                                     "size " +
+                                     std::to_string(parameters.boundary_size)));
+            std::vector<std::vector<Point<2>>> kept;
+            for (unsigned int k = 0; k < holes.size(); ++k)
+              if (!crossed[outer.size() + k])
+                kept.push_back(std::move(holes[k]));
+              else
+                {
+                  AssertThrow(-signed_area(holes[k]) <
+                                16 * std::pow(parameters.boundary_size, 2),
+                              ExcMessage(
+                                context +
+                                ": a hole's resampled boundary "
+                                "crosses the material's boundary: "
+                                "a wall is thinner than the "
+                                "boundary element size " +
+                                std::to_string(parameters.boundary_size)));
+                  ++local_info.dropped_holes;
+                }
+            holes = std::move(kept);
+          }
           std::vector<int> owner(holes.size(), -1);
           for (unsigned int k = 0; k < holes.size(); ++k)
             for (unsigned int o = 0; o < outer.size(); ++o)
               if (inside(outer[o], holes[k][0]))
                 owner[k] = o;
           local_info.boundary_loops = outer.size() + holes.size();
+          // Frontal-Delaunay, and plain Delaunay if that cannot recover a
+          // boundary edge (it happens at near-touching contours).
           std::lock_guard<std::mutex> lock(internal::gmsh_mutex());
-          internal::GmshSession       session("forma-level-set-mesh");
-          msh = generate(outer, holes, owner, parameters);
-        }
-      catch (const std::string &message) // what the Gmsh API throws
-        {
-          error = internal::gmsh_error(context, "failed (" + message + ")");
+          for (const int algorithm : {6, 5})
+            try
+              {
+                internal::GmshSession session("forma-level-set-mesh");
+                msh   = generate(outer, holes, owner, parameters, algorithm);
+                error = "";
+                break;
+              }
+            catch (const std::string &message) // what the Gmsh API throws
+              {
+                error =
+                  internal::gmsh_error(context, "failed (" + message + ")");
+              }
+            catch (const std::exception &e)
+              {
+                error = error_message(e) +
+                        " (is a gap or a joint of the structure thinner than "
+                        "the boundary element size?)";
+              }
         }
       catch (const std::exception &e)
         {
-          error = e.what();
+          error = error_message(e);
         }
     std::tie(msh, error) =
       Utilities::MPI::broadcast(comm, std::make_pair(msh, error));

@@ -3,6 +3,7 @@
 #include <deal.II/grid/grid_in.h>
 #include <deal.II/grid/tria.h>
 
+#include <forma/base/application.h>
 #include <forma/mesh/mesh.h>
 #include <forma/mesh/periodic_phase_mesh.h>
 #include <forma/microstructure/raster.h>
@@ -188,7 +189,7 @@ namespace forma
         }
       catch (const std::exception &e)
         {
-          error = e.what();
+          error = error_message(e);
         }
     std::tie(msh, error) =
       Utilities::MPI::broadcast(comm, std::make_pair(msh, error));

@@ -1,4 +1,5 @@
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/timer.h>
 #include <deal.II/grid/tria.h>
 
 #include <forma/homogenization/parallelogram_cell.h>
@@ -28,6 +29,7 @@ namespace forma
       , comm(comm)
       , mesh(std::make_unique<Triangulation<2>>())
     {
+      Timer timer;
       periodic_level_set_mesh(structure.level_set(),
                               Point<2>(L, L),
                               setup.mesh,
@@ -35,10 +37,12 @@ namespace forma
                               comm,
                               &current.mesh,
                               "rhombic cell");
-      motion = std::make_unique<LevelSetMeshMotion>(*mesh,
+      motion                    = std::make_unique<LevelSetMeshMotion>(*mesh,
                                                     Point<2>(L, L),
                                                     structure.level_set());
+      const double seconds_mesh = timer.wall_time();
       homogenize();
+      current.seconds_mesh = seconds_mesh;
     }
 
 
@@ -51,8 +55,11 @@ namespace forma
     CellModel::homogenize()
     {
       const ParallelogramCell parallelogram(design.cell_map());
+      Timer                   timer;
       cell = std::make_unique<PeriodicHomogenization<2>>(
         comm, *mesh, Point<2>(L, L), setup.solver, setup.degree);
+      current.seconds_setup = timer.wall_time();
+      timer.restart();
       const SymmetricTensor<4, 2> base =
         parallelogram.to_reference(setup.base.tensor());
       Sample &r = current;
@@ -61,8 +68,9 @@ namespace forma
           ->homogenize(
             [&](const Point<2> &, const types::material_id) { return base; })
           .C;
-      r.C         = parallelogram.from_reference(r.C_reference);
-      double area = 0;
+      r.seconds_solve = timer.wall_time();
+      r.C             = parallelogram.from_reference(r.C_reference);
+      double area     = 0;
       for (const auto &c : mesh->active_cell_iterators())
         area += c->measure();
       r.mesh.area   = area;

@@ -25,6 +25,9 @@ namespace forma
                     }());
       std::unique_ptr<PeriodicHomogenization<2>> cell;
       const Sample r = evaluate(s, setup, context.communicator(), &cell);
+      context.log("seconds: mesh " + sig(r.seconds_mesh, 3) + ", set-up " +
+                  sig(r.seconds_setup, 3) + ", solve " +
+                  sig(r.seconds_solve, 3));
       context.print("mesh: " + std::to_string(r.vertices) + " vertices, " +
                     std::to_string(r.cells) + " triangles, P" +
                     std::to_string(setup.degree) + ": " +

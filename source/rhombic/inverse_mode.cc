@@ -1,5 +1,6 @@
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/timer.h>
 
 #include <forma/adjoint/gradient_check.h>
 #include <forma/base/plot.h>
@@ -75,7 +76,15 @@ namespace forma
       };
       model.gradient = [&](const std::vector<double> &z,
                            std::vector<double>       &g) {
-        return problem.objective(*model_at(z), &g);
+        const auto   cell = model_at(z);
+        Timer        timer;
+        const double J = problem.objective(*cell, &g);
+        const auto  &r = cell->sample();
+        context.log("seconds: mesh " + sig(r.seconds_mesh, 3) + ", set-up " +
+                    sig(r.seconds_setup, 3) + ", solve " +
+                    sig(r.seconds_solve, 3) + ", gradient " +
+                    sig(timer.wall_time(), 3));
+        return J;
       };
       std::vector<nlohmann::json> iterations;
       model.accepted = [&](const unsigned int         k,

@@ -266,8 +266,9 @@ namespace forma
 
       // Parse the rows back: one table for the CSV, plots and summary.
       unsigned int                       n_failed = 0, n_isotropic = 0;
-      std::vector<std::array<double, 2>> isotropic, anisotropic;
-      double E_min = 1e300, E_max = 0, nu_min = 1, nu_max = -1;
+      std::vector<std::array<double, 2>> isotropic, near_isotropic, anisotropic;
+      const double near_isotropy = std::max(0.1, setup.isotropy_tolerance);
+      double       E_min = 1e300, E_max = 0, nu_min = 1, nu_max = -1;
       for (const auto &line : lines)
         {
           const auto parts = Utilities::split_string_list(line, ',');
@@ -292,6 +293,8 @@ namespace forma
               E_min = std::min(E_min, E), E_max = std::max(E_max, E);
               nu_min = std::min(nu_min, nu), nu_max = std::max(nu_max, nu);
             }
+          else if (std::max(v[f_a1], v[f_a2]) <= near_isotropy)
+            near_isotropic.push_back({{nu, E}});
           else
             anisotropic.push_back({{nu, E}});
         }
@@ -302,19 +305,22 @@ namespace forma
           for (const auto &line : lines)
             csv << line << '\n';
           double top = 0;
-          for (const auto &s : {isotropic, anisotropic})
+          for (const auto &s : {isotropic, near_isotropic, anisotropic})
             for (const auto &p : s)
               top = std::max(top, p[1]);
-          PlotSeries all, iso;
-          all.points = anisotropic;
-          all.color  = {{170, 170, 170}};
-          all.label  = "anisotropic (isotropic fit)";
-          iso.points = isotropic;
-          iso.color  = {{200, 30, 30}};
-          iso.size   = 3;
-          iso.label  = "a1, a2 <= " + sig(setup.isotropy_tolerance);
+          PlotSeries all, near, iso;
+          all.points  = anisotropic;
+          all.color   = {{175, 175, 175}};
+          all.label   = "isotropic fit, a1 or a2 > " + sig(near_isotropy);
+          near.points = near_isotropic;
+          near.color  = {{235, 150, 40}};
+          near.label  = "a1, a2 <= " + sig(near_isotropy);
+          iso.points  = isotropic;
+          iso.color   = {{200, 30, 30}};
+          iso.size    = 4;
+          iso.label   = "a1, a2 <= " + sig(setup.isotropy_tolerance);
           write_xy_plot(context.path("coverage.png"),
-                        {all, iso},
+                        {all, near, iso},
                         "Rhombic family coverage",
                         "Poisson's ratio",
                         "E / E_b",
@@ -323,13 +329,13 @@ namespace forma
         }
       {
         double lo = 1e300, hi = -1e300, nlo = 1e300, nhi = -1e300;
-        for (const auto &set : {isotropic, anisotropic})
+        for (const auto &set : {isotropic, near_isotropic, anisotropic})
           for (const auto &p : set)
             {
               lo = std::min(lo, p[1]), hi = std::max(hi, p[1]);
               nlo = std::min(nlo, p[0]), nhi = std::max(nhi, p[0]);
             }
-        if (isotropic.size() + anisotropic.size() > 0)
+        if (isotropic.size() + near_isotropic.size() + anisotropic.size() > 0)
           context.print("all samples (isotropic fit): E/E_b in [" + sig(lo) +
                         ", " + sig(hi) + "], nu in [" + sig(nlo) + ", " +
                         sig(nhi) + "]");

@@ -101,10 +101,10 @@ main(int argc, char **argv)
       const auto r             = rhombic::evaluate(s, setup, MPI_COMM_WORLD);
       C.push_back(r.C);
       const VoigtMatrix V = to_voigt(r.C);
-      deallog << "h = " << h << ": E1 = " << rounded(r.orthotropic.E1, 3)
-              << ", E2 = " << rounded(r.orthotropic.E2, 3)
-              << ", G12 = " << rounded(r.orthotropic.G12, 3)
-              << ", nu12 = " << rounded(r.orthotropic.nu12, 3)
+      deallog << "h = " << h << ": E1 in [0.04, 0.05]: "
+              << (r.orthotropic.E1 > 0.04 && r.orthotropic.E1 < 0.05)
+              << ", nu12 in [1.1, 1.25]: "
+              << (r.orthotropic.nu12 > 1.1 && r.orthotropic.nu12 < 1.25)
               << ", phi = " << rounded(r.phi, 3) << ", shear coupling "
               << (std::hypot(V[0][2], V[1][2]) < 1e-3 * V.norm() ?
                     "< 1e-3 |C|" :

@@ -69,11 +69,8 @@ main(int argc, char **argv)
           deallog << degrees << " degrees, "
                   << (direction == 8 ? std::string("all parameters") :
                                        "p" + std::to_string(direction + 1))
-                  << ": rates";
-          for (const double r : rates)
-            deallog << ' ' << rounded(r, 2);
-
-          deallog << (worst > 1.8 ? "  ok" : "  TOO LOW") << std::endl;
+                  << ": rates " << (worst > 1.8 ? ">= 1.8" : "TOO LOW")
+                  << std::endl;
         }
     }
 }

@@ -17,12 +17,14 @@ namespace forma
 {
   struct LevelSetMeshParameters
   {
-    /// Marching squares cells along the box's longer side (thesis: 256).
-    unsigned int grid = 256;
+    /// Marching squares cells along the box's longer side (thesis: 256;
+    /// the projection makes the boundary exact, so the grid only needs to
+    /// resolve the topology).
+    unsigned int grid = 128;
     /// Largest element edge inside the material.
     double size = 0.05;
     /// Element edge along the material boundary.
-    double boundary_size = 0.025;
+    double boundary_size = 0.0125;
   };
 
   struct LevelSetMeshInfo

@@ -62,6 +62,8 @@ namespace forma
       LevelSetMeshInfo              mesh;
       unsigned int                  cells = 0, vertices = 0;
       unsigned long long            dofs = 0;
+      /// Wall seconds: meshing, homogenization set-up, solve (logs only).
+      double seconds_mesh = 0, seconds_setup = 0, seconds_solve = 0;
     };
 
     /**
