@@ -14,7 +14,9 @@ namespace
   using namespace forma::rhombic;
 
   void
-  run(ParameterHandler &prm, const std::string &, forma::RunContext &context)
+  run(ParameterHandler  &prm,
+      const std::string &prm_directory,
+      forma::RunContext &context)
   {
     AssertThrow(prm.get_integer("Dimension") == 2,
                 ExcMessage(
@@ -27,6 +29,10 @@ namespace
       sweep_mode(prm, setup, context);
     else if (mode == "inverse")
       inverse_mode(prm, setup, context);
+    else if (mode == "build map")
+      build_map_mode(prm, setup, context);
+    else if (mode == "query")
+      query_mode(prm, prm_directory, setup, context);
     else
       verify_gradient_mode(prm, setup, context);
   }
@@ -39,7 +45,8 @@ main(int argc, char **argv)
   app.name        = "forma-rhombic";
   app.description = "Homogenization of the rhombic microstructure family on "
                     "parallelogram cells (thesis ch. 4).";
-  app.modes       = {"homogenize", "sweep", "inverse", "verify gradient"};
+  app.modes       = {
+          "homogenize", "sweep", "inverse", "verify gradient", "build map", "query"};
   app.declare_parameters = declare_parameters;
   app.run                = run;
   return forma::run_application(argc, argv, app);

@@ -731,7 +731,7 @@ namespace forma
       m.matrix = 0;
     std::vector<TrilinosWrappers::MPI::Vector> rhs(
       nv, TrilinosWrappers::MPI::Vector(m.owned, m.comm));
-    FullMatrix<double> average(nv, nv); // int_Y V
+    FullMatrix<double>                   average(nv, nv); // int_Y V
     FullMatrix<double>                   K(n, n);
     std::vector<Vector<double>>          F(nv, Vector<double>(n));
     std::vector<types::global_dof_index> local(n);
@@ -759,8 +759,8 @@ namespace forma
           for (unsigned int a = 0; a < nv; ++a)
             for (unsigned int b = 0; b < nv; ++b)
               average(a, b) += kernel.measure * V[a][b];
-          K                  = 0;
-          unsigned int p     = 0;
+          K              = 0;
+          unsigned int p = 0;
           for (unsigned int a = 0; a < nv; ++a)
             for (unsigned int b = a; b < nv; ++b, ++p)
               K.add(V[a][b], kernel.pair[p]);
@@ -822,21 +822,22 @@ namespace forma
       }
 
     FullMatrix<double> energy(nv, nv);
-    if (!m.congruent_cells)
+    if (!m.congruent_cells && m.solver_parameters.type == "direct")
       {
         // Unstructured meshes, whose kernels are per cell: as w_c is
         // stationary, a(chi_c, chi_d) = a(A_c x, chi_d) = int V_cd - f_c . w_d
         // (f_c the condensed right-hand side): no second pass over the cells.
+        // Exact at stationarity, so only after direct solves.
         for (unsigned int c = 0; c < nv; ++c)
           for (unsigned int d = 0; d < nv; ++d)
-            energy(c, d) = Utilities::MPI::sum(average(c, d), m.comm) -
-                           (rhs[c] * w[d]);
+            energy(c, d) =
+              Utilities::MPI::sum(average(c, d), m.comm) - (rhs[c] * w[d]);
         for (unsigned int c = 0; c < nv; ++c)
           for (unsigned int d = 0; d < nv; ++d)
             {
-              const double e    = 0.5 * (energy(c, d) + energy(d, c));
-              const auto [i, j] = voigt_pair<dim>(c);
-              const auto [k, l] = voigt_pair<dim>(d);
+              const double e       = 0.5 * (energy(c, d) + energy(d, c));
+              const auto [i, j]    = voigt_pair<dim>(c);
+              const auto [k, l]    = voigt_pair<dim>(d);
               result.C[i][j][k][l] = e / m.box_volume;
             }
         return result;
@@ -1047,6 +1048,19 @@ namespace forma
           {
             for (auto &v : patch.vertices)
               v = Point<dim>(F * v);
+            // Patches at the boundary carry their points in the last dim
+            // rows of the data.
+            if (patch.points_are_available)
+              for (unsigned int q = 0; q < patch.data.size(1); ++q)
+                {
+                  Point<dim>         x;
+                  const unsigned int first = patch.data.size(0) - dim;
+                  for (unsigned int d = 0; d < dim; ++d)
+                    x[d] = patch.data(first + d, q);
+                  x = Point<dim>(F * x);
+                  for (unsigned int d = 0; d < dim; ++d)
+                    patch.data(first + d, q) = x[d];
+                }
             for (unsigned int k = 0; k < n_vectors; ++k)
               for (unsigned int q = 0; q < patch.data.size(1); ++q)
                 {

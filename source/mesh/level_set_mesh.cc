@@ -636,9 +636,10 @@ namespace forma
           {
             std::vector<std::vector<Point<2>>> all = outer;
             all.insert(all.end(), holes.begin(), holes.end());
-            const auto crossed = crossing_loops(all);
+            const auto crossed       = crossing_loops(all);
+            const auto outer_crossed = crossing_loops(outer);
             for (unsigned int k = 0; k < outer.size(); ++k)
-              AssertThrow(!crossed[k],
+              AssertThrow(!outer_crossed[k],
                           ExcMessage(context +
                                      ": the resampled material boundary "
                                      "crosses itself: a gap or a joint is "
@@ -666,9 +667,15 @@ namespace forma
           }
           std::vector<int> owner(holes.size(), -1);
           for (unsigned int k = 0; k < holes.size(); ++k)
-            for (unsigned int o = 0; o < outer.size(); ++o)
-              if (inside(outer[o], holes[k][0]))
-                owner[k] = o;
+            {
+              for (unsigned int o = 0; o < outer.size(); ++o)
+                if (inside(outer[o], holes[k][0]))
+                  owner[k] = o;
+              AssertThrow(owner[k] >= 0,
+                          ExcMessage(context +
+                                     ": a hole of the material lies in no "
+                                     "piece of it (inconsistent contours)"));
+            }
           local_info.boundary_loops = outer.size() + holes.size();
           // Frontal-Delaunay, and plain Delaunay if that cannot recover a
           // boundary edge (it happens at near-touching contours).
@@ -696,6 +703,10 @@ namespace forma
       catch (const std::exception &e)
         {
           error = error_message(e);
+        }
+      catch (...)
+        {
+          error = context + ": meshing failed with an unknown error";
         }
     std::tie(msh, error) =
       Utilities::MPI::broadcast(comm, std::make_pair(msh, error));

@@ -237,17 +237,21 @@ namespace forma
 
   std::vector<std::vector<Tensor<1, 2>>>
   LevelSetMeshMotion::velocities(
-    const std::function<std::vector<double>(const Point<2> &)> &dphi_dq) const
+    const std::function<std::vector<double>(const Point<2> &)> &dphi_dq,
+    const unsigned int n_variables) const
   {
     const Impl                            &m = *impl;
-    std::vector<std::vector<Tensor<1, 2>>> boundary;
+    std::vector<std::vector<Tensor<1, 2>>> boundary(
+      n_variables, std::vector<Tensor<1, 2>>(m.vertices.size()));
     for (unsigned int i = 0; i < m.vertices.size(); ++i)
       if (m.kind[i] == Impl::contour && m.partner[i] < 0)
         {
           const std::vector<double> dq = dphi_dq(m.vertices[i]);
-          if (boundary.empty())
-            boundary.assign(dq.size(),
-                            std::vector<Tensor<1, 2>>(m.vertices.size()));
+          AssertThrow(dq.size() == n_variables,
+                      ExcMessage(
+                        "LevelSetMeshMotion: " + std::to_string(dq.size()) +
+                        " level-set derivatives for " +
+                        std::to_string(n_variables) + " variables"));
           for (unsigned int k = 0; k < dq.size(); ++k)
             boundary[k][i] = -dq[k] / m.slope[i] * m.direction[i];
         }

@@ -193,9 +193,12 @@ namespace forma
     if (near.empty())
       return Number(reach);
     // Distances of the edges near x; the others count as beyond reach.
-    std::vector<Number> d(edges.size());
-    std::vector<bool>   is_near(edges.size(), false);
-    unsigned int        nearest = near[0];
+    // Scratch reused between calls (this runs per sample point).
+    thread_local std::vector<Number> d;
+    thread_local std::vector<char>   is_near;
+    d.resize(edges.size());
+    is_near.assign(edges.size(), 0);
+    unsigned int nearest = near[0];
     for (const unsigned int e : near)
       {
         d[e]       = edge_distance(e, x);
@@ -210,7 +213,7 @@ namespace forma
     double lowest = std::numeric_limits<double>::max(), second = lowest;
     for (const unsigned int i : bucket_joints[bucket])
       {
-        Number       J;
+        Number       J     = d[nearest];
         unsigned int count = 0;
         double       m     = std::numeric_limits<double>::max();
         for (const unsigned int e : incident[i])
@@ -220,6 +223,8 @@ namespace forma
               if (count++ == 0)
                 J = d[e];
             }
+        if (count == 0)
+          continue;
         if (count > 1)
           {
             const Number s = joint_blending[i];

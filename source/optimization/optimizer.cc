@@ -190,7 +190,7 @@ namespace forma
         else
           run.context.log(line);
         // Resume point: the last accepted design.
-        if (run.context.is_root())
+        if (run.context.is_root() && run.parameters.checkpoint)
           {
             nlohmann::json c;
             c["iteration"]        = k;

@@ -106,7 +106,7 @@ namespace forma
           d[i] = v.dx(i);
         return d;
       };
-      const auto              theta = motion->velocities(dphi_dp);
+      const auto              theta = motion->velocities(dphi_dp, n);
       const auto              dC_dX = cell->vertex_shape_gradient();
       const ParallelogramCell parallelogram(design.cell_map());
       Gradient                result;

@@ -33,75 +33,20 @@ namespace forma
       op.decrease_window    = 3;
       op.gradient_tolerance = 1e-6;
 
-      // One cell model (mesh + homogenization + gradient) per design: the
-      // line search's value and the gradient at an accepted point share it.
-      std::map<std::vector<double>, std::shared_ptr<CellModel>> cache;
-      const auto model_at = [&](const std::vector<double> &z) {
-        auto it = cache.find(z);
-        if (it == cache.end())
-          {
-            if (cache.size() > 4)
-              cache.clear();
-            it = cache
-                   .emplace(z,
-                            std::make_shared<CellModel>(problem.with(s0, z),
-                                                        setup,
-                                                        context.communicator()))
-                   .first;
-          }
-        return it->second;
-      };
-
-      const auto  ranges = RhombicStructure::ranges();
-      DesignModel model;
-      model.initial = problem.free_values(s0);
-      for (const unsigned int i : problem.free)
-        {
-          // Node 2 stays in its triangle: p1 + p2 <= 0.98.
-          const double hi = i < 2 ? std::min(ranges[i][1], 0.49) : ranges[i][1];
-          model.lower.push_back(ranges[i][0]);
-          model.upper.push_back(hi);
-          model.scale.push_back(0.1);
-        }
-      for (unsigned int k = 0; k < model.initial.size(); ++k)
-        AssertThrow(
-          model.initial[k] >= model.lower[k] &&
-            model.initial[k] <= model.upper[k],
-          ExcMessage("Inverse: the start's " +
-                     RhombicStructure::parameter_name(problem.free[k]) + " = " +
-                     sig(model.initial[k]) + " is outside its range [" +
-                     sig(model.lower[k]) + ", " + sig(model.upper[k]) + "]"));
-      model.value = [&](const std::vector<double> &z) {
-        return problem.objective(*model_at(z), nullptr);
-      };
-      model.gradient = [&](const std::vector<double> &z,
-                           std::vector<double>       &g) {
-        const auto   cell = model_at(z);
-        Timer        timer;
-        const double J = problem.objective(*cell, &g);
-        const auto  &r = cell->sample();
-        context.log("seconds: mesh " + sig(r.seconds_mesh, 3) + ", set-up " +
-                    sig(r.seconds_setup, 3) + ", solve " +
-                    sig(r.seconds_solve, 3) + ", gradient " +
-                    sig(timer.wall_time(), 3));
-        return J;
-      };
       std::vector<nlohmann::json> iterations;
-      model.accepted = [&](const unsigned int         k,
-                           const std::vector<double> &z,
-                           const double               J) {
-        const auto     cell = model_at(z);
-        const auto    &r    = cell->sample();
-        nlohmann::json j    = structure_json(cell->structure());
-        j["iteration"]      = k;
-        j["objective"]      = J;
-        j["E_over_Eb"]      = r.fit.E / setup.base.E;
-        j["nu"]             = r.fit.nu;
-        j["a1"]             = r.anisotropy.a1;
-        j["a2"]             = r.anisotropy.a2;
-        j["misfit"]         = problem.misfit(r);
-        iterations.push_back(j);
-      };
+      const auto                  accepted =
+        [&](const unsigned int k, const CellModel &cell, const double J) {
+          const auto    &r = cell.sample();
+          nlohmann::json j = structure_json(cell.structure());
+          j["iteration"]   = k;
+          j["objective"]   = J;
+          j["E_over_Eb"]   = r.fit.E / setup.base.E;
+          j["nu"]          = r.fit.nu;
+          j["a1"]          = r.anisotropy.a1;
+          j["a2"]          = r.anisotropy.a2;
+          j["misfit"]      = problem.misfit(r);
+          iterations.push_back(j);
+        };
 
       context.print("inverse: target " +
                     std::string(problem.target_structure[0] != 0 ?
@@ -111,17 +56,17 @@ namespace forma
                     ", nu = " + sig(problem.target_nu) + " on a " +
                     sig(s0.alpha * 180 / M_PI) + " degree cell, " +
                     std::to_string(problem.free.size()) + " free parameters");
-      const auto   result = optimize(model, op, context);
-      const auto   best   = model_at(result.design);
-      const auto  &r      = best->sample();
-      const double misfit = problem.misfit(r);
+      const InverseSolution result =
+        problem.solve(s0, setup, context.communicator(), op, context, accepted);
+      const auto  &r      = result.sample;
+      const double misfit = result.misfit;
       context.print("inverse: E/E_b = " + sig(r.fit.E / setup.base.E) +
                     ", nu = " + sig(r.fit.nu) +
                     ", a1 = " + sig(r.anisotropy.a1, 2) +
                     ", a2 = " + sig(r.anisotropy.a2, 2) + "; |C - C*|/|C*| = " +
                     sig(misfit, 3) + " (" + result.stop_reason + ")");
       std::string p;
-      for (const double v : best->structure().p)
+      for (const double v : result.structure.p)
         p += (p.empty() ? "" : ", ") + sig(v);
       context.print("inverse: p = " + p);
       nlohmann::json &S = context.summary;
@@ -130,7 +75,7 @@ namespace forma
       if (problem.target_structure[0] != 0)
         S["target"]["parameters"] = problem.target_structure;
       S["start"]       = structure_json(s0);
-      S["structure"]   = structure_json(best->structure());
+      S["structure"]   = structure_json(result.structure);
       S["result"]      = sample_json(r, setup);
       S["misfit"]      = misfit;
       S["reached"]     = misfit <= problem.tolerance;
@@ -142,7 +87,7 @@ namespace forma
                              result.history,
                              "Inverse homogenization",
                              "iteration");
-          write_structure_png(context.path("structure.png"), best->structure());
+          write_structure_png(context.path("structure.png"), result.structure);
         }
     }
 

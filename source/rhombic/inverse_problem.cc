@@ -1,10 +1,15 @@
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/timer.h>
 #include <deal.II/base/utilities.h>
 
+#include <forma/base/run_context.h>
+#include <forma/optimization/optimizer.h>
 #include <forma/rhombic/inverse_problem.h>
 
 #include <algorithm>
+#include <map>
+#include <memory>
 
 namespace forma
 {
@@ -157,6 +162,95 @@ namespace forma
             }
         }
       return J;
+    }
+
+
+
+    InverseSolution
+    InverseProblem::solve(
+      const RhombicStructure       &start,
+      const Setup                  &setup,
+      const MPI_Comm                comm,
+      const OptimizationParameters &parameters,
+      RunContext                   &context,
+      const std::function<void(unsigned int, const CellModel &, double)>
+        &accepted) const
+    {
+      // One cell model (mesh + homogenization + gradient) per design: the
+      // line search's value and the gradient at an accepted point share it.
+      std::map<std::vector<double>, std::shared_ptr<CellModel>> cache;
+      const auto model_at = [&](const std::vector<double> &z) {
+        auto it = cache.find(z);
+        if (it == cache.end())
+          {
+            if (cache.size() > 4)
+              cache.clear();
+            it =
+              cache
+                .emplace(
+                  z, std::make_shared<CellModel>(with(start, z), setup, comm))
+                .first;
+          }
+        return it->second;
+      };
+      const auto  ranges = RhombicStructure::ranges();
+      DesignModel model;
+      model.initial = free_values(start);
+      for (const unsigned int i : free)
+        {
+          // Node 2 stays in its triangle: p1 + p2 <= 0.98.
+          model.lower.push_back(ranges[i][0]);
+          // With the partner fixed, its value sets the room left.
+          const bool partner_free =
+            i < 2 && std::find(free.begin(), free.end(), 1 - i) != free.end();
+          model.upper.push_back(
+            i >= 2       ? ranges[i][1] :
+            partner_free ? std::min(ranges[i][1], 0.49) :
+                           std::min(ranges[i][1], 0.98 - start.p[1 - i]));
+          model.scale.push_back(0.1);
+        }
+      for (unsigned int k = 0; k < model.initial.size(); ++k)
+        AssertThrow(model.initial[k] >= model.lower[k] - 1e-12 &&
+                      model.initial[k] <= model.upper[k] + 1e-12,
+                    ExcMessage("Inverse: the start's " +
+                               RhombicStructure::parameter_name(free[k]) +
+                               " = " + sig(model.initial[k]) +
+                               " is outside its range [" + sig(model.lower[k]) +
+                               ", " + sig(model.upper[k]) + "]"));
+      model.value = [&](const std::vector<double> &z) {
+        return objective(*model_at(z), nullptr);
+      };
+      model.gradient = [&](const std::vector<double> &z,
+                           std::vector<double>       &g) {
+        const auto   cell = model_at(z);
+        Timer        timer;
+        const double J = objective(*cell, &g);
+        const auto  &r = cell->sample();
+        context.log("seconds: mesh " + sig(r.seconds_mesh, 3) + ", set-up " +
+                    sig(r.seconds_setup, 3) + ", solve " +
+                    sig(r.seconds_solve, 3) + ", gradient " +
+                    sig(timer.wall_time(), 3));
+        return J;
+      };
+      model.accepted = [&](const unsigned int         k,
+                           const std::vector<double> &z,
+                           const double               J) {
+        if (accepted)
+          accepted(k, *model_at(z), J);
+      };
+      OptimizationParameters op = parameters;
+      op.value_target           = tolerance * tolerance;
+      const auto      result    = optimize(model, op, context);
+      const auto      best      = model_at(result.design);
+      InverseSolution solution;
+      solution.structure   = best->structure();
+      solution.sample      = best->sample();
+      solution.misfit      = misfit(solution.sample);
+      solution.reached     = solution.misfit <= tolerance;
+      solution.iterations  = result.history.size() - 1;
+      solution.stop_reason = result.stop_reason;
+      solution.history     = result.history;
+      return solution;
     }
   } // namespace rhombic
 } // namespace forma

@@ -354,6 +354,58 @@ namespace forma
       prm.leave_subsection();
       GradientCheckParameters::declare(prm);
 
+      prm.enter_subsection("Map");
+      prm.declare_entry("Map file",
+                        "map.json",
+                        Patterns::Anything(),
+                        "build map: the file written in the output "
+                        "directory; query: the map to read (relative to the "
+                        ".prm file), e.g. ../../contrib/rhombic/map.json.");
+      prm.declare_entry("Young's moduli",
+                        "0.03:0.09:4",
+                        Patterns::Anything(),
+                        "build map: E/E_b of the isotropic targets.");
+      prm.declare_entry("Poisson's ratios",
+                        "0.1:0.4:4",
+                        Patterns::Anything(),
+                        "build map: nu of the isotropic targets.");
+      prm.declare_entry("Angles",
+                        "90",
+                        Patterns::Anything(),
+                        "build map: cell angles in degrees, continued from "
+                        "the largest down.");
+      prm.declare_entry("Spline control points",
+                        "6, 6, 4",
+                        Patterns::Anything(),
+                        "Control points along E, nu, alpha (thesis: 12, 12, "
+                        "12).");
+      prm.declare_entry("Smoothing",
+                        "1e-5",
+                        Patterns::Double(0),
+                        "Weight of the second-difference (Laplacian) "
+                        "penalty of the spline fit.");
+      prm.declare_entry("Accuracy checks",
+                        "8",
+                        Patterns::Integer(0, 10000),
+                        "build map: points between the samples queried and "
+                        "homogenized to measure the map's accuracy.");
+      prm.leave_subsection();
+
+      prm.enter_subsection("Query");
+      prm.declare_entry("Young's modulus",
+                        "0.05",
+                        Patterns::Double(0, 1),
+                        "E relative to the base's 2D modulus.");
+      prm.declare_entry("Poisson's ratio",
+                        "0.3",
+                        Patterns::Double(-1, 1),
+                        "Target Poisson's ratio.");
+      prm.declare_entry("Angle",
+                        "90",
+                        Patterns::Double(),
+                        "Cell angle in degrees.");
+      prm.leave_subsection();
+
       prm.enter_subsection("Output");
       prm.declare_entry("Write vtu",
                         "true",

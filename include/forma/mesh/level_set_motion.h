@@ -48,7 +48,8 @@ namespace forma
     std::vector<std::vector<dealii::Tensor<1, 2>>>
     velocities(
       const std::function<std::vector<double>(const dealii::Point<2> &)>
-        &dphi_dq) const;
+                        &dphi_dq,
+      const unsigned int n_variables) const;
 
     /// Vertex positions for a new level set near the original one: each
     /// contour vertex solves new_phi = 0 along its direction.

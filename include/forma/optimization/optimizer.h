@@ -28,6 +28,9 @@ namespace forma
     double value_target = -std::numeric_limits<double>::infinity();
     /// Iteration lines to the screen (true) or to the log only.
     bool print_iterations = true;
+    /// Write the resume checkpoint (false for many small runs, e.g. one
+    /// per rank at a time; not a parameter-file entry).
+    bool checkpoint = true;
 
     static void
     declare(dealii::ParameterHandler &prm);

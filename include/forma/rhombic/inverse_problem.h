@@ -5,12 +5,19 @@
 #include <forma/rhombic/study.h>
 
 #include <array>
+#include <functional>
+#include <string>
 #include <vector>
 
 namespace forma
 {
+  class RunContext;
+  struct OptimizationParameters;
+
   namespace rhombic
   {
+    struct InverseSolution;
+
     /**
      * Inverse homogenization (thesis eq. 4.4): the distance of C^H to an
      * isotropic target, relative to the target,
@@ -53,6 +60,31 @@ namespace forma
       /// J of a cell model's design; with `gradient` also dJ/dz.
       double
       objective(const CellModel &model, std::vector<double> *gradient) const;
+
+      /**
+       * Minimize J from `start` (its angle and blending are kept) with
+       * bound-constrained L-BFGS (ROL, optimize()), remeshing every design,
+       * on `comm`. `accepted` sees every accepted design.
+       */
+      InverseSolution
+      solve(const RhombicStructure       &start,
+            const Setup                  &setup,
+            const MPI_Comm                comm,
+            const OptimizationParameters &parameters,
+            RunContext                   &context,
+            const std::function<void(unsigned int, const CellModel &, double)>
+              &accepted = {}) const;
+    };
+
+    struct InverseSolution
+    {
+      RhombicStructure    structure;
+      Sample              sample;
+      double              misfit     = 0;
+      bool                reached    = false;
+      unsigned int        iterations = 0;
+      std::string         stop_reason;
+      std::vector<double> history;
     };
   } // namespace rhombic
 } // namespace forma

@@ -124,6 +124,20 @@ namespace forma
                          const Setup              &setup,
                          RunContext               &context);
 
+    /// The material-to-geometry map by continuation -> map.json.
+    void
+    build_map_mode(dealii::ParameterHandler &prm,
+                   const Setup              &setup,
+                   RunContext               &context);
+
+    /// (E, nu, alpha) -> structure parameters from a map, verified by
+    /// homogenization.
+    void
+    query_mode(dealii::ParameterHandler &prm,
+               const std::string        &prm_directory,
+               const Setup              &setup,
+               RunContext               &context);
+
     /// A parameter grid -> samples.csv, coverage.png (resumable).
     void
     sweep_mode(dealii::ParameterHandler &prm,

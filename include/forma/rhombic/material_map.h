@@ -1,0 +1,108 @@
+#ifndef forma_rhombic_material_map_h
+#define forma_rhombic_material_map_h
+
+#include <forma/microstructure/rhombic_structure.h>
+
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace forma
+{
+  namespace rhombic
+  {
+    /**
+     * A smooth function on a box in R^d as a tensor-product uniform cubic
+     * B-spline, fitted to scattered samples by least squares with a
+     * second-difference penalty on the control net (the "Laplacian
+     * regularization" of thesis ch. 4.6.2-4.6.3, as in P-splines): the
+     * penalty makes the fit smooth and fills the control points no sample
+     * reaches.
+     */
+    class TensorSpline
+    {
+    public:
+      TensorSpline() = default;
+
+      /// n[k] >= 4 control points along [lower[k], upper[k]].
+      TensorSpline(const std::vector<double>       &lower,
+                   const std::vector<double>       &upper,
+                   const std::vector<unsigned int> &n);
+
+      /// Least squares on (x_s, y_s) plus `smoothing` times the squared
+      /// second differences of the control values.
+      void
+      fit(const std::vector<std::vector<double>> &x,
+          const std::vector<double>              &y,
+          const double                            smoothing);
+
+      double
+      value(const std::vector<double> &x) const;
+
+      nlohmann::json
+      to_json() const;
+
+      static TensorSpline
+      from_json(const nlohmann::json &j);
+
+      unsigned int
+      n_coefficients() const
+      {
+        return coefficients.size();
+      }
+
+    private:
+      /// Nonzero basis functions at x along direction k: first index and
+      /// the 4 values (x clamped to the box).
+      std::pair<int, std::array<double, 4>>
+      basis(const unsigned int k, const double x) const;
+
+      std::vector<double>       lower, upper;
+      std::vector<unsigned int> n;
+      std::vector<double>       coefficients;
+    };
+
+    /**
+     * The material-to-geometry map P(E, nu; alpha) (thesis ch. 4.6): the
+     * 8 parameters of the rhombic family as splines over (E/E_b, nu, alpha
+     * in degrees) for a base material with Poisson's ratio 0, and the
+     * samples' coverage per angle (the (E, nu) grid nodes where the
+     * construction reached its target). Other base materials by the CLM
+     * transform (eq. 4.11).
+     */
+    struct MaterialMap
+    {
+      std::array<TensorSpline, RhombicStructure::n_parameters> parameters;
+      /// Grid of the construction: E/E_b values, nu values, angles.
+      std::vector<double> E, nu, angles;
+      /// covered[a][i * nu.size() + j]: sample (E[i], nu[j]) at angles[a].
+      std::vector<std::vector<bool>> covered;
+      double                         blending = 0.01;
+      /// The samples the splines were fitted to: E, nu, angle, p1..p8.
+      std::vector<std::array<double, 11>> samples;
+
+      /**
+       * The structure for (E, nu) relative to a base of Poisson's ratio
+       * `base_nu` (E relative to the base's modulus) at `alpha_degrees`.
+       * `inside` tells whether the point lies in the covered region (the
+       * convex hull of the covered nodes at the nearest angles).
+       */
+      RhombicStructure
+      query(const double E,
+            const double nu,
+            const double alpha_degrees,
+            const double base_nu,
+            bool        &inside) const;
+
+      void
+      write(const std::string &file_name) const;
+
+      static MaterialMap
+      read(const std::string &file_name);
+    };
+  } // namespace rhombic
+} // namespace forma
+
+#endif

@@ -1,0 +1,537 @@
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/timer.h>
+
+#include <forma/base/application.h>
+#include <forma/base/plot.h>
+#include <forma/base/run_context.h>
+#include <forma/optimization/optimizer.h>
+#include <forma/rhombic/inverse_problem.h>
+#include <forma/rhombic/material_map.h>
+
+#include <boost/serialization/array.hpp>
+#include <boost/serialization/utility.hpp>
+#include <boost/serialization/vector.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+namespace forma
+{
+  namespace rhombic
+  {
+    using namespace dealii;
+
+    namespace
+    {
+      using Parameters = std::array<double, RhombicStructure::n_parameters>;
+
+      /// One inverse solve of the construction: a grid node at an angle
+      /// from a start.
+      struct Job
+      {
+        unsigned int node = 0;
+        Parameters   start{};
+      };
+
+      struct Outcome
+      {
+        unsigned int node    = 0;
+        bool         reached = false;
+        Parameters   p{};
+        double       misfit = 0, E = 0, nu = 0;
+
+        template <class Archive>
+        void
+        serialize(Archive &ar, const unsigned int)
+        {
+          ar &node &reached &p &misfit &E &nu;
+        }
+      };
+    } // namespace
+
+
+
+    /**
+     * The material-to-geometry map by continuation (thesis ch. 4.6.2-4.6.3,
+     * our construction; see doc/rhombic.md): isotropic targets on an
+     * (E, nu) grid are reached by inverse homogenization, each started from
+     * its solved neighbours (at the first angle, outward from a seed) or
+     * from the same node at the previous angle, with the proximity term
+     * keeping the parameters close to the start, so that they vary
+     * smoothly; then one tensor-product spline per parameter over
+     * (E, nu, alpha) is fitted with Laplacian regularization.
+     */
+    void
+    build_map_mode(ParameterHandler &prm,
+                   const Setup      &setup,
+                   RunContext       &context)
+    {
+      const MPI_Comm         comm = context.communicator();
+      const RhombicStructure seed = read_structure(prm, setup);
+      const InverseProblem base = InverseProblem::read(prm, setup, seed, comm);
+      OptimizationParameters op;
+      prm.enter_subsection("Inverse");
+      op.max_iterations = prm.get_integer("Max iterations");
+      prm.leave_subsection();
+      op.relative_decrease  = 1e-5;
+      op.decrease_window    = 3;
+      op.gradient_tolerance = 1e-6;
+      op.print_iterations   = false;
+      op.checkpoint         = false;
+
+      prm.enter_subsection("Map");
+      auto Es = parse_values(prm.get("Young's moduli"), "Map/Young's moduli");
+      auto nus =
+        parse_values(prm.get("Poisson's ratios"), "Map/Poisson's ratios");
+      auto         angles    = parse_values(prm.get("Angles"), "Map/Angles");
+      const auto   controls  = parse_values(prm.get("Spline control points"),
+                                         "Map/Spline control points");
+      const double smoothing = prm.get_double("Smoothing");
+      const std::string  map_file = prm.get("Map file");
+      const unsigned int n_checks = prm.get_integer("Accuracy checks");
+      prm.leave_subsection();
+      AssertThrow(controls.size() == 3 &&
+                    std::all_of(controls.begin(),
+                                controls.end(),
+                                [](const double c) {
+                                  return c >= 4 && c == std::floor(c);
+                                }),
+                  ExcMessage("Map/Spline control points: three integers >= 4 "
+                             "(along E, nu, alpha)"));
+      for (const double E : Es)
+        AssertThrow(E > 0 && E < 1,
+                    ExcMessage("Map/Young's moduli: " + sig(E) +
+                               " is not in (0, 1) (relative to the base)"));
+      for (const double nu : nus)
+        AssertThrow(nu > -1 && nu < 1,
+                    ExcMessage("Map/Poisson's ratios: " + sig(nu) +
+                               " is not in (-1, 1)"));
+      AssertThrow(setup.base_nu == 0,
+                  ExcMessage("build map: the map is built for a base with "
+                             "Poisson's ratio 0 (other bases follow by the "
+                             "CLM transform when it is queried)"));
+      // Ascending grids (descending angles), no repeated values.
+      std::sort(Es.begin(), Es.end());
+      std::sort(nus.begin(), nus.end());
+      std::sort(angles.begin(), angles.end(), std::greater<double>());
+      for (const auto *list : {&Es, &nus, &angles})
+        AssertThrow(std::adjacent_find(list->begin(), list->end()) ==
+                      list->end(),
+                    ExcMessage("Map: the Young's moduli, Poisson's ratios "
+                               "and angles must not repeat a value"));
+      const unsigned int n_nodes = Es.size() * nus.size();
+      const auto         node_E  = [&](const unsigned int n) {
+        return Es[n / nus.size()];
+      };
+      const auto node_nu = [&](const unsigned int n) {
+        return nus[n % nus.size()];
+      };
+      const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(comm),
+                         rank    = Utilities::MPI::this_mpi_process(comm);
+
+      // Solve jobs at one angle, shared among the ranks.
+      const auto solve = [&](const double angle, const std::vector<Job> &jobs) {
+        std::vector<Outcome> mine;
+        for (unsigned int k = rank; k < jobs.size(); k += n_ranks)
+          {
+            Outcome o;
+            o.node                 = jobs[k].node;
+            InverseProblem problem = base;
+            problem.target_E       = node_E(o.node);
+            problem.target_nu      = node_nu(o.node);
+            problem.target =
+              IsotropicModuli::from_young_poisson(problem.target_E *
+                                                    setup.base.E,
+                                                  problem.target_nu)
+                .tensor();
+            problem.start      = jobs[k].start;
+            RhombicStructure s = seed;
+            s.alpha            = angle * M_PI / 180;
+            s.p                = jobs[k].start;
+            const auto ranges  = RhombicStructure::ranges();
+            for (unsigned int i = 0; i < s.p.size(); ++i)
+              s.p[i] =
+                std::clamp(s.p[i],
+                           ranges[i][0],
+                           i < 2 ? std::min(ranges[i][1], 0.49) : ranges[i][1]);
+            try
+              {
+                const auto r =
+                  problem.solve(s, setup, MPI_COMM_SELF, op, context);
+                o.reached = r.reached;
+                o.p       = r.structure.p;
+                o.misfit  = r.misfit;
+                o.E       = r.sample.fit.E / setup.base.E;
+                o.nu      = r.sample.fit.nu;
+              }
+            catch (const std::exception &e)
+              {
+                context.log("map: node " + std::to_string(o.node) +
+                            " failed: " + error_message(e));
+              }
+            mine.push_back(o);
+          }
+        std::vector<Outcome> all;
+        for (const auto &from : Utilities::MPI::all_gather(comm, mine))
+          all.insert(all.end(), from.begin(), from.end());
+        return all;
+      };
+
+      MaterialMap map;
+      map.E        = Es;
+      map.nu       = nus;
+      map.angles   = angles;
+      map.blending = setup.blending;
+      std::vector<std::vector<bool>> attempted;
+      std::vector<Parameters>        previous(n_nodes);
+      std::vector<bool>              previous_solved(n_nodes, false);
+      unsigned int                   n_solves = 0;
+      for (unsigned int a = 0; a < angles.size(); ++a)
+        {
+          std::vector<bool>       solved(n_nodes, false), tried(n_nodes, false);
+          std::vector<Parameters> p(n_nodes);
+          const auto              take = [&](const std::vector<Outcome> &out) {
+            unsigned int reached = 0;
+            for (const auto &o : out)
+              {
+                tried[o.node] = true;
+                ++n_solves;
+                if (o.reached)
+                  {
+                    solved[o.node] = true, p[o.node] = o.p, ++reached;
+                    map.samples.push_back({{node_E(o.node),
+                                            node_nu(o.node),
+                                            angles[a],
+                                            o.p[0],
+                                            o.p[1],
+                                            o.p[2],
+                                            o.p[3],
+                                            o.p[4],
+                                            o.p[5],
+                                            o.p[6],
+                                            o.p[7]}});
+                  }
+              }
+            return reached;
+          };
+          if (a == 0)
+            {
+              // Seed: the nodes nearest the seed structure's isotropic fit,
+              // a rank's worth at a time, until one is reached.
+              RhombicStructure s          = seed;
+              s.alpha                     = angles[0] * M_PI / 180;
+              const Sample              r = evaluate(s, setup, comm);
+              std::vector<unsigned int> order(n_nodes);
+              for (unsigned int n = 0; n < n_nodes; ++n)
+                order[n] = n;
+              const double sE  = Es.size() > 1 ? Es.back() - Es.front() : 1.,
+                           snu = nus.size() > 1 ? nus.back() - nus.front() : 1.;
+              std::sort(order.begin(),
+                        order.end(),
+                        [&](const unsigned int m, const unsigned int n) {
+                          const auto d = [&](const unsigned int k) {
+                            return std::hypot(
+                              (node_E(k) - r.fit.E / setup.base.E) / sE,
+                              (node_nu(k) - r.fit.nu) / snu);
+                          };
+                          return d(m) < d(n);
+                        });
+              for (unsigned int start = 0;
+                   start < std::min<unsigned int>(n_nodes, 3 * n_ranks) &&
+                   std::none_of(solved.begin(),
+                                solved.end(),
+                                [](bool b) { return b; });
+                   start += n_ranks)
+                {
+                  std::vector<Job> jobs;
+                  for (unsigned int k = start;
+                       k < std::min<unsigned int>(n_nodes, start + n_ranks);
+                       ++k)
+                    jobs.push_back({order[k], seed.p});
+                  take(solve(angles[0], jobs));
+                }
+            }
+          else
+            {
+              // Continue every node of the previous angle.
+              std::vector<Job> jobs;
+              for (unsigned int n = 0; n < n_nodes; ++n)
+                if (previous_solved[n])
+                  jobs.push_back({n, previous[n]});
+              take(solve(angles[a], jobs));
+            }
+          // Grow outward: unsolved nodes next to solved ones start from the
+          // mean of their solved neighbours.
+          while (true)
+            {
+              std::vector<Job> jobs;
+              for (unsigned int n = 0; n < n_nodes; ++n)
+                {
+                  if (solved[n] || tried[n])
+                    continue;
+                  const int    i = n / nus.size(), j = n % nus.size();
+                  Parameters   start{};
+                  unsigned int count = 0;
+                  for (const auto &[di, dj] : std::vector<std::pair<int, int>>{
+                         {-1, 0}, {1, 0}, {0, -1}, {0, 1}})
+                    {
+                      const int ii = i + di, jj = j + dj;
+                      if (ii < 0 || jj < 0 ||
+                          ii >= static_cast<int>(Es.size()) ||
+                          jj >= static_cast<int>(nus.size()))
+                        continue;
+                      const unsigned int m = ii * nus.size() + jj;
+                      if (!solved[m])
+                        continue;
+                      for (unsigned int q = 0; q < start.size(); ++q)
+                        start[q] += p[m][q];
+                      ++count;
+                    }
+                  if (count == 0)
+                    continue;
+                  for (auto &v : start)
+                    v /= count;
+                  jobs.push_back({n, start});
+                }
+              if (jobs.empty())
+                break;
+              take(solve(angles[a], jobs));
+              context.print(
+                "map: angle " + sig(angles[a]) + ": " +
+                std::to_string(std::count(solved.begin(), solved.end(), true)) +
+                " of " + std::to_string(n_nodes) + " nodes reached");
+            }
+          const unsigned int n_solved =
+            std::count(solved.begin(), solved.end(), true);
+          context.print("map: angle " + sig(angles[a]) +
+                        " done: " + std::to_string(n_solved) + " of " +
+                        std::to_string(n_nodes) + " (E, nu) nodes covered");
+          map.covered.push_back(solved);
+          previous        = p;
+          previous_solved = solved;
+        }
+      AssertThrow(map.samples.size() >= 4,
+                  ExcMessage("build map: only " +
+                             std::to_string(map.samples.size()) +
+                             " grid nodes were reached; widen the grid around "
+                             "the seed structure's moduli or change the seed"));
+
+      // The splines over (E, nu, alpha).
+      std::vector<std::vector<double>> x;
+      for (const auto &s : map.samples)
+        x.push_back({s[0], s[1], s[2]});
+      const std::vector<double> lower = {Es.front(),
+                                         nus.front(),
+                                         angles.back()},
+                                upper = {Es.back(), nus.back(), angles.front()};
+      double worst_fit                = 0;
+      for (unsigned int i = 0; i < RhombicStructure::n_parameters; ++i)
+        {
+          map.parameters[i] =
+            TensorSpline(lower,
+                         upper,
+                         {static_cast<unsigned int>(controls[0]),
+                          static_cast<unsigned int>(controls[1]),
+                          static_cast<unsigned int>(controls[2])});
+          std::vector<double> y;
+          for (const auto &s : map.samples)
+            y.push_back(s[3 + i]);
+          map.parameters[i].fit(x, y, smoothing);
+          for (unsigned int k = 0; k < x.size(); ++k)
+            worst_fit =
+              std::max(worst_fit,
+                       std::abs(map.parameters[i].value(x[k]) - y[k]));
+        }
+      if (context.is_root())
+        map.write(context.path(map_file));
+      context.print("map: " + std::to_string(map.samples.size()) +
+                    " samples from " + std::to_string(n_solves) +
+                    " inverse solves; splines with " +
+                    std::to_string(8 * map.parameters[0].n_coefficients()) +
+                    " coefficients; largest fit residual " + sig(worst_fit, 2));
+
+      // Accuracy off the samples (Fig. 4.33): midpoints between covered
+      // neighbours, queried and homogenized.
+      std::vector<std::array<double, 3>> checks;
+      for (unsigned int a = 0; a < angles.size(); ++a)
+        for (unsigned int n = 0; n < n_nodes; ++n)
+          {
+            const unsigned int j = n % nus.size();
+            if (map.covered[a][n] && j + 1 < nus.size() &&
+                map.covered[a][n + 1] && n + nus.size() < n_nodes &&
+                map.covered[a][n + nus.size()] &&
+                map.covered[a][n + nus.size() + 1])
+              checks.push_back({{(node_E(n) + node_E(n + nus.size())) / 2,
+                                 (node_nu(n) + node_nu(n + 1)) / 2,
+                                 angles[a]}});
+          }
+      if (checks.size() > n_checks)
+        {
+          std::vector<std::array<double, 3>> every;
+          for (unsigned int k = 0; k < n_checks; ++k)
+            every.push_back(checks[k * checks.size() / n_checks]);
+          checks = every;
+        }
+      std::vector<std::pair<unsigned int, std::array<double, 3>>> mine;
+      for (unsigned int k = rank; k < checks.size(); k += n_ranks)
+        {
+          bool       inside;
+          const auto s =
+            map.query(checks[k][0], checks[k][1], checks[k][2], 0, inside);
+          try
+            {
+              const Sample r = evaluate(s, setup, MPI_COMM_SELF);
+              mine.push_back({k,
+                              {{r.fit.E / setup.base.E,
+                                r.fit.nu,
+                                std::max(r.anisotropy.a1, r.anisotropy.a2)}}});
+            }
+          catch (const std::exception &)
+            {
+              mine.push_back({k, {{0., 0., 1e300}}});
+            }
+        }
+      nlohmann::json accuracy = nlohmann::json::array();
+      double         max_dE = 0, max_dnu = 0, sum_dE = 0, sum_dnu = 0;
+      unsigned int   n_ok = 0;
+      for (const auto &from : Utilities::MPI::all_gather(comm, mine))
+        for (const auto &[k, r] : from)
+          {
+            if (r[2] > 1e299)
+              continue;
+            const double dE  = std::abs(r[0] / checks[k][0] - 1),
+                         dnu = std::abs(r[1] - checks[k][1]);
+            max_dE = std::max(max_dE, dE), max_dnu = std::max(max_dnu, dnu);
+            sum_dE += dE, sum_dnu += dnu, ++n_ok;
+            accuracy.push_back({{"E", checks[k][0]},
+                                {"nu", checks[k][1]},
+                                {"angle", checks[k][2]},
+                                {"E_achieved", r[0]},
+                                {"nu_achieved", r[1]},
+                                {"anisotropy", r[2]}});
+          }
+      if (n_ok > 0)
+        context.print("map accuracy at " + std::to_string(n_ok) +
+                      " points between the samples: |E/E* - 1| mean " +
+                      sig(sum_dE / n_ok, 2) + ", max " + sig(max_dE, 2) +
+                      "; |nu - nu*| mean " + sig(sum_dnu / n_ok, 2) + ", max " +
+                      sig(max_dnu, 2));
+
+      nlohmann::json &S   = context.summary;
+      S["map_file"]       = map_file;
+      S["samples"]        = map.samples.size();
+      S["inverse_solves"] = n_solves;
+      S["coefficients"]   = 8 * map.parameters[0].n_coefficients();
+      S["fit_residual"]   = worst_fit;
+      for (unsigned int a = 0; a < angles.size(); ++a)
+        S["covered"].push_back(
+          {{"angle", angles[a]},
+           {"nodes",
+            std::count(map.covered[a].begin(), map.covered[a].end(), true)}});
+      S["accuracy"] = {{"points", accuracy},
+                       {"E_relative_error_max", max_dE},
+                       {"nu_error_max", max_dnu}};
+      if (context.is_root())
+        {
+          std::vector<PlotSeries>                          series;
+          const std::array<std::array<std::uint8_t, 3>, 4> colors = {
+            {{{200, 30, 30}},
+             {{235, 150, 40}},
+             {{40, 140, 60}},
+             {{31, 90, 180}}}};
+          double top = 0;
+          for (unsigned int a = 0; a < angles.size(); ++a)
+            {
+              PlotSeries s;
+              for (unsigned int n = 0; n < n_nodes; ++n)
+                if (map.covered[a][n])
+                  {
+                    s.points.push_back({{node_nu(n), node_E(n)}});
+                    top = std::max(top, node_E(n));
+                  }
+              s.color = colors[a % colors.size()];
+              s.size  = 5 - std::min<int>(a, 3);
+              s.label = "alpha = " + sig(angles[a]);
+              series.push_back(s);
+            }
+          write_xy_plot(context.path("map_coverage.png"),
+                        series,
+                        "Material map coverage",
+                        "Poisson's ratio",
+                        "E / E_b",
+                        {{-1, 1}},
+                        {{0, 1.1 * std::max(top, 1e-3)}});
+        }
+    }
+
+
+
+    void
+    query_mode(ParameterHandler  &prm,
+               const std::string &prm_directory,
+               const Setup       &setup,
+               RunContext        &context)
+    {
+      prm.enter_subsection("Map");
+      std::string file = prm.get("Map file");
+      prm.leave_subsection();
+      prm.enter_subsection("Query");
+      const double E     = prm.get_double("Young's modulus");
+      const double nu    = prm.get_double("Poisson's ratio");
+      const double angle = prm.get_double("Angle");
+      prm.leave_subsection();
+      if (!file.empty() && file[0] != '/')
+        file = prm_directory + "/" + file;
+      const MaterialMap map = MaterialMap::read(file);
+
+      bool             inside = false;
+      RhombicStructure s      = map.query(E, nu, angle, setup.base.nu, inside);
+      // The evaluation cost of the map (splines only).
+      {
+        Timer        timer;
+        bool         dummy;
+        unsigned int n = 0;
+        for (; n < 1000; ++n)
+          map.query(E, nu, angle, setup.base.nu, dummy);
+        context.log("query: " + sig(1e6 * timer.wall_time() / n, 3) +
+                    " microseconds per evaluation");
+      }
+      std::string p;
+      for (const double v : s.p)
+        p += (p.empty() ? "" : ", ") + sig(v, 4);
+      context.print("query: E/E_b = " + sig(E) + ", nu = " + sig(nu) +
+                    ", alpha = " + sig(angle) + " degrees -> p = " + p);
+      if (!inside)
+        context.print("query: the point lies outside the map's coverage; "
+                      "the structure is an extrapolation");
+      std::unique_ptr<PeriodicHomogenization<2>> cell;
+      const Sample r  = evaluate(s, setup, context.communicator(), &cell);
+      const double dE = r.fit.E / setup.base.E / E - 1, dnu = r.fit.nu - nu;
+      context.print(
+        "query: the structure gives E/E_b = " + sig(r.fit.E / setup.base.E) +
+        " (" + sig(100 * dE, 2) + "%), nu = " + sig(r.fit.nu) + " (" +
+        sig(dnu, 2) + "), a1 = " + sig(r.anisotropy.a1, 2) +
+        ", a2 = " + sig(r.anisotropy.a2, 2));
+      nlohmann::json &S = context.summary;
+      S["query"] = {{"E_over_Eb", E}, {"nu", nu}, {"angle_degrees", angle}};
+      S["inside_coverage"]  = inside;
+      S["structure"]        = structure_json(s);
+      S["result"]           = sample_json(r, setup);
+      S["E_relative_error"] = dE;
+      S["nu_error"]         = dnu;
+      if (context.is_root())
+        write_structure_png(context.path("structure.png"), s);
+      if (setup.write_vtu)
+        cell->write_vtu(
+          context.path("cell"),
+          {},
+          [](const Point<2> &, const types::material_id) {
+            return std::vector<double>();
+          },
+          s.cell_map());
+    }
+  } // namespace rhombic
+} // namespace forma

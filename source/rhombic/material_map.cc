@@ -1,0 +1,356 @@
+#include <deal.II/base/exceptions.h>
+#include <deal.II/lac/lapack_full_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <forma/rhombic/material_map.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+
+namespace forma
+{
+  namespace rhombic
+  {
+    using namespace dealii;
+
+    TensorSpline::TensorSpline(const std::vector<double>       &lower,
+                               const std::vector<double>       &upper,
+                               const std::vector<unsigned int> &n)
+      : lower(lower)
+      , upper(upper)
+      , n(n)
+    {
+      AssertThrow(lower.size() == upper.size() && lower.size() == n.size() &&
+                    !n.empty(),
+                  ExcMessage("spline: inconsistent dimensions"));
+      std::size_t size = 1;
+      for (unsigned int k = 0; k < n.size(); ++k)
+        {
+          AssertThrow(n[k] >= 4,
+                      ExcMessage("spline: at least 4 control points per "
+                                 "direction"));
+          // A degenerate direction (one value) gets a unit interval.
+          if (!(this->upper[k] > this->lower[k]))
+            this->upper[k] = this->lower[k] + 1;
+          size *= n[k];
+        }
+      coefficients.assign(size, 0.);
+    }
+
+
+
+    std::pair<int, std::array<double, 4>>
+    TensorSpline::basis(const unsigned int k, const double x) const
+    {
+      const double h = (upper[k] - lower[k]) / (n[k] - 3);
+      const double t = std::clamp((x - lower[k]) / h, 0., n[k] - 3.);
+      const int i = std::min(static_cast<int>(t), static_cast<int>(n[k]) - 4);
+      const double u = t - i, v = 1 - u;
+      return {i,
+              {{v * v * v / 6,
+                (3 * u * u * u - 6 * u * u + 4) / 6,
+                (-3 * u * u * u + 3 * u * u + 3 * u + 1) / 6,
+                u * u * u / 6}}};
+    }
+
+
+
+    double
+    TensorSpline::value(const std::vector<double> &x) const
+    {
+      const unsigned int                                 d = n.size();
+      std::vector<std::pair<int, std::array<double, 4>>> b;
+      for (unsigned int k = 0; k < d; ++k)
+        b.push_back(basis(k, x[k]));
+      double             result = 0;
+      std::vector<int>   m(d, 0);
+      const unsigned int terms = 1u << (2 * d); // 4^d
+      for (unsigned int t = 0; t < terms; ++t)
+        {
+          std::size_t index = 0;
+          double      w     = 1;
+          for (unsigned int k = 0, r = t; k < d; ++k, r /= 4)
+            {
+              const unsigned int a = r % 4;
+              index                = index * n[k] + b[k].first + a;
+              w *= b[k].second[a];
+            }
+          result += w * coefficients[index];
+        }
+      return result;
+    }
+
+
+
+    void
+    TensorSpline::fit(const std::vector<std::vector<double>> &x,
+                      const std::vector<double>              &y,
+                      const double                            smoothing)
+    {
+      const unsigned int       d = n.size();
+      const unsigned int       N = coefficients.size();
+      LAPACKFullMatrix<double> A(N, N);
+      Vector<double>           rhs(N);
+      const unsigned int       terms = 1u << (2 * d);
+      std::vector<std::size_t> index(terms);
+      std::vector<double>      w(terms);
+      for (unsigned int s = 0; s < x.size(); ++s)
+        {
+          std::vector<std::pair<int, std::array<double, 4>>> b;
+          for (unsigned int k = 0; k < d; ++k)
+            b.push_back(basis(k, x[s][k]));
+          for (unsigned int t = 0; t < terms; ++t)
+            {
+              index[t] = 0, w[t] = 1;
+              for (unsigned int k = 0, r = t; k < d; ++k, r /= 4)
+                {
+                  index[t] = index[t] * n[k] + b[k].first + r % 4;
+                  w[t] *= b[k].second[r % 4];
+                }
+            }
+          for (unsigned int a = 0; a < terms; ++a)
+            {
+              rhs(index[a]) += w[a] * y[s];
+              for (unsigned int c = 0; c < terms; ++c)
+                A(index[a], index[c]) += w[a] * w[c];
+            }
+        }
+      // Second differences of the control net along every direction.
+      std::vector<std::size_t> stride(d, 1);
+      for (int k = d - 2; k >= 0; --k)
+        stride[k] = stride[k + 1] * n[k + 1];
+      for (unsigned int k = 0; k < d; ++k)
+        for (std::size_t i = 0; i < N; ++i)
+          {
+            const unsigned int position = (i / stride[k]) % n[k];
+            if (position == 0 || position + 1 == n[k])
+              continue;
+            const std::size_t q[3] = {i - stride[k], i, i + stride[k]};
+            const double      c[3] = {1, -2, 1};
+            for (unsigned int a = 0; a < 3; ++a)
+              for (unsigned int b = 0; b < 3; ++b)
+                A(q[a], q[b]) += smoothing * c[a] * c[b];
+          }
+      for (unsigned int i = 0; i < N; ++i)
+        A(i, i) += 1e-12 * (1 + A(i, i));
+      A.compute_cholesky_factorization();
+      A.solve(rhs);
+      std::copy(rhs.begin(), rhs.end(), coefficients.begin());
+    }
+
+
+
+    nlohmann::json
+    TensorSpline::to_json() const
+    {
+      return {{"lower", lower},
+              {"upper", upper},
+              {"control_points", n},
+              {"coefficients", coefficients}};
+    }
+
+
+
+    TensorSpline
+    TensorSpline::from_json(const nlohmann::json &j)
+    {
+      TensorSpline s(j.at("lower").get<std::vector<double>>(),
+                     j.at("upper").get<std::vector<double>>(),
+                     j.at("control_points").get<std::vector<unsigned int>>());
+      const auto   c = j.at("coefficients").get<std::vector<double>>();
+      AssertThrow(c.size() == s.coefficients.size(),
+                  ExcMessage("spline: " + std::to_string(c.size()) +
+                             " coefficients for " +
+                             std::to_string(s.coefficients.size()) +
+                             " control points"));
+      s.coefficients = c;
+      return s;
+    }
+
+
+
+    namespace
+    {
+      // Is x inside the convex hull of the points (with a margin)?
+      bool
+      in_hull(std::vector<std::array<double, 2>> p,
+              const std::array<double, 2>       &x,
+              const std::array<double, 2>       &scale)
+      {
+        if (p.size() < 3)
+          return false;
+        std::sort(p.begin(), p.end());
+        const auto cross = [](const std::array<double, 2> &o,
+                              const std::array<double, 2> &a,
+                              const std::array<double, 2> &b) {
+          return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+        };
+        std::vector<std::array<double, 2>> hull(2 * p.size());
+        std::size_t                        k = 0;
+        for (std::size_t i = 0; i < p.size(); ++i)
+          {
+            while (k >= 2 && cross(hull[k - 2], hull[k - 1], p[i]) <= 0)
+              --k;
+            hull[k++] = p[i];
+          }
+        for (std::size_t i = p.size() - 1, t = k + 1; i > 0; --i)
+          {
+            while (k >= t && cross(hull[k - 2], hull[k - 1], p[i - 1]) <= 0)
+              --k;
+            hull[k++] = p[i - 1];
+          }
+        hull.resize(k - 1);
+        if (hull.size() < 3)
+          return false;
+        for (std::size_t i = 0; i < hull.size(); ++i)
+          {
+            const auto  &a = hull[i], &b = hull[(i + 1) % hull.size()];
+            const double e0 = (b[0] - a[0]) / scale[0],
+                         e1 = (b[1] - a[1]) / scale[1];
+            const double c =
+              e0 * (x[1] - a[1]) / scale[1] - e1 * (x[0] - a[0]) / scale[0];
+            if (c < -1e-9 * std::hypot(e0, e1))
+              return false;
+          }
+        return true;
+      }
+    } // namespace
+
+
+
+    RhombicStructure
+    MaterialMap::query(const double E,
+                       const double nu,
+                       const double alpha_degrees,
+                       const double base_nu,
+                       bool        &inside) const
+    {
+      AssertThrow(!angles.empty(), ExcMessage("the material map is empty"));
+      // The map is for a base with nu = 0: eq. 4.11 backwards.
+      const double nu_map = nu - base_nu * E;
+      // Covered region at the nearest angles (above and below).
+      inside = false;
+      std::vector<unsigned int> near;
+      {
+        unsigned int best = 0;
+        for (unsigned int a = 1; a < angles.size(); ++a)
+          if (std::abs(angles[a] - alpha_degrees) <
+              std::abs(angles[best] - alpha_degrees))
+            best = a;
+        near.push_back(best);
+        for (unsigned int a = 0; a < angles.size(); ++a)
+          if (a != best &&
+              (angles[a] - alpha_degrees) * (angles[best] - alpha_degrees) <
+                0 &&
+              (near.size() == 1 || std::abs(angles[a] - alpha_degrees) <
+                                     std::abs(angles[near[1]] - alpha_degrees)))
+            {
+              if (near.size() == 1)
+                near.push_back(a);
+              else
+                near[1] = a;
+            }
+      }
+      const double lo = *std::min_element(angles.begin(), angles.end()),
+                   hi = *std::max_element(angles.begin(), angles.end());
+      if (alpha_degrees >= lo - 1e-9 && alpha_degrees <= hi + 1e-9)
+        {
+          inside                            = true;
+          const std::array<double, 2> scale = {
+            {std::max(1e-12,
+                      this->nu.size() > 1 ? this->nu.back() - this->nu.front() :
+                                            1.),
+             std::max(1e-12,
+                      this->E.size() > 1 ? this->E.back() - this->E.front() :
+                                           1.)}};
+          for (const unsigned int a : near)
+            {
+              std::vector<std::array<double, 2>> points;
+              for (unsigned int i = 0; i < this->E.size(); ++i)
+                for (unsigned int j = 0; j < this->nu.size(); ++j)
+                  if (covered[a][i * this->nu.size() + j])
+                    points.push_back({{this->nu[j], this->E[i]}});
+              inside = inside && in_hull(points, {{nu_map, E}}, scale);
+            }
+        }
+      RhombicStructure s;
+      s.alpha    = alpha_degrees * M_PI / 180;
+      s.blending = blending;
+      for (unsigned int i = 0; i < RhombicStructure::n_parameters; ++i)
+        s.p[i] = std::clamp(parameters[i].value({E, nu_map, alpha_degrees}),
+                            0.02,
+                            i < 4 ? 0.95 : 0.55);
+      return s;
+    }
+
+
+
+    void
+    MaterialMap::write(const std::string &file_name) const
+    {
+      nlohmann::json j;
+      j["format"]   = "forma-rhombic material map 1";
+      j["base"]     = {{"E", 1}, {"nu", 0}};
+      j["axes"]     = {"E/E_b", "nu", "angle_degrees"};
+      j["blending"] = blending;
+      j["grid"]     = {{"E", E}, {"nu", nu}, {"angles", angles}};
+      j["covered"]  = covered;
+      for (const auto &p : parameters)
+        j["parameters"].push_back(p.to_json());
+      j["samples"] = samples;
+      std::ofstream out(file_name);
+      AssertThrow(out, ExcMessage("cannot write the map '" + file_name + "'"));
+      out << j.dump() << '\n';
+    }
+
+
+
+    MaterialMap
+    MaterialMap::read(const std::string &file_name)
+    {
+      std::ifstream in(file_name);
+      AssertThrow(in,
+                  ExcMessage("cannot read the material map '" + file_name +
+                             "'"));
+      MaterialMap map;
+      try
+        {
+          const auto j = nlohmann::json::parse(in);
+          AssertThrow(j.at("format") == "forma-rhombic material map 1",
+                      ExcMessage("not a forma-rhombic material map"));
+          map.blending  = j.at("blending").get<double>();
+          map.E         = j.at("grid").at("E").get<std::vector<double>>();
+          map.nu        = j.at("grid").at("nu").get<std::vector<double>>();
+          map.angles    = j.at("grid").at("angles").get<std::vector<double>>();
+          map.covered   = j.at("covered").get<std::vector<std::vector<bool>>>();
+          const auto &p = j.at("parameters");
+          AssertThrow(p.size() == RhombicStructure::n_parameters,
+                      ExcMessage("the map needs 8 parameter splines"));
+          for (unsigned int i = 0; i < p.size(); ++i)
+            map.parameters[i] = TensorSpline::from_json(p[i]);
+          if (j.contains("samples"))
+            map.samples =
+              j.at("samples").get<std::vector<std::array<double, 11>>>();
+          AssertThrow(map.covered.size() == map.angles.size(),
+                      ExcMessage("the map's coverage does not match its "
+                                 "angles"));
+          for (const auto &c : map.covered)
+            AssertThrow(c.size() == map.E.size() * map.nu.size(),
+                        ExcMessage("the map's coverage does not match its "
+                                   "(E, nu) grid"));
+          for (const auto &spline : p)
+            AssertThrow(spline.at("control_points").size() == 3,
+                        ExcMessage("the map's splines must be functions of "
+                                   "(E, nu, alpha)"));
+        }
+      catch (const nlohmann::json::exception &e)
+        {
+          AssertThrow(false,
+                      ExcMessage("the material map '" + file_name +
+                                 "' is malformed: " + e.what()));
+        }
+      return map;
+    }
+  } // namespace rhombic
+} // namespace forma
