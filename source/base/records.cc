@@ -198,6 +198,26 @@ namespace forma
                    const std::string &);
 
 
+  std::vector<double>
+  parse_numbers(const std::string &text,
+                const std::string &name,
+                const double       lower,
+                const double       upper)
+  {
+    std::vector<double> values;
+    for (const auto &t : dealii::Utilities::split_string_list(text))
+      {
+        const auto v = parse_values(t, name);
+        AssertThrow(v.size() == 1 && v[0] > lower && v[0] < upper,
+                    ExcMessage(name + ": '" + t + "' is not one number in (" +
+                               sig(lower) + ", " + sig(upper) + ")"));
+        values.push_back(v[0]);
+      }
+    return values;
+  }
+
+
+
   std::string
   sig(const double x, const int digits)
   {

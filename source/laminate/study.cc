@@ -553,19 +553,14 @@ namespace forma
     {
       Setup setup;
       prm.enter_subsection("Base material");
-      setup.base_E     = prm.get_double("Young's modulus");
-      setup.base_nu    = prm.get_double("Poisson's ratio");
-      setup.plane      = plane_model_from_string(prm.get("Plane model"));
-      setup.weak_ratio = prm.get_double("Void stiffness ratio");
-      for (const auto &t :
-           Utilities::split_string_list(prm.get("CLM Poisson's ratios")))
-        {
-          const auto nu = parse_values(t, "Base material/CLM Poisson's ratios");
-          AssertThrow(nu.size() == 1 && nu[0] > -1 && nu[0] < 0.5,
-                      ExcMessage("Base material/CLM Poisson's ratios: '" + t +
-                                 "' is not one Poisson's ratio in (-1, 0.5)"));
-          setup.clm_poisson.push_back(nu[0]);
-        }
+      setup.base_E      = prm.get_double("Young's modulus");
+      setup.base_nu     = prm.get_double("Poisson's ratio");
+      setup.plane       = plane_model_from_string(prm.get("Plane model"));
+      setup.weak_ratio  = prm.get_double("Void stiffness ratio");
+      setup.clm_poisson = parse_numbers(prm.get("CLM Poisson's ratios"),
+                                        "Base material/CLM Poisson's ratios",
+                                        -1,
+                                        0.5);
       prm.leave_subsection();
       AssertThrow(setup.weak_ratio > 0,
                   ExcMessage(

@@ -2,7 +2,7 @@
 
 #include <forma/microstructure/rhombic_structure.h>
 
-#include <Sacado.hpp>
+#include "ad_value.h"
 
 #include <algorithm>
 #include <cmath>
@@ -15,16 +15,13 @@ namespace forma
 
   namespace
   {
+    using internal::value_of;
+    /// Short for value_of() in the many branch decisions below.
+    template <typename T>
     double
-    val(const double x)
+    val(const T &x)
     {
-      return x;
-    }
-
-    double
-    val(const Sacado::Fad::DFad<double> &x)
-    {
-      return x.val();
+      return value_of(x);
     }
 
     // The rhombus's symmetries on the reference square, centered: identity,

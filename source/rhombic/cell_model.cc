@@ -37,9 +37,6 @@ namespace forma
                               comm,
                               &current.mesh,
                               "rhombic cell");
-      motion                    = std::make_unique<LevelSetMeshMotion>(*mesh,
-                                                    Point<2>(L, L),
-                                                    structure.level_set());
       const double seconds_mesh = timer.wall_time();
       homogenize();
       current.seconds_mesh = seconds_mesh;
@@ -48,6 +45,44 @@ namespace forma
 
 
     CellModel::~CellModel() = default;
+
+
+
+    Sample
+    evaluate(const RhombicStructure &structure,
+             const Setup            &setup,
+             const MPI_Comm          comm)
+    {
+      return CellModel(structure, setup, comm).sample();
+    }
+
+
+
+    const LevelSetMeshMotion &
+    CellModel::motion() const
+    {
+      // Needs the mesh as made for `start`: gradient() and move_to() call
+      // it before they move anything.
+      if (!motion_)
+        motion_ = std::make_unique<LevelSetMeshMotion>(*mesh,
+                                                       Point<2>(L, L),
+                                                       start.level_set());
+      return *motion_;
+    }
+
+
+
+    void
+    CellModel::write_vtu(const std::string &file_stem) const
+    {
+      cell->write_vtu(
+        file_stem,
+        {},
+        [](const Point<2> &, const types::material_id) {
+          return std::vector<double>();
+        },
+        design.cell_map());
+    }
 
 
 
@@ -106,7 +141,7 @@ namespace forma
           d[i] = v.dx(i);
         return d;
       };
-      const auto              theta = motion->velocities(dphi_dp, n);
+      const auto              theta = motion().velocities(dphi_dp, n);
       const auto              dC_dX = cell->vertex_shape_gradient();
       const ParallelogramCell parallelogram(design.cell_map());
       Gradient                result;
@@ -150,7 +185,7 @@ namespace forma
                              "and blending"));
       design = other;
       LevelSetMeshMotion::set_vertices(
-        *mesh, motion->moved_vertices(other.level_set()));
+        *mesh, motion().moved_vertices(other.level_set()));
       check_mesh_validity(*mesh,
                           "the rhombic cell mesh moved to the new design "
                           "(too large a step: remesh)");

@@ -2,6 +2,7 @@
 
 #include <forma/base/run_context.h>
 #include <forma/homogenization/bounds.h>
+#include <forma/rhombic/cell_model.h>
 #include <forma/rhombic/study.h>
 
 namespace forma
@@ -23,8 +24,8 @@ namespace forma
                         t += (t.empty() ? "" : ", ") + sig(v);
                       return t;
                     }());
-      std::unique_ptr<PeriodicHomogenization<2>> cell;
-      const Sample r = evaluate(s, setup, context.communicator(), &cell);
+      const CellModel model(s, setup, context.communicator());
+      const Sample   &r = model.sample();
       context.log("seconds: mesh " + sig(r.seconds_mesh, 3) + ", set-up " +
                   sig(r.seconds_setup, 3) + ", solve " +
                   sig(r.seconds_solve, 3));
@@ -71,13 +72,7 @@ namespace forma
       if (context.is_root())
         write_structure_png(context.path("structure.png"), s);
       if (setup.write_vtu)
-        cell->write_vtu(
-          context.path("cell"),
-          {},
-          [](const Point<2> &, const types::material_id) {
-            return std::vector<double>();
-          },
-          s.cell_map());
+        model.write_vtu(context.path("cell"));
     }
   } // namespace rhombic
 } // namespace forma

@@ -507,9 +507,9 @@ namespace forma
       if (!inside)
         context.print("query: the point lies outside the map's coverage; "
                       "the structure is an extrapolation");
-      std::unique_ptr<PeriodicHomogenization<2>> cell;
-      const Sample r  = evaluate(s, setup, context.communicator(), &cell);
-      const double dE = r.fit.E / setup.base.E / E - 1, dnu = r.fit.nu - nu;
+      const CellModel model(s, setup, context.communicator());
+      const Sample   &r  = model.sample();
+      const double    dE = r.fit.E / setup.base.E / E - 1, dnu = r.fit.nu - nu;
       context.print(
         "query: the structure gives E/E_b = " + sig(r.fit.E / setup.base.E) +
         " (" + sig(100 * dE, 2) + "%), nu = " + sig(r.fit.nu) + " (" +
@@ -525,13 +525,7 @@ namespace forma
       if (context.is_root())
         write_structure_png(context.path("structure.png"), s);
       if (setup.write_vtu)
-        cell->write_vtu(
-          context.path("cell"),
-          {},
-          [](const Point<2> &, const types::material_id) {
-            return std::vector<double>();
-          },
-          s.cell_map());
+        model.write_vtu(context.path("cell"));
     }
   } // namespace rhombic
 } // namespace forma

@@ -20,53 +20,6 @@ namespace forma
   {
     using namespace dealii;
 
-    Sample
-    evaluate(const RhombicStructure                     &structure,
-             const Setup                                &setup,
-             const MPI_Comm                              comm,
-             std::unique_ptr<PeriodicHomogenization<2>> *keep)
-    {
-      constexpr double        L = RhombicStructure::side;
-      const ParallelogramCell parallelogram(structure.cell_map());
-      Sample                  r;
-      Triangulation<2>        tria;
-      Timer                   timer;
-      periodic_level_set_mesh(structure.level_set(),
-                              Point<2>(L, L),
-                              setup.mesh,
-                              tria,
-                              comm,
-                              &r.mesh,
-                              "rhombic cell");
-      r.seconds_mesh = timer.wall_time();
-      timer.restart();
-      auto cell = std::make_unique<PeriodicHomogenization<2>>(
-        comm, tria, Point<2>(L, L), setup.solver, setup.degree);
-      r.seconds_setup = timer.wall_time();
-      timer.restart();
-      const SymmetricTensor<4, 2> base =
-        parallelogram.to_reference(setup.base.tensor());
-      r.C_reference =
-        cell
-          ->homogenize(
-            [&](const Point<2> &, const types::material_id) { return base; })
-          .C;
-      r.seconds_solve = timer.wall_time();
-      r.C             = parallelogram.from_reference(r.C_reference);
-      r.phi           = r.mesh.area / (L * L);
-      r.fit           = isotropic_fit(r.C);
-      r.orthotropic   = orthotropic_moduli(r.C);
-      r.anisotropy    = anisotropy(r.C);
-      r.cells         = tria.n_active_cells();
-      r.vertices      = tria.n_used_vertices();
-      r.dofs          = cell->n_dofs();
-      if (keep)
-        *keep = std::move(cell);
-      return r;
-    }
-
-
-
     RhombicStructure
     read_structure(ParameterHandler &prm, const Setup &setup)
     {
@@ -427,18 +380,13 @@ namespace forma
     {
       Setup setup;
       prm.enter_subsection("Base material");
-      setup.base_E  = prm.get_double("Young's modulus");
-      setup.base_nu = prm.get_double("Poisson's ratio");
-      setup.plane   = plane_model_from_string(prm.get("Plane model"));
-      for (const auto &t :
-           Utilities::split_string_list(prm.get("CLM Poisson's ratios")))
-        {
-          const auto nu = parse_values(t, "Base material/CLM Poisson's ratios");
-          AssertThrow(nu.size() == 1 && nu[0] > -1 && nu[0] < 0.5,
-                      ExcMessage("Base material/CLM Poisson's ratios: '" + t +
-                                 "' is not one Poisson's ratio in (-1, 0.5)"));
-          setup.clm_poisson.push_back(nu[0]);
-        }
+      setup.base_E      = prm.get_double("Young's modulus");
+      setup.base_nu     = prm.get_double("Poisson's ratio");
+      setup.plane       = plane_model_from_string(prm.get("Plane model"));
+      setup.clm_poisson = parse_numbers(prm.get("CLM Poisson's ratios"),
+                                        "Base material/CLM Poisson's ratios",
+                                        -1,
+                                        0.5);
       prm.leave_subsection();
       AssertThrow(setup.base_E > 0,
                   ExcMessage("Base material/Young's modulus must be positive"));

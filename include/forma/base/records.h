@@ -56,6 +56,14 @@ namespace forma
   std::vector<double>
   parse_values(const std::string &text, const std::string &name);
 
+  /// A comma separated list of numbers, each in the open interval
+  /// (lower, upper); empty text gives an empty list.
+  std::vector<double>
+  parse_numbers(const std::string &text,
+                const std::string &name,
+                const double       lower,
+                const double       upper);
+
   /// x with `digits` significant digits.
   std::string
   sig(const double x, const int digits = 4);

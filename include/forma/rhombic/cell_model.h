@@ -66,15 +66,23 @@ namespace forma
         return design;
       }
 
+      /// The mesh and the fluctuations, in the rhombus's coordinates.
+      void
+      write_vtu(const std::string &file_stem) const;
+
     private:
       void
       homogenize();
+
+      /// The mesh motion of the meshed design, built on first use.
+      const LevelSetMeshMotion &
+      motion() const;
 
       RhombicStructure                             start, design;
       const Setup                                  setup;
       const MPI_Comm                               comm;
       std::unique_ptr<dealii::Triangulation<2, 2>> mesh;
-      std::unique_ptr<LevelSetMeshMotion>          motion;
+      mutable std::unique_ptr<LevelSetMeshMotion>  motion_;
       std::unique_ptr<PeriodicHomogenization<2>>   cell;
       Sample                                       current;
     };

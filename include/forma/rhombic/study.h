@@ -66,16 +66,12 @@ namespace forma
       double seconds_mesh = 0, seconds_setup = 0, seconds_solve = 0;
     };
 
-    /**
-     * Mesh the structure's cell (root meshes, all ranks of `comm` solve) and
-     * homogenize it. If `cell` is given it receives the homogenization
-     * object (fields for write_vtu()).
-     */
+    /// Mesh the structure's cell (the root meshes, all ranks of `comm`
+    /// solve) and homogenize it; CellModel keeps the mesh and fields.
     Sample
-    evaluate(const RhombicStructure                     &structure,
-             const Setup                                &setup,
-             const MPI_Comm                              comm,
-             std::unique_ptr<PeriodicHomogenization<2>> *cell = nullptr);
+    evaluate(const RhombicStructure &structure,
+             const Setup            &setup,
+             const MPI_Comm          comm);
 
     /// The Structure section (range-checked).
     RhombicStructure
