@@ -346,7 +346,11 @@ namespace forma
                        std::abs(map.parameters[i].value(x[k]) - y[k]));
         }
       if (context.is_root())
-        map.write(context.path(map_file));
+        {
+          map.write(context.path(map_file));
+          map.write_parameter_surfaces(context.path("map_parameters.png"),
+                                       angles.front());
+        }
       context.print("map: " + std::to_string(map.samples.size()) +
                     " samples from " + std::to_string(n_solves) +
                     " inverse solves; splines with " +

@@ -2,6 +2,7 @@
 #include <deal.II/lac/lapack_full_matrix.h>
 #include <deal.II/lac/vector.h>
 
+#include <forma/base/plot.h>
 #include <forma/rhombic/material_map.h>
 
 #include <algorithm>
@@ -351,6 +352,62 @@ namespace forma
                                  "' is malformed: " + e.what()));
         }
       return map;
+    }
+
+
+
+    void
+    MaterialMap::write_parameter_surfaces(const std::string &file_name,
+                                          const double       angle) const
+    {
+      // Parameter surfaces (Fig. 4.17) at the largest angle: p1..p4 in
+      // the top row, p5..p8 below; nu along x, E up; blue (low) to red
+      // (high) over each parameter's range on the panel, gray outside
+      // the coverage.
+      const int                  P = 120, gap = 10;
+      const int                  W = 4 * P + 5 * gap, H = 2 * P + 3 * gap;
+      std::vector<unsigned char> rgb(3 * W * H, 255);
+      for (unsigned int i = 0; i < RhombicStructure::n_parameters; ++i)
+        {
+          std::vector<double> v(P * P);
+          std::vector<bool>   in(P * P);
+          double              lo = 1e300, hi = -1e300;
+          for (int r = 0; r < P; ++r)
+            for (int c = 0; c < P; ++c)
+              {
+                const double E_rc =
+                  E.front() + (E.back() - E.front()) * (P - 1 - r) / (P - 1);
+                const double nu_rc =
+                  nu.front() + (nu.back() - nu.front()) * c / (P - 1);
+                bool inside;
+                query(E_rc, nu_rc, angle, 0, inside);
+                v[r * P + c]  = parameters[i].value({E_rc, nu_rc, angle});
+                in[r * P + c] = inside;
+                if (inside)
+                  lo = std::min(lo, v[r * P + c]),
+                  hi = std::max(hi, v[r * P + c]);
+              }
+          const int x0 = gap + (i % 4) * (P + gap),
+                    y0 = gap + (i / 4) * (P + gap);
+          for (int r = 0; r < P; ++r)
+            for (int c = 0; c < P; ++c)
+              {
+                const double t =
+                  hi > lo ? (v[r * P + c] - lo) / (hi - lo) : 0.5;
+                const std::array<unsigned char, 3> color =
+                  in[r * P + c] ?
+                    std::array<unsigned char, 3>{
+                      {static_cast<unsigned char>(255 * t),
+                       static_cast<unsigned char>(255 *
+                                                  (1 - std::abs(2 * t - 1))),
+                       static_cast<unsigned char>(255 * (1 - t))}} :
+                    std::array<unsigned char, 3>{{200, 200, 200}};
+                std::copy(color.begin(),
+                          color.end(),
+                          rgb.begin() + 3 * ((y0 + r) * W + x0 + c));
+              }
+        }
+      write_image_png(file_name, W, H, rgb);
     }
   } // namespace rhombic
 } // namespace forma
