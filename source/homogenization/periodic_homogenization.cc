@@ -986,7 +986,25 @@ namespace forma
                       sigma[a][i][j] = sigma[a][j][i] = sv[r];
                     }
                 }
+              // Per pair, once per point: the energy density and
+              // M_ab = grad w_a^T sigma_b, so that the vertex terms are
+              // (e_ab I - M_ab - M_ba) grad lambda_v.
               const double JxW = fv.JxW(q) / m.box_volume;
+              std::array<std::array<Tensor<2, dim>, nv>, nv> K;
+              for (unsigned int a = 0; a < nv; ++a)
+                for (unsigned int b = 0; b < nv; ++b)
+                  K[a][b] = transpose(grad_w[a][q]) * sigma[b];
+              std::array<std::array<Tensor<2, dim>, nv>, nv> T;
+              for (unsigned int a = 0; a < nv; ++a)
+                for (unsigned int b = a; b < nv; ++b)
+                  {
+                    double energy = 0;
+                    for (unsigned int r = 0; r < nv; ++r)
+                      for (unsigned int t = 0; t < nv; ++t)
+                        energy += e[a][r] * V[r][t] * e[b][t];
+                    T[a][b] = JxW * (energy * unit_symmetric_tensor<dim>() -
+                                     K[a][b] - K[b][a]);
+                  }
               for (unsigned int v = 0; v < cell->n_vertices(); ++v)
                 {
                   const Tensor<1, dim> gl = lv.shape_grad(v, q);
@@ -994,14 +1012,7 @@ namespace forma
                   for (unsigned int a = 0; a < nv; ++a)
                     for (unsigned int b = a; b < nv; ++b)
                       {
-                        double energy = 0;
-                        for (unsigned int r = 0; r < nv; ++r)
-                          for (unsigned int t = 0; t < nv; ++t)
-                            energy += e[a][r] * V[r][t] * e[b][t];
-                        const Tensor<1, dim> d =
-                          JxW * (energy * gl -
-                                 transpose(grad_w[a][q]) * (sigma[b] * gl) -
-                                 transpose(grad_w[b][q]) * (sigma[a] * gl));
+                        const Tensor<1, dim> d = T[a][b] * gl;
                         for (unsigned int k = 0; k < dim; ++k)
                           g[(vi * dim + k) * nv * nv + a * nv + b] += d[k];
                       }
