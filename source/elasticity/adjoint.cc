@@ -1102,6 +1102,13 @@ namespace forma
                                                        shape_dofs,
                                                        g->shape);
       }
+    if (adjoint && want_shape)
+      contact.add_shape_products(mapping,
+                                 u_ghost,
+                                 adjoint_ghost,
+                                 shape_dof_handler,
+                                 shape_constraints,
+                                 g->shape);
     if (dJ_du)
       dJ_du->compress(VectorOperation::add);
     if (want_shape)
@@ -1232,9 +1239,18 @@ namespace forma
         rhs = dJ_du;
         rhs *= -1.;
         // The Jacobian of the converged Newton step is still assembled;
-        // static tangents are symmetric, so it is its own transpose.
+        // static tangents are symmetric, so it is its own transpose, unless
+        // friction makes it unsymmetric.
         Vector_t lambda(owned, comm);
-        linear_solver.solve_reusing(jacobian, lambda, rhs);
+        if (contact.has_friction())
+          {
+            transpose_matrix = true;
+            assemble(u, true, nullptr);
+            transpose_matrix = false;
+            linear_solver.solve(jacobian, lambda, rhs, fe.max_degree() > 1);
+          }
+        else
+          linear_solver.solve_reusing(jacobian, lambda, rhs);
         constraints_zero.distribute(lambda);
         accumulate(J, nullptr, &lambda, nullptr, &g); // p^T d_q h
       }

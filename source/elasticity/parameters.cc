@@ -184,10 +184,14 @@ namespace forma
 
 
   void
-  ElasticityParameters::parse(ParameterHandler &prm, const std::string &prm_dir)
+  ElasticityParameters::parse(ParameterHandler  &prm,
+                              const std::string &prm_dir,
+                              const bool         with_contact)
   {
     dim = prm.get_integer("Dimension");
     mesh.parse(prm, prm_dir);
+    if (with_contact)
+      contact.parse(prm);
 
     prm.enter_subsection("Finite element");
     degree           = prm.get_integer("Degree");
@@ -255,6 +259,14 @@ namespace forma
     AssertThrow(adaptivity == "none" || problem == "static",
                 ExcMessage("Finite element/Adaptivity is available for static "
                            "problems only."));
+    AssertThrow(contact.empty() || problem == "static",
+                ExcMessage("Contact: smoothed penalty contact is a static "
+                           "model (thesis ch. 2); set Time/Problem = "
+                           "static."));
+    AssertThrow(contact.empty() || adaptivity == "none",
+                ExcMessage("Contact: adaptive refinement is not available "
+                           "with contact (paired interface faces); set "
+                           "Finite element/Adaptivity = none."));
     AssertThrow(max_degree >= degree || adaptivity != "hp",
                 ExcMessage("Finite element/Max degree is below Degree."));
   }

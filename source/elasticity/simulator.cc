@@ -56,6 +56,7 @@ namespace forma
     : p(p)
     , comm(comm)
     , linear_solver(p.linear_solver)
+    , contact(p.contact)
   {
     AssertThrow(p.dim == dim, ExcInternalError());
     tria                          = create_distributed_mesh<dim>(p.mesh, comm);
@@ -281,6 +282,8 @@ namespace forma
       constrain(r.id,
                 parse_components(r.fields[0], dim, "Design/Symmetry planes"),
                 "Design/Symmetry planes");
+    if (!p.mesh.separate_interfaces.empty())
+      tie_separated_vertices();
     shape_constraints.make_consistent_in_parallel(shape_owned,
                                                   shape_relevant,
                                                   comm);
@@ -338,6 +341,74 @@ namespace forma
       reference_mapping = hp::MappingCollection<dim>(
         MappingFEField<dim, dim, Vector_t>(shape_dof_handler,
                                            material_positions));
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::tie_separated_vertices()
+  {
+    // The copies of a vertex made by Mesh/Separate interfaces coincide: the
+    // design moves them together, so the parts
+    // stay in contact along the interface whatever the shape.
+    using Entry =
+      std::pair<Point<dim>, std::array<types::global_dof_index, dim>>;
+    std::vector<Entry> entries;
+    for (const auto &cell : shape_dof_handler.active_cell_iterators())
+      if (!cell->is_artificial())
+        for (const auto f : cell->face_indices())
+          if (cell->face(f)->at_boundary())
+            for (const auto v : cell->face(f)->vertex_indices())
+              {
+                Entry e{cell->face(f)->vertex(v), {}};
+                for (unsigned int d = 0; d < dim; ++d)
+                  e.second[d] = cell->face(f)->vertex_dof_index(v, d);
+                entries.push_back(e);
+              }
+    const auto before = [](const Entry &a, const Entry &b) {
+      if (a.first != b.first)
+        return std::lexicographical_compare(a.first.begin_raw(),
+                                            a.first.end_raw(),
+                                            b.first.begin_raw(),
+                                            b.first.end_raw());
+      return a.second < b.second;
+    };
+    std::sort(entries.begin(), entries.end(), before);
+    entries.erase(std::unique(entries.begin(),
+                              entries.end(),
+                              [](const Entry &a, const Entry &b) {
+                                return a.second == b.second;
+                              }),
+                  entries.end());
+    for (std::size_t a = 0; a < entries.size();)
+      {
+        std::size_t b = a + 1;
+        while (b < entries.size() && entries[b].first == entries[a].first)
+          ++b;
+        for (unsigned int d = 0; d < dim; ++d)
+          {
+            // Lead: a copy already constrained (fixed, hanging), so the
+            // others follow it through a chain; else the first.
+            std::size_t lead = a;
+            for (std::size_t k = a; k < b; ++k)
+              if (shape_constraints.is_constrained(entries[k].second[d]))
+                {
+                  lead = k;
+                  break;
+                }
+            for (std::size_t k = a; k < b; ++k)
+              {
+                const auto i = entries[k].second[d];
+                if (k == lead || shape_constraints.is_constrained(i) ||
+                    !shape_relevant.is_element(i))
+                  continue;
+                shape_constraints.add_line(i);
+                shape_constraints.add_entry(i, entries[lead].second[d], 1.);
+              }
+          }
+        a = b;
+      }
   }
 
 
@@ -467,6 +538,7 @@ namespace forma
     DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
 
     make_constraints(time);
+    contact.setup(dof_handler, mapping, face_quadrature);
 
     TrilinosWrappers::SparsityPattern sp(owned, owned, relevant, comm);
     DoFTools::make_sparsity_pattern(dof_handler,
@@ -474,6 +546,7 @@ namespace forma
                                     constraints_zero,
                                     false,
                                     Utilities::MPI::this_mpi_process(comm));
+    contact.add_couplings(constraints_zero, sp);
     sp.compress();
     jacobian.reinit(sp);
 
@@ -757,6 +830,16 @@ namespace forma
       Scratch<dim>(mapping, reference_mapping, fe, quadrature, face_quadrature),
       CopyData());
 
+    // Contact faces (few): serially, into the same containers.
+    if (admissible && contact.active())
+      energy += contact.assemble(mapping,
+                                 u_ghost,
+                                 constraints_zero,
+                                 transpose_matrix,
+                                 with_matrix ? &jacobian : nullptr,
+                                 residual,
+                                 raw);
+
     // Compress even when a cell was inadmissible, so the containers stay
     // usable for the next (shorter-step) assembly.
     if (with_matrix)
@@ -814,8 +897,10 @@ namespace forma
         // norm decides.
         const double energy0 = potential_energy;
         const double slope   = residual * du;
-        const bool   energy_merit =
-          !transient && slope < -1e-10 * (std::abs(energy0) + 1e-300);
+        // Friction is not a potential force: there only the residual
+        // decides.
+        const bool energy_merit = !transient && !contact.has_friction() &&
+                                  slope < -1e-10 * (std::abs(energy0) + 1e-300);
 
         double step     = 1.;
         bool   accepted = false;
@@ -1409,11 +1494,25 @@ namespace forma
           cycle_callback(cycle);
       }
     compute_reactions();
+    if (contact.active())
+      contact_statistics = contact.statistics(mapping, u_ghost, comm);
     if (context)
       {
         for (const auto &r : reactions)
           context->print("reaction on boundary " + std::to_string(r.first) +
                          ": " + fmt(r.second));
+        for (const auto &c : contact_statistics)
+          {
+            Tensor<1, dim> f;
+            for (unsigned int d = 0; d < dim; ++d)
+              f[d] = c["force"][d];
+            context->print(
+              "contact on boundary " + std::to_string(int(c["boundary"])) +
+              " (" + std::string(c["type"]) + "): force " + fmt(f) +
+              ", active area " + fmt(double(c["active_area"])) +
+              ", max penetration " + fmt(double(c["max_penetration"]), 3) +
+              ", max slip " + fmt(double(c["max_slip"]), 3));
+          }
         context->print("max von Mises stress: " + fmt(max_von_mises) +
                        ", max Frobenius stress: " + fmt(max_frobenius));
         context->log("assembly wall time " + fmt(assembly_seconds, 4) +
@@ -1558,7 +1657,9 @@ namespace forma
     nlohmann::json reactions;
     for (const auto &r : impl->reactions)
       reactions[std::to_string(r.first)] = to_json(r.second);
-    s["reactions"]     = reactions;
+    s["reactions"] = reactions;
+    if (impl->contact.active())
+      s["contact"] = impl->contact_statistics;
     nlohmann::json pts = nlohmann::json::array();
     for (const auto &x : impl->points)
       pts.push_back(to_json(Tensor<1, dim>(x)));

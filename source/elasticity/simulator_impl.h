@@ -20,6 +20,7 @@
 
 #include <forma/adjoint/design.h>
 #include <forma/adjoint/objective.h>
+#include <forma/contact/penalty_contact.h>
 #include <forma/elasticity/simulator.h>
 #include <forma/mesh/remesh.h>
 #include <forma/physics/damping.h>
@@ -159,6 +160,9 @@ namespace forma
 
     void
     setup_shape();
+    /// Shape constraints that keep coincident vertex copies together.
+    void
+    tie_separated_vertices();
     void
     reset_physical_parameters(const std::string &bodies);
 
@@ -388,6 +392,10 @@ namespace forma
     unsigned int        forward_solves = 0, gradients = 0;
 
     LinearSolver linear_solver;
+
+    // Smoothed penalty contact and friction (Contact section; thesis ch. 2).
+    PenaltyContact<dim> contact;
+    nlohmann::json      contact_statistics; ///< of the last recorded state
 
     // State read by assemble().
     bool   transient      = false;

@@ -7,6 +7,7 @@
 
 #include <forma/base/application.h>
 #include <forma/mesh/mesh.h>
+#include <forma/mesh/separate_interfaces.h>
 
 #include <filesystem>
 #include <fstream>
@@ -54,6 +55,14 @@ namespace forma
                       "0",
                       Patterns::Integer(0, 12),
                       "Number of global refinements of the coarse mesh.");
+    prm.declare_entry(
+      "Separate interfaces",
+      "",
+      Patterns::Anything(),
+      "Interfaces between parts (material ids) to cut open so the parts can "
+      "separate and slide, e.g. for deformable-deformable contact: '1-2 : "
+      "10 ; 2-3 : 11' duplicates the vertices shared by materials 1 and 2 "
+      "and gives the faces on both sides boundary id 10.");
     prm.leave_subsection();
   }
 
@@ -76,7 +85,9 @@ namespace forma
       file = file_as_given;
     convert_to_simplices = prm.get_bool("Convert to simplices");
     initial_refinement   = prm.get_integer("Initial refinement");
+    separate_interfaces  = prm.get("Separate interfaces");
     prm.leave_subsection();
+    parse_interface_cuts(separate_interfaces, "Mesh/Separate interfaces");
     AssertThrow(source != "file" || !file_as_given.empty(),
                 ExcMessage("Mesh/Source = file but Mesh/File is empty."));
   }
@@ -203,6 +214,10 @@ namespace forma
         tria.clear();
         tria.copy_triangulation(simplex_tria);
       }
+    separate_interfaces(tria,
+                        parse_interface_cuts(params.separate_interfaces,
+                                             "Mesh/Separate interfaces"),
+                        where);
   }
 
 
@@ -215,12 +230,14 @@ namespace forma
     create_coarse_mesh(params, coarse);
 
     std::unique_ptr<parallel::TriangulationBase<dim>> tria;
-    if (coarse.all_reference_cells_are_hyper_cube())
+    if (coarse.all_reference_cells_are_hyper_cube() &&
+        params.separate_interfaces.empty())
       tria = std::make_unique<parallel::distributed::Triangulation<dim>>(
         comm, Triangulation<dim>::limit_level_difference_at_vertices);
     else
       {
-        AssertThrow(coarse.all_reference_cells_are_simplex(),
+        AssertThrow(coarse.all_reference_cells_are_simplex() ||
+                      coarse.all_reference_cells_are_hyper_cube(),
                     ExcMessage("meshes mixing quads/hexes with simplices (or "
                                "wedges/pyramids) are not supported."));
         tria = std::make_unique<parallel::shared::Triangulation<dim>>(comm);

@@ -5,6 +5,7 @@
 
 #include <forma/adjoint/design.h>
 #include <forma/adjoint/objective.h>
+#include <forma/contact/contact_parameters.h>
 #include <forma/mesh/mesh.h>
 #include <forma/physics/material.h>
 #include <forma/solvers/linear_solver.h>
@@ -61,6 +62,9 @@ namespace forma
     unsigned int             max_newton_iterations     = 30;
     unsigned int             max_line_search_halvings  = 12;
 
+    // Smoothed penalty contact (declared by apps that offer it)
+    ContactParameters contact;
+
     // Gradients (adjoint layer)
     DesignParameters    design;
     ObjectiveParameters objective;
@@ -70,10 +74,14 @@ namespace forma
     unsigned int output_every = 1;
     std::string  points;
 
+    /// Apps with contact declare ContactParameters too and parse
+    /// `with_contact`.
     static void
     declare(dealii::ParameterHandler &prm);
     void
-    parse(dealii::ParameterHandler &prm, const std::string &prm_directory);
+    parse(dealii::ParameterHandler &prm,
+          const std::string        &prm_directory,
+          const bool                with_contact = false);
   };
 } // namespace forma
 

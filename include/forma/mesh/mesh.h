@@ -30,6 +30,7 @@ namespace forma
     std::string  file_as_given;
     bool         convert_to_simplices = false;
     unsigned int initial_refinement   = 0;
+    std::string  separate_interfaces; ///< see InterfaceCut
 
     static void
     declare(dealii::ParameterHandler &prm);
@@ -37,7 +38,8 @@ namespace forma
     parse(dealii::ParameterHandler &prm, const std::string &prm_directory);
   };
 
-  /// The coarse mesh (generator or Gmsh file), checked for inverted cells.
+  /// The coarse mesh (generator or Gmsh file), checked for inverted cells,
+  /// with the interfaces of `Separate interfaces` cut open.
   template <int dim>
   void
   create_coarse_mesh(const MeshParameters            &params,
@@ -54,7 +56,9 @@ namespace forma
 
   /**
    * The distributed triangulation for the run: p4est for quads/hexes (so
-   * adaptive refinement scales), a shared triangulation for simplices.
+   * adaptive refinement scales), a shared triangulation for simplices and
+   * for meshes with separated interfaces (whose contact pairs need the
+   * cells on both sides on every rank).
    */
   template <int dim>
   std::unique_ptr<dealii::parallel::TriangulationBase<dim, dim>>

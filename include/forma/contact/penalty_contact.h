@@ -1,0 +1,133 @@
+#ifndef forma_contact_penalty_contact_h
+#define forma_contact_penalty_contact_h
+
+#include <deal.II/base/tensor.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/hp/fe_collection.h>
+#include <deal.II/hp/mapping_collection.h>
+#include <deal.II/hp/q_collection.h>
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/trilinos_sparsity_pattern.h>
+#include <deal.II/lac/trilinos_vector.h>
+
+#include <forma/contact/contact_parameters.h>
+
+#include <nlohmann/json.hpp>
+
+#include <vector>
+
+namespace forma
+{
+  /**
+   * Smoothed penalty contact and friction as a form of the discrete problem
+   * h(u, q) = 0 (thesis eqs. 2.9-2.13): per contact point the traction
+   *   t(j, n) = h_eta(j . n) / alpha (n + mu N_eta'(j - (j . n) n))
+   * with j = u (RD) or j = u^- - u^+ (DD, n = n^- the outer normal of the
+   * side with the lower material id), added as  int t . [w] ds  to the
+   * residual. The friction term uses the total tangential displacement of
+   * the static problem (eq. 2.12). Derivatives in j and n come from
+   * forward AD of t, so the Jacobian (eq. 2.26 terms), the adjoint products
+   * p^T d_x h theta on the shape field (eqs. 2.27 S_C..S_SF, in the
+   * transport form that is exact for the discrete problem) and the
+   * potential (frictionless) use one definition of t.
+   *
+   * DD sides must be conforming: every quadrature point of a face finds a
+   * coincident one on its partner (checked at setup).
+   */
+  template <int dim>
+  class PenaltyContact
+  {
+  public:
+    using Vector_t = dealii::TrilinosWrappers::MPI::Vector;
+
+    PenaltyContact(const ContactParameters &parameters);
+
+    /// Find the contact faces and pair the DD sides, on the mesh as read.
+    /// Throws with a message if a boundary id is missing or a side has no
+    /// partner. Every rank must hold all cells (shared triangulation).
+    void
+    setup(const dealii::DoFHandler<dim>            &dof_handler,
+          const dealii::hp::MappingCollection<dim> &mapping,
+          const dealii::hp::QCollection<dim - 1>   &face_quadrature);
+
+    bool
+    active() const
+    {
+      return !faces.empty();
+    }
+
+    /// Whether the Jacobian is unsymmetric (friction).
+    bool
+    has_friction() const
+    {
+      return parameters.has_friction();
+    }
+
+    /// Add the couplings of paired DD cells to a sparsity pattern.
+    void
+    add_couplings(const dealii::AffineConstraints<double>   &constraints,
+                  dealii::TrilinosWrappers::SparsityPattern &pattern) const;
+
+    /**
+     * Add the contact residual (and Jacobian, transposed if asked) of the
+     * locally owned contact faces at the state `u` (ghosted); `raw` gets the
+     * residual without constraints. Returns the local part of the penalty
+     * potential int H_eta(j . n) / alpha ds (meaningful without friction).
+     */
+    double
+    assemble(const dealii::hp::MappingCollection<dim> &mapping,
+             const Vector_t                           &u,
+             const dealii::AffineConstraints<double>  &constraints,
+             const bool                                transpose,
+             dealii::TrilinosWrappers::SparseMatrix   *matrix,
+             Vector_t                                 &residual,
+             Vector_t                                 *raw) const;
+
+    /**
+     * Add p^T (d h / d x) theta_a for every shape DoF a of the vector Q1/P1
+     * shape field (the adjoint product of the shape derivative) at the
+     * state `u` and adjoint `p` (both ghosted) to `gradient`.
+     */
+    void
+    add_shape_products(
+      const dealii::hp::MappingCollection<dim> &mapping,
+      const Vector_t                           &u,
+      const Vector_t                           &p,
+      const dealii::DoFHandler<dim>            &shape_dof_handler,
+      const dealii::AffineConstraints<double>  &shape_constraints,
+      Vector_t                                 &gradient) const;
+
+    /**
+     * Per contact boundary: the force the contact exerts on the body (RD)
+     * or on the side with the lower material id (DD), the largest
+     * penetration j . n, the measure of the active set (h_eta > 0) and the
+     * largest tangential slip there. Collective.
+     */
+    nlohmann::json
+    statistics(const dealii::hp::MappingCollection<dim> &mapping,
+               const Vector_t                           &u,
+               const MPI_Comm                            comm) const;
+
+    const ContactParameters parameters;
+
+  private:
+    struct Face
+    {
+      typename dealii::DoFHandler<dim>::active_cell_iterator cell, partner;
+      unsigned int               face = 0, partner_face = 0;
+      dealii::types::boundary_id id;
+      bool                       deformable = false;
+      /// Partner quadrature point of each point of `face`.
+      std::vector<unsigned int> permutation;
+    };
+    std::vector<Face>                    faces;
+    const dealii::hp::FECollection<dim> *fe = nullptr;
+    dealii::hp::QCollection<dim - 1>     quadrature;
+
+    const ContactLaw &
+    law(const Face &f) const;
+  };
+} // namespace forma
+
+#endif

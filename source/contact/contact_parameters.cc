@@ -1,0 +1,104 @@
+#include <deal.II/base/exceptions.h>
+
+#include <forma/base/records.h>
+#include <forma/contact/contact_parameters.h>
+
+namespace forma
+{
+  using namespace dealii;
+
+  void
+  ContactParameters::declare(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Contact");
+    const std::string keys =
+      " Keys: alpha (1/alpha is the penalty, force per length^3), eta "
+      "(smoothing width of h_eta, a length), mu (Coulomb friction "
+      "coefficient, 0: frictionless), eta_n (smoothing width of the "
+      "friction norm N_eta, a length); defaults alpha=1e-4, eta=1e-4, mu=0, "
+      "eta_n=1e-4.";
+    prm.declare_entry(
+      "Rigid-deformable",
+      "",
+      Patterns::Anything(),
+      "Boundaries pressed against a rigid obstacle that keeps their initial "
+      "shape (thesis eq. 2.5, 2.9): 'id : key=value, ... ; id : ...'." +
+        keys);
+    prm.declare_entry(
+      "Deformable-deformable",
+      "",
+      Patterns::Anything(),
+      "Interfaces between parts (boundary ids given by Mesh/Separate "
+      "interfaces) whose two sides are in contact (thesis eq. 2.6, 2.10): "
+      "'id : key=value, ... ; id : ...'." +
+        keys);
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  ContactParameters::parse(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Contact");
+    rigid_deformable      = prm.get("Rigid-deformable");
+    deformable_deformable = prm.get("Deformable-deformable");
+    prm.leave_subsection();
+
+    auto read = [](const std::string &text, const std::string &entry) {
+      std::map<types::boundary_id, ContactLaw> laws;
+      for (const auto &r : parse_records(text, 1, entry))
+        {
+          const std::string where =
+            entry + ", boundary id " + std::to_string(r.id);
+          AssertThrow(r.id != any_id,
+                      ExcMessage("'" + entry +
+                                 "': give a boundary id, not '*'."));
+          AssertThrow(!laws.count(r.id),
+                      ExcMessage("'" + where + "' is given twice."));
+          ContactLaw law;
+          for (const auto &[key, value] : parse_key_values(r.fields[0], entry))
+            {
+              if (key == "alpha")
+                law.alpha = value;
+              else if (key == "eta")
+                law.eta = value;
+              else if (key == "mu")
+                law.mu = value;
+              else if (key == "eta_n")
+                law.eta_n = value;
+              else
+                AssertThrow(false,
+                            ExcMessage("'" + where + "': unknown key '" + key +
+                                       "' (known: alpha, eta, mu, eta_n)."));
+            }
+          AssertThrow(law.alpha > 0 && law.eta > 0 && law.eta_n > 0 &&
+                        law.mu >= 0,
+                      ExcMessage("'" + where +
+                                 "': need alpha > 0, eta > 0, eta_n > 0 and "
+                                 "mu >= 0."));
+          laws[r.id] = law;
+        }
+      return laws;
+    };
+    rigid      = read(rigid_deformable, "Contact/Rigid-deformable");
+    deformable = read(deformable_deformable, "Contact/Deformable-deformable");
+    for (const auto &[id, law] : rigid)
+      AssertThrow(!deformable.count(id),
+                  ExcMessage("Contact: boundary id " + std::to_string(id) +
+                             " is both rigid-deformable and "
+                             "deformable-deformable."));
+  }
+
+
+
+  bool
+  ContactParameters::has_friction() const
+  {
+    for (const auto *m : {&rigid, &deformable})
+      for (const auto &[id, law] : *m)
+        if (law.mu > 0)
+          return true;
+    return false;
+  }
+} // namespace forma

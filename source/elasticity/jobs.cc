@@ -1,0 +1,400 @@
+// The jobs shared by the elasticity-based apps (see forma/elasticity/jobs.h).
+
+#include <deal.II/base/exceptions.h>
+
+#include <forma/adjoint/gradient_check.h>
+#include <forma/adjoint/objective.h>
+#include <forma/base/application.h>
+#include <forma/base/plot.h>
+#include <forma/base/run_context.h>
+#include <forma/elasticity/jobs.h>
+#include <forma/elasticity/parameters.h>
+#include <forma/elasticity/simulator.h>
+#include <forma/elasticity/taylor_test.h>
+#include <forma/optimization/optimizer.h>
+
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+
+namespace
+{
+  std::string
+  fixed(const double x, const int digits)
+  {
+    if (!std::isfinite(x))
+      return "n/a";
+    std::ostringstream s;
+    s << std::fixed << std::setprecision(digits) << x;
+    return s.str();
+  }
+
+  std::string
+  significant(const double x, const int digits)
+  {
+    std::ostringstream s;
+    s << std::setprecision(digits) << x;
+    return s.str();
+  }
+
+  template <int dim>
+  void
+  simulate_job(const forma::ElasticityParameters &parameters,
+               forma::RunContext                 &context)
+  {
+    forma::ElasticitySimulator<dim> simulator(parameters,
+                                              context.communicator());
+    simulator.run(&context);
+  }
+
+  template <int dim>
+  void
+  verify_gradient_job(forma::ElasticityParameters           parameters,
+                      const forma::GradientCheckParameters &check,
+                      forma::RunContext                    &context)
+  {
+    // The Taylor remainder is compared with J to ~1e-10: converge Newton
+    // well below that.
+    parameters.newton_relative_tolerance =
+      std::min(parameters.newton_relative_tolerance, 1e-12);
+    parameters.newton_absolute_tolerance =
+      std::min(parameters.newton_absolute_tolerance, 1e-14);
+    forma::ElasticitySimulator<dim> simulator(parameters,
+                                              context.communicator());
+    simulator.prepare(&context);
+    AssertThrow(simulator.design_layout().size() > 0,
+                dealii::ExcMessage("Design/Parameters is empty: there is "
+                                   "nothing to differentiate."));
+    simulator.set_objective(
+      std::make_shared<const forma::Objective<dim>>(parameters.objective));
+
+    std::string blocks;
+    for (const auto &b : simulator.design_layout().blocks)
+      blocks += (blocks.empty() ? "" : ", ") + b.name + " (" +
+                std::to_string(b.size) + ")";
+    context.print("design: " + blocks);
+
+    const auto result =
+      forma::taylor_test(simulator, check, [&](const std::string &line) {
+        context.log(line);
+      });
+
+    context.print("J = " + significant(result.value, 6) + ", dJ . theta = " +
+                  significant(result.directional_derivative, 6));
+    for (unsigned int k = 0; k < result.epsilons.size(); ++k)
+      context.log("  epsilon " + significant(result.epsilons[k], 4) +
+                  ": J = " + significant(result.values[k], 16) +
+                  ", Taylor error " + significant(result.errors[k], 4));
+    std::string rates;
+    for (const double r : result.rates)
+      rates += (rates.empty() ? "" : " ") + fixed(r, 1);
+    context.print("Taylor test rates (epsilon halving): " + rates);
+    // No valid rate: every error is at round-off level, i.e. J is linear
+    // along theta and the first-order expansion is exact.
+    const bool exact = std::isnan(result.min_rate);
+    const bool pass  = exact || result.min_rate >= 1.9;
+    context.print(exact ? "Taylor errors at round-off level: J is linear "
+                          "along the direction, gradient exact" :
+                          "min rate " + fixed(result.min_rate, 1) +
+                            (pass ? ": gradient verified (>= 1.9)" :
+                                    ": GRADIENT CHECK FAILED (< 1.9)"));
+    context.summary["gradient_check"]           = result.to_json();
+    context.summary["gradient_check"]["passed"] = pass;
+    context.summary["adjoint"] = simulator.adjoint_statistics();
+    AssertThrow(pass,
+                dealii::ExcMessage("the Taylor test failed: min rate " +
+                                   fixed(result.min_rate, 2) +
+                                   " < 1.9 (table in summary.json)."));
+  }
+
+  // Values of the small (non-shape) design blocks, e.g. recovered materials.
+  std::string
+  describe_design(const forma::DesignLayout &layout,
+                  const std::vector<double> &q0,
+                  const std::vector<double> &q,
+                  const double               shape_offset,
+                  nlohmann::json            &json)
+  {
+    std::string text;
+    for (const auto &b : layout.blocks)
+      {
+        if (b.name == "shape" || b.name == "cell material")
+          {
+            // Shape: largest vertex move from the mesh as read (of the
+            // shape the simulator holds); cell materials: largest change.
+            double m = b.name == "shape" ? shape_offset : 0.;
+            if (b.name != "shape")
+              for (unsigned int i = b.offset; i < b.offset + b.size; ++i)
+                m = std::max(m, std::abs(q[i] - q0[i]));
+            const std::string what     = b.name == "shape" ?
+                                           "max vertex offset from the mesh" :
+                                           "max change";
+            json[b.name + ": " + what] = m;
+            text += (text.empty() ? "" : "; ") + b.name + ": " + what + " " +
+                    significant(m, 3);
+            continue;
+          }
+        if (b.size > 8)
+          {
+            double m = 0;
+            for (unsigned int i = b.offset; i < b.offset + b.size; ++i)
+              m = std::max(m, std::abs(q[i]));
+            json[b.name + ": max |value|"] = m;
+            text += (text.empty() ? "" : "; ") + b.name + ": max |value| " +
+                    significant(m, 3);
+            continue;
+          }
+        std::vector<double> v(q.begin() + b.offset,
+                              q.begin() + b.offset + b.size);
+        json[b.name] = v;
+        text += (text.empty() ? "" : "; ") + b.name + ":";
+        for (const double x : v)
+          text += " " + significant(x, 6);
+      }
+    return text;
+  }
+
+  template <int dim>
+  void
+  optimize_job(const forma::ElasticityParameters   &parameters,
+               const forma::OptimizationParameters &settings,
+               forma::RunContext                   &context)
+  {
+    forma::ElasticitySimulator<dim> simulator(parameters,
+                                              context.communicator());
+    simulator.prepare(&context);
+    const auto &layout = simulator.design_layout();
+    AssertThrow(layout.size() > 0,
+                dealii::ExcMessage("Design/Parameters is empty: there is "
+                                   "nothing to optimize."));
+    simulator.set_objective(
+      std::make_shared<const forma::Objective<dim>>(parameters.objective));
+
+    // The simulator keeps the last solved design; solve only when q moves.
+    std::vector<double> solved;
+    auto                ensure = [&](const std::vector<double> &q) {
+      if (!solved.empty() && q == solved)
+        return;
+      solved.clear();
+      simulator.set_design(q);
+      simulator.solve_design();
+      solved = q;
+    };
+
+    const auto  directory      = forma::checkpoint_directory(context);
+    auto        stage_settings = settings;
+    std::string mesh; // file stem of the current remeshed design, if any
+    if (settings.resume)
+      {
+        mesh = forma::checkpoint_mesh(context);
+        if (!mesh.empty())
+          {
+            simulator.load_remeshed(directory + "/" + mesh);
+          }
+      }
+    if (settings.remesh_quality > 0)
+      for (const auto &b : layout.blocks)
+        AssertThrow(b.name != "cell material" &&
+                      b.name.find("field") == std::string::npos,
+                    dealii::ExcMessage(
+                      "Optimization/Remesh quality: the design block '" +
+                      b.name + "' lives on the mesh and cannot be remeshed."));
+
+    forma::DesignModel model;
+    model.value = [&](const std::vector<double> &q) {
+      ensure(q);
+      return simulator.objective();
+    };
+    model.gradient = [&](const std::vector<double> &q,
+                         std::vector<double>       &dJ) {
+      ensure(q);
+      return simulator.gradient(dJ);
+    };
+    nlohmann::json history = nlohmann::json::array();
+    model.accepted =
+      [&](const unsigned int k, const std::vector<double> &q, const double J) {
+        ensure(q);
+        simulator.write_state(k, context);
+        nlohmann::json entry = {{"iteration", k}, {"objective", J}};
+        for (const auto &[name, value] : simulator.objective_terms())
+          entry["terms"][name] = value;
+        nlohmann::json values;
+        const auto     text = describe_design(
+          layout, model.initial, q, simulator.max_shape_offset(), values);
+        if (!values.empty())
+          entry["design"] = values;
+        if (!text.empty())
+          context.log("  design: " + text);
+        // The first design after a remesh replaces the last one before.
+        if (!history.empty() && history.back()["iteration"] == k)
+          {
+            entry["remeshed"] = true;
+            history.back()    = entry;
+          }
+        else
+          history.push_back(entry);
+        context.summary["history"] = history;
+      };
+    // Remesh when the quality falls below the threshold and clearly below
+    // what the last remesh achieved (the boundary, which remeshing keeps,
+    // can limit it: remeshing again would not help).
+    bool   remesh_allowed   = settings.remesh_quality > 0;
+    double remeshed_quality = 1;
+    model.remesh_needed     = [&]() {
+      const double q = simulator.mesh_quality();
+      if (!remesh_allowed || simulator.n_remeshes() >= settings.max_remeshes ||
+          q >= settings.remesh_quality || q >= remeshed_quality - 0.05)
+        return false;
+      // Try it first: a remesh that cannot help must not restart L-BFGS.
+      std::string reason;
+      if (simulator.remesh_improves(reason))
+        return true;
+      context.print("  no remesh, continuing on the current mesh: " + reason);
+      remesh_allowed = false;
+      return false;
+    };
+
+    // One run of the optimizer per mesh: a remesh ends a run, the next one
+    // continues the history on the new mesh.
+    const double vm0 = [&] {
+      ensure(simulator.design());
+      return simulator.max_von_mises_stress();
+    }();
+    forma::OptimizationResult result;
+    std::vector<double>       history_so_far;
+    nlohmann::json            remeshes = nlohmann::json::array();
+    for (;;)
+      {
+        model.initial = simulator.design();
+        model.scale =
+          forma::design_scales(layout, model.initial, simulator.cell_size());
+        forma::design_bounds(layout,
+                             model.initial,
+                             parameters.design.young_poisson,
+                             parameters.design.shape_bound > 0 ?
+                               parameters.design.shape_bound :
+                               std::numeric_limits<double>::infinity(),
+                             simulator.material_offsets(),
+                             model.lower,
+                             model.upper);
+        model.mesh = mesh;
+        result =
+          forma::optimize(model, stage_settings, context, history_so_far);
+        if (result.stop_reason != forma::remesh_stop)
+          break;
+        ensure(result.design);
+        const std::string iteration =
+          "[iteration " + std::to_string(result.history.size() - 1) + "] ";
+        const std::string next =
+          "optimization.mesh_" + std::to_string(result.history.size() - 1);
+        std::string line;
+        try
+          {
+            line             = simulator.remesh(directory + "/" + next);
+            mesh             = next;
+            remeshed_quality = simulator.mesh_quality();
+          }
+        catch (const std::exception &e)
+          {
+            // The current mesh is still valid: go on without remeshing.
+            line = "remeshing failed, continuing on the current mesh: " +
+                   forma::error_message(e);
+            remesh_allowed = false;
+          }
+        context.print(iteration + line);
+        remeshes.push_back(
+          {{"iteration", result.history.size() - 1}, {"description", line}});
+        solved.clear();
+        history_so_far        = result.history;
+        stage_settings.resume = false;
+      }
+
+    const double J0 = result.history.front(), J1 = result.history.back();
+    context.print("stopped after " + std::to_string(result.history.size() - 1) +
+                  " iterations: " + result.stop_reason);
+    context.print("objective " + significant(J0, 6) + " -> " +
+                  significant(J1, 6) + " (ratio " + significant(J1 / J0, 4) +
+                  ")");
+    ensure(result.design);
+    const double vm1 = simulator.max_von_mises_stress();
+    context.print("max von Mises stress " + significant(vm0, 5) + " -> " +
+                  significant(vm1, 5));
+    nlohmann::json final_values;
+    const auto     text = describe_design(layout,
+                                      model.initial,
+                                      result.design,
+                                      simulator.max_shape_offset(),
+                                      final_values);
+    if (!text.empty())
+      context.print("final design: " + text);
+    context.summary["optimization"] = {{"initial_objective", J0},
+                                       {"final_objective", J1},
+                                       {"ratio", J1 / J0},
+                                       {"iterations",
+                                        result.history.size() - 1},
+                                       {"stop_reason", result.stop_reason},
+                                       {"max_von_mises_stress", {vm0, vm1}},
+                                       {"remeshes", remeshes},
+                                       {"final_design", final_values}};
+    context.summary["adjoint"]      = simulator.adjoint_statistics();
+    if (context.is_root())
+      {
+        std::ofstream csv(context.path("history.csv"));
+        csv << "iteration,objective\n";
+        for (unsigned int k = 0; k < result.history.size(); ++k)
+          csv << k << ',' << std::setprecision(12) << result.history[k] << '\n';
+        forma::write_history_plot(context.path("convergence.png"),
+                                  result.history,
+                                  "objective history",
+                                  "iteration");
+      }
+  }
+} // namespace
+
+namespace forma
+{
+  void
+  declare_elasticity_job_parameters(dealii::ParameterHandler &prm)
+  {
+    GradientCheckParameters::declare(prm);
+    OptimizationParameters::declare(prm);
+  }
+
+
+
+  void
+  run_elasticity_job(const std::string          &mode,
+                     const ElasticityParameters &parameters,
+                     dealii::ParameterHandler   &prm,
+                     RunContext                 &context)
+  {
+    if (mode == "simulate")
+      {
+        if (parameters.dim == 2)
+          simulate_job<2>(parameters, context);
+        else
+          simulate_job<3>(parameters, context);
+        return;
+      }
+    if (mode == "optimize")
+      {
+        OptimizationParameters settings;
+        settings.parse(prm);
+        if (parameters.dim == 2)
+          optimize_job<2>(parameters, settings, context);
+        else
+          optimize_job<3>(parameters, settings, context);
+        return;
+      }
+    AssertThrow(mode == "verify gradient",
+                dealii::ExcMessage("unknown Mode '" + mode + "'."));
+    GradientCheckParameters check;
+    check.parse(prm);
+    if (parameters.dim == 2)
+      verify_gradient_job<2>(parameters, check, context);
+    else
+      verify_gradient_job<3>(parameters, check, context);
+  }
+} // namespace forma

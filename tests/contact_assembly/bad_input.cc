@@ -1,0 +1,75 @@
+// Bad contact input to forma-contact-assembly is rejected with a message
+// that names the problem, a non-zero exit code, and the results of an
+// earlier good run untouched.
+
+#include "../tests.h"
+
+#include <filesystem>
+
+const std::string base = "set Dimension = 2\n"
+                         "set Output directory = results\n"
+                         "subsection Mesh\n set Source = file\n"
+                         " set File = stack_2d.msh\nend\n"
+                         "subsection Material\n"
+                         " set Bodies = * : E = 1, nu = 0.3\nend\n"
+                         "subsection Boundary conditions\n"
+                         " set Dirichlet = 4 : x : 0\n"
+                         " set Traction = 3 : 0, -0.01\nend\n"
+                         "subsection Output\n set Write vtu = false\nend\n";
+
+std::string
+contact(const std::string &entries)
+{
+  return base + "subsection Contact\n" + entries + "end\n";
+}
+
+std::string
+separated(const std::string &cut, const std::string &entries)
+{
+  return contact(entries) +
+         "subsection Mesh\n set Separate interfaces = " + cut + "\nend\n";
+}
+
+int
+main()
+{
+  initlog();
+  // A local copy: messages name the file as given, without machine paths.
+  std::filesystem::copy_file(
+    std::string(FORMA_SOURCE_DIR) +
+      "/parameter_files/contact_assembly/meshes/stack_2d.msh",
+    "stack_2d.msh",
+    std::filesystem::copy_options::overwrite_existing);
+  const int         ok   = run_app(FORMA_APP,
+                         "good",
+                         separated("1-2 : 10",
+                                   " set Rigid-deformable = 2 : alpha=1e-3\n"
+                                             " set Deformable-deformable = 10 : "
+                                             "alpha=1e-3\n"));
+  const std::string good = read_file("results/summary.json");
+  dealii::deallog << "good run: exit code " << ok << std::endl;
+
+  expect_failure("unknown_key",
+                 contact(" set Rigid-deformable = 2 : alpha=1e-3, beta=2\n"),
+                 good);
+  expect_failure("negative_alpha",
+                 contact(" set Rigid-deformable = 2 : alpha=-1\n"),
+                 good);
+  expect_failure("missing_boundary",
+                 contact(" set Rigid-deformable = 7 : alpha=1e-3\n"),
+                 good);
+  expect_failure("both_kinds",
+                 separated("1-2 : 10",
+                           " set Rigid-deformable = 10 : alpha=1e-3\n"
+                           " set Deformable-deformable = 10 : alpha=1e-3\n"),
+                 good);
+  expect_failure("no_partner",
+                 contact(" set Deformable-deformable = 5 : alpha=1e-3\n"),
+                 good);
+  expect_failure("materials_not_adjacent", separated("1-3 : 10", ""), good);
+  expect_failure("bad_cut_syntax", separated("1 : 10", ""), good);
+  expect_failure("transient",
+                 contact(" set Rigid-deformable = 2 : alpha=1e-3\n") +
+                   "subsection Time\n set Problem = transient\nend\n",
+                 good);
+}
