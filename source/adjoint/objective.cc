@@ -7,6 +7,7 @@
 
 #include <forma/adjoint/objective.h>
 #include <forma/base/records.h>
+#include <forma/contact/smoothing.h>
 
 #include <Sacado.hpp>
 
@@ -396,6 +397,120 @@ namespace forma
       const bool           height;
       const Tensor<1, dim> target;
     };
+    /**
+     * The connection objectives of thesis ch. 2.3.5 on one side Gamma_S of
+     * a contact interface (boundary id, material id of the side), for a
+     * disassembly direction y (unit):
+     * - assembly (eq. 2.17): int phi(-n . y) / |Gamma_S|;
+     * - disassembly (eq. 2.18): int phi(u . y - u_tol) / |Gamma_S|;
+     * - alignment (eq. 2.19): phi(W - int g_eps(n . y) / |Gamma_S|).
+     * Integral 0 is the numerator, integral 1 the area |Gamma_S|.
+     */
+    template <int dim>
+    class InterfaceTerm : public ObjectiveTerm<dim>
+    {
+    public:
+      enum class Kind
+      {
+        assembly,
+        disassembly,
+        alignment
+      };
+      InterfaceTerm(const std::string           &name,
+                    const double                 weight,
+                    const Kind                   kind,
+                    const types::boundary_id     boundary,
+                    const types::material_id     material,
+                    const Tensor<1, dim>        &direction,
+                    const std::array<double, 3> &constants)
+        : ObjectiveTerm<dim>(name, weight)
+        , kind(kind)
+        , boundary(boundary)
+        , material(material)
+        , y(direction / direction.norm())
+        , constants(constants)
+      {}
+      std::vector<typename ObjectiveTerm<dim>::Integral>
+      integrals() const override
+      {
+        typename ObjectiveTerm<dim>::Integral i;
+        i.boundary     = true;
+        i.boundary_ids = {boundary};
+        i.material_ids = {material};
+        return {i, i};
+      }
+      void
+      integrand(const unsigned int           k,
+                const IntegrandContext<dim> &c,
+                const Tensor<1, dim> &,
+                const Tensor<1, dim> &u,
+                const Tensor<2, dim> &,
+                const double,
+                const double,
+                const bool           derivatives,
+                IntegrandValue<dim> &r) const override
+      {
+        r = IntegrandValue<dim>();
+        if (k == 1)
+          {
+            r.value = 1.;
+            return;
+          }
+        // phi(z) = max(z, 0)^2 (eq. 2.16), phi'(z) = 2 max(z, 0).
+        if (kind == Kind::assembly)
+          {
+            const double z = std::max(-(c.normal * y), 0.);
+            r.value        = z * z;
+            if (derivatives)
+              r.d_n = -2. * z * y;
+          }
+        else if (kind == Kind::disassembly)
+          {
+            const double z = std::max(u * y - constants[0], 0.);
+            r.value        = z * z;
+            if (derivatives)
+              r.d_u = 2. * z * y;
+          }
+        else
+          {
+            using AD   = Sacado::Fad::DFad<double>;
+            const AD g = contact::alignment_g(AD(1, 0, c.normal * y),
+                                              constants[1],
+                                              constants[2]);
+            r.value    = g.val();
+            if (derivatives)
+              r.d_n = g.dx(0) * y;
+          }
+      }
+      double
+      combine(const std::vector<double> &I,
+              std::vector<double>       *grad) const override
+      {
+        AssertThrow(I[1] > 0,
+                    ExcMessage(this->name + ": the interface side (boundary " +
+                               std::to_string(boundary) + ", material " +
+                               std::to_string(material) + ") has no area."));
+        const double ratio = I[0] / I[1];
+        if (kind != Kind::alignment)
+          {
+            if (grad)
+              *grad = {1. / I[1], -ratio / I[1]};
+            return ratio;
+          }
+        const double z = std::max(constants[0] - ratio, 0.);
+        if (grad)
+          *grad = {-2. * z / I[1], 2. * z * ratio / I[1]};
+        return z * z;
+      }
+
+    private:
+      const Kind                  kind;
+      const types::boundary_id    boundary;
+      const types::material_id    material;
+      const Tensor<1, dim>        y;
+      const std::array<double, 3> constants; ///< u_tol or (W, epsilon, beta)
+    };
+
     // Placeholder of a regularization term (see ObjectiveTerm).
     template <int dim>
     class RegularizationTerm : public ObjectiveTerm<dim>
@@ -452,8 +567,14 @@ namespace forma
         "bound=s' and 'von mises bound : bound=s' (eq. 3.42), 'target' and "
         "'boundary target : boundary=id' (eq. 3.37, see Target), 'center "
         "of mass : x=.., y=.., z=..' (eq. 3.38), 'height' (eq. 3.39), "
-        "'boundary smoothing : p=2' (eq. 3.43, needs the shape block) and "
-        "'material smoothing' (eq. 3.44, on per-cell Lame parameters).");
+        "'boundary smoothing : p=2' (eq. 3.43, needs the shape block), "
+        "'material smoothing' (eq. 3.44, on per-cell Lame parameters), and on "
+        "one side of a contact interface (boundary=id, material=id of the "
+        "side whose normals count, the part that stays while the other is "
+        "removed along the disassembly direction x=.., y=.., z=..): "
+        "'assembly' (eq. 2.17), "
+        "'disassembly : tolerance=u_tol' (eq. 2.18), 'alignment : "
+        "target=W, epsilon=0.1, beta=1' (eqs. 2.19-2.20).");
       prm.declare_entry("Time weighting",
                         "integral",
                         Patterns::Selection("integral|final"),
@@ -568,6 +689,38 @@ namespace forma
                 c[d] = key(kv, axes[d], none, where);
             t =
               std::make_unique<CenterOfMass<dim>>(name, w, name == "height", c);
+          }
+        else if (name == "assembly" || name == "disassembly" ||
+                 name == "alignment")
+          {
+            using K = typename InterfaceTerm<dim>::Kind;
+            Tensor<1, dim> y;
+            const char    *axes[3] = {"x", "y", "z"};
+            for (unsigned int d = 0; d < dim; ++d)
+              y[d] = key(kv, axes[d], 0., where);
+            AssertThrow(y.norm() > 0,
+                        ExcMessage(where +
+                                   ": give the disassembly direction "
+                                   "(keys x, y" +
+                                   std::string(dim == 3 ? ", z" : "") + ")."));
+            const K kind = name == "assembly"    ? K::assembly :
+                           name == "disassembly" ? K::disassembly :
+                                                   K::alignment;
+            const std::array<double, 3> constants = {
+              {kind == K::disassembly ? key(kv, "tolerance", 0., where) :
+                                        key(kv, "target", 0., where),
+               key(kv, "epsilon", 0.1, where),
+               key(kv, "beta", 1., where)}};
+            AssertThrow(constants[1] > 0 && constants[2] >= 0,
+                        ExcMessage(where + ": need epsilon > 0, beta >= 0."));
+            t = std::make_unique<InterfaceTerm<dim>>(
+              name,
+              w,
+              kind,
+              static_cast<types::boundary_id>(key(kv, "boundary", none, where)),
+              static_cast<types::material_id>(key(kv, "material", none, where)),
+              y,
+              constants);
           }
         else
           AssertThrow(false,

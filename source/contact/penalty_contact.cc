@@ -101,6 +101,7 @@ namespace forma
                              const hp::QCollection<dim - 1>   &face_quadrature)
   {
     faces.clear();
+    any_faces  = false;
     fe         = &dof_handler.get_fe_collection();
     quadrature = face_quadrature;
     if (parameters.empty())
@@ -234,6 +235,8 @@ namespace forma
           }
         faces.push_back(face);
       }
+    any_faces = Utilities::MPI::max(faces.empty() ? 0 : 1,
+                                    dof_handler.get_communicator()) == 1;
   }
 
 

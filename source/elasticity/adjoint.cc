@@ -846,8 +846,14 @@ namespace forma
                         double               v =
                           row_dot(W, c, dN) + r.d_x[c] * sv->shape_value(a, q);
                         if (boundary)
-                          v -= r.value * fv.normal_vector(q)[c] *
-                               (dN * fv.normal_vector(q));
+                          {
+                            // d(ds) = div_S theta ds and, for integrands of
+                            // the normal, dn = -(I - n n^T) grad theta^T n.
+                            const Tensor<1, dim> &n  = fv.normal_vector(q);
+                            const double          dn = dN * n;
+                            v -= r.value * n[c] * dn +
+                                 n[c] * (r.d_n * dN - (r.d_n * n) * dn);
+                          }
                         local_shape(a) += w * v * JxW;
                       }
                   }
@@ -1003,8 +1009,11 @@ namespace forma
               for (const auto &t : J.terms())
                 for (const auto &i : t->integrals())
                   {
-                    mask[idx] = i.boundary && (i.boundary_ids.empty() ||
-                                               i.boundary_ids.count(id));
+                    mask[idx] =
+                      i.boundary &&
+                      (i.boundary_ids.empty() || i.boundary_ids.count(id)) &&
+                      (i.material_ids.empty() ||
+                       i.material_ids.count(cell->material_id()));
                     any |= mask[idx++] != 0;
                   }
               const bool load = adjoint && loaded(id);
@@ -1532,14 +1541,17 @@ namespace forma
   }
 
   template <int dim>
-  double
-  ElasticitySimulator<dim>::max_von_mises_stress() const
+  nlohmann::json
+  ElasticitySimulator<dim>::state_statistics() const
   {
     auto &m = *impl;
     m.set_step_state(m.u_states.size() - 1);
-    hp::FEValues<dim> hp_fv(m.mapping, m.fe, m.quadrature, update_gradients);
+    hp::FEValues<dim>           hp_fv(m.mapping,
+                            m.fe,
+                            m.quadrature,
+                            update_gradients | update_JxW_values);
     std::vector<Tensor<2, dim>> grads;
-    double                      vm = 0;
+    double                      vm = 0, frobenius = 0, volume = 0;
     for (const auto &cell : m.dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
@@ -1549,10 +1561,21 @@ namespace forma
           fv[FEValuesExtractors::Vector(0)].get_function_gradients(m.u_ghost,
                                                                    grads);
           const Material<dim> mat = m.cell_material(cell);
-          for (const auto &g : grads)
-            vm = std::max(vm, von_mises(mat.cauchy_stress(g)));
+          for (unsigned int q = 0; q < grads.size(); ++q)
+            {
+              const auto s = mat.cauchy_stress(grads[q]);
+              vm           = std::max(vm, von_mises(s));
+              frobenius    = std::max(frobenius, s.norm());
+              volume += fv.JxW(q);
+            }
         }
-    return Utilities::MPI::max(vm, m.comm);
+    nlohmann::json j;
+    j["max_von_mises_stress"] = Utilities::MPI::max(vm, m.comm);
+    j["max_stress"]           = Utilities::MPI::max(frobenius, m.comm);
+    j["volume"]               = Utilities::MPI::sum(volume, m.comm);
+    if (m.contact.active())
+      j["contact"] = m.contact.statistics(m.mapping, m.u_ghost, m.comm);
+    return j;
   }
 
   template <int dim>
@@ -1633,10 +1656,10 @@ namespace forma
   ElasticitySimulator<2>::objective_terms() const;
   template std::vector<std::pair<std::string, double>>
   ElasticitySimulator<3>::objective_terms() const;
-  template double
-  ElasticitySimulator<2>::max_von_mises_stress() const;
-  template double
-  ElasticitySimulator<3>::max_von_mises_stress() const;
+  template nlohmann::json
+  ElasticitySimulator<2>::state_statistics() const;
+  template nlohmann::json
+  ElasticitySimulator<3>::state_statistics() const;
   template double
   ElasticitySimulator<2>::max_shape_offset() const;
   template double

@@ -945,7 +945,14 @@ namespace forma
                                fmt(norm, 3) +
                                ") without inverting an "
                                "element; use more load steps or a smaller time "
-                               "step."));
+                               "step." +
+                               (contact.active() ?
+                                  " With contact: check that the contacts "
+                                  "and supports can hold the load (friction "
+                                  "mu above the tangential-to-normal load "
+                                  "ratio, no part held by contact alone "
+                                  "pulled away)." :
+                                  "")));
         if (context)
           context->log("    Newton " + std::to_string(it + 1) + ": residual " +
                        fmt(norm, 3) + ", step " + fmt(step, 3));
@@ -1269,12 +1276,13 @@ namespace forma
   void
   ElasticitySimulator<dim>::Impl::solve_static()
   {
-    bool has_dirichlet = !dirichlet.empty();
-    AssertThrow(has_dirichlet,
+    // Contact (and friction) may hold a body without supports; if it does
+    // not, Newton's method says so.
+    AssertThrow(!dirichlet.empty() || contact.active(),
                 ExcMessage(
                   "a static problem needs Dirichlet conditions "
-                  "(Boundary conditions/Dirichlet) to remove rigid-body "
-                  "motions."));
+                  "(Boundary conditions/Dirichlet) or contact to remove "
+                  "rigid-body motions."));
     transient = false;
     u         = 0;
     for (unsigned int k = 1; k <= p.load_steps; ++k)

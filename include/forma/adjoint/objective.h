@@ -29,12 +29,13 @@ namespace forma
   };
 
   /// Value and partial derivatives of an integrand j(x, u, grad u, lambda, mu)
-  /// (x: design position, lambda/mu: the Lame parameters of the material).
+  /// (x: design position, lambda/mu: the Lame parameters of the material),
+  /// on boundaries also of the outer normal n.
   template <int dim>
   struct IntegrandValue
   {
     double                 value = 0;
-    dealii::Tensor<1, dim> d_x, d_u;
+    dealii::Tensor<1, dim> d_x, d_u, d_n; ///< d_n: by the outer normal
     dealii::Tensor<2, dim> d_grad_u;
     double                 d_lambda = 0, d_mu = 0;
   };
@@ -54,6 +55,9 @@ namespace forma
     {
       bool                                 boundary = false;
       std::set<dealii::types::boundary_id> boundary_ids; ///< empty: all
+      /// Boundary integrals: only faces of cells with these material ids
+      /// (one side of a cut interface); empty: all.
+      std::set<dealii::types::material_id> material_ids;
     };
 
     ObjectiveTerm(const std::string &name, const double weight);

@@ -51,10 +51,11 @@ namespace forma
           const dealii::hp::MappingCollection<dim> &mapping,
           const dealii::hp::QCollection<dim - 1>   &face_quadrature);
 
+    /// Whether any rank has contact faces (the same on every rank).
     bool
     active() const
     {
-      return !faces.empty();
+      return any_faces;
     }
 
     /// Whether the Jacobian is unsymmetric (friction).
@@ -121,8 +122,9 @@ namespace forma
       /// Partner quadrature point of each point of `face`.
       std::vector<unsigned int> permutation;
     };
-    std::vector<Face>                    faces;
-    const dealii::hp::FECollection<dim> *fe = nullptr;
+    std::vector<Face>                    faces; ///< of locally owned cells
+    bool                                 any_faces = false;
+    const dealii::hp::FECollection<dim> *fe        = nullptr;
     dealii::hp::QCollection<dim - 1>     quadrature;
 
     const ContactLaw &

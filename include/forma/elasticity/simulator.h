@@ -151,10 +151,14 @@ namespace forma
     void
     write_state(const unsigned int index, RunContext &context);
 
-    /// Largest von Mises (Cauchy) stress at the quadrature points of the
-    /// last solved state (final step).
-    double
-    max_von_mises_stress() const;
+    /**
+     * Of the last solved state (final step): the largest von Mises and
+     * Frobenius (in-plane for 2D, the measure of the stress objective)
+     * Cauchy stress at the quadrature points, the volume (area) of the
+     * current design, and the contact statistics (when there is contact).
+     */
+    nlohmann::json
+    state_statistics() const;
 
     /// Largest coordinate change of a vertex of the current design from
     /// the mesh as read.

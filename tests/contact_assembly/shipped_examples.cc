@@ -1,0 +1,65 @@
+// The shipped forma-contact-assembly examples (parameter_files/
+// contact_assembly) run as a user runs them and reach what
+// doc/contact_assembly.md states: the box matches its closed form, the
+// connector's stress falls with its volume held (a shortened run of the
+// baseline, 40 iterations).
+
+#include "../tests.h"
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+
+using nlohmann::json;
+
+json
+run(const std::string &name, const std::string &extra = "")
+{
+  const std::string prm = std::string(FORMA_SOURCE_DIR) +
+                          "/parameter_files/contact_assembly/" + name + ".prm";
+  const int status = std::system((std::string(FORMA_APP) + " " + prm +
+                                  " --set 'Output directory=" + name + "'" +
+                                  extra + " > " + name + ".stdout 2>&1")
+                                   .c_str());
+  json      s;
+  std::ifstream(name + "/summary.json") >> s;
+  dealii::deallog << name << ": exit code " << WEXITSTATUS(status)
+                  << ", status " << s["status"].get<std::string>() << std::endl;
+  return s;
+}
+
+void
+check(const std::string &what, const bool ok)
+{
+  dealii::deallog << "  " << what << ": " << (ok ? "yes" : "NO") << std::endl;
+}
+
+int
+main()
+{
+  initlog();
+  {
+    const auto s   = run("box_on_floor");
+    const auto top = s["steps"].back()["point_displacements"][0];
+    check("u(2, 1) = (0.0078, -0.00911) within 1e-10",
+          std::abs(top[0].get<double>() - 0.0078) < 1e-10 &&
+            std::abs(top[1].get<double>() + 0.00911) < 1e-10);
+    const auto f = s["contact"][0]["force"];
+    check("the floor carries the load (0, 0.02) within 1e-12",
+          std::abs(f[0].get<double>()) < 1e-12 &&
+            std::abs(f[1].get<double>() - 0.02) < 1e-12);
+  }
+  {
+    const auto   s      = run("connector_stress", " --set 'Optimization/Max iterations=40'");
+    const double stress = s["final_max_stress"].get<double>() /
+                          s["initial_max_stress"].get<double>();
+    const double volume =
+      s["final_volume"].get<double>() / s["initial_volume"].get<double>();
+    check("max stress below 0.4 of its start", stress < 0.4);
+    check("volume within 1% of its start", std::abs(volume - 1) < 0.01);
+    check("VTU of every iteration, convergence.png",
+          std::ifstream("connector_stress/solution.pvd").good() &&
+            std::ifstream("connector_stress/convergence.png").good());
+  }
+}
