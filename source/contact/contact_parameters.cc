@@ -32,6 +32,29 @@ namespace forma
       "interfaces) whose two sides are in contact (thesis eq. 2.6, 2.10): "
       "'id : key=value, ... ; id : ...'." +
         keys);
+    prm.declare_entry(
+      "Quadrature",
+      "gauss",
+      Patterns::Selection("gauss|adaptive"),
+      "Quadrature on contact faces. gauss: the elements' Gauss rule. "
+      "adaptive (thesis ch. 2.9.4): split each face (in 2 or 4, "
+      "recursively) where the branch of h_eta or N_eta changes between "
+      "sample points, a Gauss rule in every piece: accurate where the "
+      "contact state changes inside a face, at a higher cost.");
+    prm.declare_entry("Adaptive depth",
+                      "5",
+                      Patterns::Integer(0, 12),
+                      "Adaptive quadrature: largest number of splits.");
+    prm.declare_entry("Adaptive Gauss points",
+                      "4",
+                      Patterns::Integer(1, 12),
+                      "Adaptive quadrature: Gauss points per direction in "
+                      "every piece.");
+    prm.declare_entry("Adaptive samples",
+                      "6",
+                      Patterns::Integer(2, 20),
+                      "Adaptive quadrature: sample points per direction "
+                      "that decide whether a piece is split.");
     prm.leave_subsection();
   }
 
@@ -43,6 +66,10 @@ namespace forma
     prm.enter_subsection("Contact");
     rigid_deformable      = prm.get("Rigid-deformable");
     deformable_deformable = prm.get("Deformable-deformable");
+    quadrature            = prm.get("Quadrature");
+    adaptive_depth        = prm.get_integer("Adaptive depth");
+    gauss_points          = prm.get_integer("Adaptive Gauss points");
+    samples               = prm.get_integer("Adaptive samples");
     prm.leave_subsection();
 
     auto read = [](const std::string &text, const std::string &entry) {

@@ -1,11 +1,14 @@
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
 #include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/fe/mapping.h>
 #include <deal.II/hp/fe_values.h>
 #include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/vector.h>
 
 #include <forma/base/records.h>
+#include <forma/contact/adaptive_quadrature.h>
 #include <forma/contact/penalty_contact.h>
 #include <forma/contact/smoothing.h>
 
@@ -263,6 +266,131 @@ namespace forma
 
 
   template <int dim>
+  void
+  PenaltyContact<dim>::evaluate(const Face                       &f,
+                                const hp::MappingCollection<dim> &mapping,
+                                const Vector_t                   &u,
+                                FaceData                         &d) const
+  {
+    const auto        &fe1 = f.cell->get_fe();
+    const unsigned int n1  = fe1.n_dofs_per_cell();
+    const unsigned int n2 =
+      f.deformable ? f.partner->get_fe().n_dofs_per_cell() : 0;
+    d.dofs.resize(n1);
+    f.cell->get_dof_indices(d.dofs);
+    if (f.deformable)
+      {
+        std::vector<types::global_dof_index> b(n2);
+        f.partner->get_dof_indices(b);
+        d.dofs.insert(d.dofs.end(), b.begin(), b.end());
+      }
+    d.component.resize(n1 + n2);
+    for (unsigned int i = 0; i < n1 + n2; ++i)
+      d.component[i] = (i < n1 ? fe1 : f.partner->get_fe())
+                         .system_to_component_index(i < n1 ? i : i - n1)
+                         .first;
+    d.values.resize(n1 + n2);
+    for (unsigned int i = 0; i < n1 + n2; ++i)
+      d.values[i] = u(d.dofs[i]);
+
+    // Values of the "-" side at face points `x` (reference face
+    // coordinates), of the partner at the same physical points; fills
+    // everything but the weights when `weights` is empty.
+    const unsigned int fe_index = f.cell->active_fe_index();
+    auto               at = [&](const Quadrature<dim - 1> &q, const bool full) {
+      FEFaceValues<dim> fv(mapping[0],
+                           fe1,
+                           q,
+                           update_values | update_quadrature_points |
+                             update_normal_vectors |
+                             (full ? update_JxW_values : update_default));
+      fv.reinit(f.cell, f.face);
+      const unsigned int nq = q.size();
+      d.phi.assign(n1 + n2, std::vector<double>(nq, 0.));
+      for (unsigned int i = 0; i < n1; ++i)
+        for (unsigned int k = 0; k < nq; ++k)
+          d.phi[i][k] = fv.shape_value(i, k);
+      d.normal = fv.get_normal_vectors();
+      if (full)
+        d.JxW = fv.get_JxW_values();
+      if (!f.deformable)
+        return;
+      if (parameters.quadrature == "gauss")
+        {
+          // The partner's own rule, permuted to these points.
+          FEFaceValues<dim> pv(mapping[0],
+                               f.partner->get_fe(),
+                               quadrature[fe_index],
+                               update_values);
+          pv.reinit(f.partner, f.partner_face);
+          for (unsigned int i = 0; i < n2; ++i)
+            for (unsigned int k = 0; k < nq; ++k)
+              d.phi[n1 + i][k] = -pv.shape_value(i, f.permutation[k]);
+          return;
+        }
+      std::vector<Point<dim>> unit(nq);
+      mapping[0].transform_points_real_to_unit_cell(f.partner,
+                                                    fv.get_quadrature_points(),
+                                                    unit);
+      FEValues<dim> pv(mapping[0],
+                       f.partner->get_fe(),
+                       Quadrature<dim>(unit),
+                       update_values);
+      pv.reinit(f.partner);
+      for (unsigned int i = 0; i < n2; ++i)
+        for (unsigned int k = 0; k < nq; ++k)
+          d.phi[n1 + i][k] = -pv.shape_value(i, k);
+    };
+
+    if (parameters.quadrature == "gauss")
+      d.quadrature = quadrature[fe_index];
+    else
+      {
+        const ContactLaw &cl       = law(f);
+        const bool        friction = cl.mu > 0;
+        auto              regime   = [&](const std::vector<Point<dim - 1>> &x) {
+          at(Quadrature<dim - 1>(x), false);
+          std::vector<int> codes(x.size());
+          for (unsigned int k = 0; k < x.size(); ++k)
+            {
+              const Tensor<1, dim> j     = d.jump(k);
+              const double         gap   = j * d.normal[k];
+              const double         slip2 = j * j - gap * gap;
+              codes[k] = contact::contact_regime(gap,
+                                                 std::sqrt(std::max(slip2, 0.)),
+                                                 cl.eta,
+                                                 cl.eta_n,
+                                                 friction);
+            }
+          return codes;
+        };
+        const bool simplex =
+          f.cell->face(f.face)->reference_cell().is_simplex() && dim == 3;
+        d.quadrature =
+          contact::adaptive_quadrature<dim - 1>(simplex,
+                                                regime,
+                                                parameters.gauss_points,
+                                                parameters.adaptive_depth,
+                                                parameters.samples);
+      }
+    at(d.quadrature, true);
+  }
+
+
+
+  template <int dim>
+  Tensor<1, dim>
+  PenaltyContact<dim>::FaceData::jump(const unsigned int q) const
+  {
+    Tensor<1, dim> j;
+    for (unsigned int i = 0; i < values.size(); ++i)
+      j[component[i]] += values[i] * phi[i][q];
+    return j;
+  }
+
+
+
+  template <int dim>
   double
   PenaltyContact<dim>::assemble(const hp::MappingCollection<dim> &mapping,
                                 const Vector_t                   &u,
@@ -272,84 +400,35 @@ namespace forma
                                 Vector_t                         &residual,
                                 Vector_t                         *raw) const
   {
-    if (faces.empty())
-      return 0.;
-    const FEValuesExtractors::Vector     disp(0);
-    hp::FEFaceValues<dim>                values(mapping,
-                                 *fe,
-                                 quadrature,
-                                 update_values | update_JxW_values |
-                                   update_normal_vectors);
-    hp::FEFaceValues<dim>                partner_values(mapping,
-                                         *fe,
-                                         quadrature,
-                                         update_values);
-    std::vector<Tensor<1, dim>>          u_minus, u_plus;
-    std::vector<types::global_dof_index> dofs, partner_dofs;
-    FullMatrix<double>                   local, transposed;
-    dealii::Vector<double>               local_residual;
-    double                               potential = 0;
-
+    FaceData               d;
+    FullMatrix<double>     local, transposed;
+    dealii::Vector<double> local_residual;
+    double                 potential = 0;
     for (const auto &f : faces)
       {
         const ContactLaw &cl = law(f);
-        values.reinit(f.cell, f.face);
-        const auto        &fv = values.get_present_fe_values();
-        const unsigned int n1 = fv.dofs_per_cell;
-        dofs.resize(n1);
-        f.cell->get_dof_indices(dofs);
-        u_minus.resize(fv.n_quadrature_points);
-        fv[disp].get_function_values(u, u_minus);
-        const FEFaceValuesBase<dim> *pv = nullptr;
-        unsigned int                 n2 = 0;
-        if (f.deformable)
-          {
-            partner_values.reinit(f.partner, f.partner_face);
-            pv = &partner_values.get_present_fe_values();
-            n2 = pv->dofs_per_cell;
-            partner_dofs.resize(n2);
-            f.partner->get_dof_indices(partner_dofs);
-            u_plus.resize(pv->n_quadrature_points);
-            (*pv)[disp].get_function_values(u, u_plus);
-            dofs.insert(dofs.end(), partner_dofs.begin(), partner_dofs.end());
-          }
-        const unsigned int n = n1 + n2;
+        evaluate(f, mapping, u, d);
+        const unsigned int n = d.dofs.size();
         local_residual.reinit(n);
         if (matrix)
           local.reinit(n, n);
-
-        // Shape function i: component, value at point q, sign (+1 on the
-        // "-" side, -1 on its partner).
-        auto shape = [&](const unsigned int i, const unsigned int q) {
-          if (i < n1)
-            return std::make_pair(
-              fv.get_fe().system_to_component_index(i).first,
-              fv.shape_value(i, q));
-          const unsigned int k = i - n1;
-          return std::make_pair(pv->get_fe().system_to_component_index(k).first,
-                                -pv->shape_value(k, f.permutation[q]));
-        };
-        for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
+        for (unsigned int q = 0; q < d.JxW.size(); ++q)
           {
-            Tensor<1, dim> j = u_minus[q];
-            if (f.deformable)
-              j -= u_plus[f.permutation[q]];
-            const auto   r   = respond(cl, j, fv.normal_vector(q));
-            const double JxW = fv.JxW(q);
+            const auto   r   = respond(cl, d.jump(q), d.normal[q]);
+            const double JxW = d.JxW[q];
             potential +=
               contact::h_eta_integral(r.gap, cl.eta) / cl.alpha * JxW;
             for (unsigned int i = 0; i < n; ++i)
               {
-                const auto [ci, vi] = shape(i, q);
+                const double vi = d.phi[i][q];
                 if (vi == 0)
                   continue;
+                const unsigned int ci = d.component[i];
                 local_residual(i) += r.t[ci] * vi * JxW;
                 if (matrix)
                   for (unsigned int k = 0; k < n; ++k)
-                    {
-                      const auto [ck, vk] = shape(k, q);
-                      local(i, k) += r.dt_dj[ci][ck] * vi * vk * JxW;
-                    }
+                    local(i, k) +=
+                      r.dt_dj[ci][d.component[k]] * vi * d.phi[k][q] * JxW;
               }
           }
         if (matrix && transpose)
@@ -357,18 +436,18 @@ namespace forma
             transposed.reinit(n, n);
             transposed.copy_transposed(local);
             constraints.distribute_local_to_global(
-              transposed, local_residual, dofs, *matrix, residual);
+              transposed, local_residual, d.dofs, *matrix, residual);
           }
         else if (matrix)
           constraints.distribute_local_to_global(
-            local, local_residual, dofs, *matrix, residual);
+            local, local_residual, d.dofs, *matrix, residual);
         else
           constraints.distribute_local_to_global(local_residual,
-                                                 dofs,
+                                                 d.dofs,
                                                  residual);
         if (raw)
           for (unsigned int i = 0; i < n; ++i)
-            (*raw)(dofs[i]) += local_residual(i);
+            (*raw)(d.dofs[i]) += local_residual(i);
       }
     return potential;
   }
@@ -385,67 +464,38 @@ namespace forma
     const AffineConstraints<double>  &shape_constraints,
     Vector_t                         &gradient) const
   {
-    if (faces.empty())
-      return;
-    const FEValuesExtractors::Vector     disp(0);
-    hp::FEFaceValues<dim>                values(mapping,
-                                 *fe,
-                                 quadrature,
-                                 update_values | update_JxW_values |
-                                   update_normal_vectors);
-    hp::FEFaceValues<dim>                partner_values(mapping,
-                                         *fe,
-                                         quadrature,
-                                         update_values);
-    const hp::FECollection<dim>          shape_fe(shape_dof_handler.get_fe());
-    hp::FEFaceValues<dim>                shape_values(mapping,
-                                       shape_fe,
-                                       quadrature,
-                                       update_gradients);
-    const unsigned int                   ns = shape_fe[0].n_dofs_per_cell();
+    const auto                          &shape_fe = shape_dof_handler.get_fe();
+    const unsigned int                   ns       = shape_fe.n_dofs_per_cell();
     dealii::Vector<double>               local(ns);
     std::vector<types::global_dof_index> shape_dofs(ns);
-    std::vector<Tensor<1, dim>>          u_minus, u_plus, p_minus, p_plus;
-
+    FaceData                             d;
     for (const auto &f : faces)
       {
         const ContactLaw &cl = law(f);
-        values.reinit(f.cell, f.face);
-        const auto &fv = values.get_present_fe_values();
+        evaluate(f, mapping, u, d);
+        // The adjoint's jump from the same shape values.
+        std::vector<double> adjoint(d.dofs.size());
+        for (unsigned int i = 0; i < d.dofs.size(); ++i)
+          adjoint[i] = p(d.dofs[i]);
         const typename DoFHandler<dim>::active_cell_iterator shape_cell(
           &f.cell->get_triangulation(),
           f.cell->level(),
           f.cell->index(),
           &shape_dof_handler);
-        shape_values.reinit(
-          shape_cell, f.face, f.cell->active_fe_index(), 0, 0);
-        const auto &sv = shape_values.get_present_fe_values();
+        FEFaceValues<dim> sv(mapping[0],
+                             shape_fe,
+                             d.quadrature,
+                             update_gradients);
+        sv.reinit(shape_cell, f.face);
         shape_cell->get_dof_indices(shape_dofs);
-        const unsigned int nq = fv.n_quadrature_points;
-        u_minus.resize(nq);
-        p_minus.resize(nq);
-        fv[disp].get_function_values(u, u_minus);
-        fv[disp].get_function_values(p, p_minus);
-        if (f.deformable)
-          {
-            partner_values.reinit(f.partner, f.partner_face);
-            const auto &pv = partner_values.get_present_fe_values();
-            u_plus.resize(nq);
-            p_plus.resize(nq);
-            pv[disp].get_function_values(u, u_plus);
-            pv[disp].get_function_values(p, p_plus);
-          }
         local = 0;
-        for (unsigned int q = 0; q < nq; ++q)
+        for (unsigned int q = 0; q < d.JxW.size(); ++q)
           {
-            Tensor<1, dim> j = u_minus[q], r = p_minus[q];
-            if (f.deformable)
-              {
-                j -= u_plus[f.permutation[q]];
-                r -= p_plus[f.permutation[q]];
-              }
-            const Tensor<1, dim> &nrm = fv.normal_vector(q);
-            const auto            c   = respond(cl, j, nrm);
+            Tensor<1, dim> r;
+            for (unsigned int i = 0; i < d.dofs.size(); ++i)
+              r[d.component[i]] += adjoint[i] * d.phi[i][q];
+            const Tensor<1, dim> &nrm = d.normal[q];
+            const auto            c   = respond(cl, d.jump(q), nrm);
             // d(t . r ds) = (r^T dt/dn) dn ds + t . r div_S theta ds with
             // dn = -(I - n n^T) grad theta^T n (transported u, p).
             Tensor<1, dim> w;
@@ -456,12 +506,12 @@ namespace forma
             for (unsigned int a = 0; a < ns; ++a)
               {
                 const unsigned int cmp =
-                  shape_fe[0].system_to_component_index(a).first;
+                  shape_fe.system_to_component_index(a).first;
                 const Tensor<1, dim> &dN  = sv.shape_grad(a, q);
                 const double          dNn = dN * nrm;
                 local(a) += (-nrm[cmp] * (w * dN - wn * dNn) +
                              tr * (dN[cmp] - nrm[cmp] * dNn)) *
-                            fv.JxW(q);
+                            d.JxW[q];
               }
           }
         shape_constraints.distribute_local_to_global(local,
@@ -487,44 +537,21 @@ namespace forma
     for (const auto *m : {&parameters.rigid, &parameters.deformable})
       for (const auto &[id, law] : *m)
         sums[id];
-    const FEValuesExtractors::Vector disp(0);
-    hp::FEFaceValues<dim>            values(mapping,
-                                 *fe,
-                                 quadrature,
-                                 update_values | update_JxW_values |
-                                   update_normal_vectors);
-    hp::FEFaceValues<dim>            partner_values(mapping,
-                                         *fe,
-                                         quadrature,
-                                         update_values);
-    std::vector<Tensor<1, dim>>      u_minus, u_plus;
+    FaceData d;
     for (const auto &f : faces)
       {
         const ContactLaw &cl = law(f);
-        values.reinit(f.cell, f.face);
-        const auto &fv = values.get_present_fe_values();
-        u_minus.resize(fv.n_quadrature_points);
-        fv[disp].get_function_values(u, u_minus);
-        if (f.deformable)
-          {
-            partner_values.reinit(f.partner, f.partner_face);
-            u_plus.resize(fv.n_quadrature_points);
-            partner_values.get_present_fe_values()[disp].get_function_values(
-              u, u_plus);
-          }
+        evaluate(f, mapping, u, d);
         Sums &s = sums[f.id];
-        for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
+        for (unsigned int q = 0; q < d.JxW.size(); ++q)
           {
-            Tensor<1, dim> j = u_minus[q];
-            if (f.deformable)
-              j -= u_plus[f.permutation[q]];
-            const auto r = respond(cl, j, fv.normal_vector(q));
-            s.force -= r.t * fv.JxW(q);
-            s.area += fv.JxW(q);
+            const auto r = respond(cl, d.jump(q), d.normal[q]);
+            s.force -= r.t * d.JxW[q];
+            s.area += d.JxW[q];
             s.penetration = std::max(s.penetration, r.gap);
             if (r.gap > -cl.eta)
               {
-                s.active += fv.JxW(q);
+                s.active += d.JxW[q];
                 s.slip = std::max(s.slip, r.slip.norm());
               }
           }
@@ -537,8 +564,8 @@ namespace forma
         e["type"]     = parameters.rigid.count(id) ? "rigid-deformable" :
                                                      "deformable-deformable";
         std::vector<double> force(dim);
-        for (unsigned int d = 0; d < dim; ++d)
-          force[d] = Utilities::MPI::sum(s.force[d], comm);
+        for (unsigned int c = 0; c < dim; ++c)
+          force[c] = Utilities::MPI::sum(s.force[c], comm);
         e["force"]           = force;
         e["area"]            = Utilities::MPI::sum(s.area, comm);
         e["active_area"]     = Utilities::MPI::sum(s.active, comm);

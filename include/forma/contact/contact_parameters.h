@@ -34,6 +34,13 @@ namespace forma
 
     std::map<dealii::types::boundary_id, ContactLaw> rigid, deformable;
 
+    /// Face quadrature: `gauss` (degree + 1 points per direction) or
+    /// `adaptive` (thesis ch. 2.9.4, see contact::adaptive_quadrature()).
+    std::string  quadrature     = "gauss";
+    unsigned int adaptive_depth = 5;
+    unsigned int gauss_points   = 4;
+    unsigned int samples        = 6;
+
     static void
     declare(dealii::ParameterHandler &prm);
     void

@@ -1,6 +1,7 @@
 #ifndef forma_contact_penalty_contact_h
 #define forma_contact_penalty_contact_h
 
+#include <deal.II/base/quadrature.h>
 #include <deal.II/base/tensor.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/hp/fe_collection.h>
@@ -122,6 +123,32 @@ namespace forma
       /// Partner quadrature point of each point of `face`.
       std::vector<unsigned int> permutation;
     };
+    /// Values at the quadrature points of a contact face: signed shape
+    /// values of both sides (partner negative), the nodal values of the
+    /// state, weights and normals of the "-" side.
+    struct FaceData
+    {
+      dealii::Quadrature<dim - 1>                  quadrature; ///< "-" face
+      std::vector<dealii::types::global_dof_index> dofs;
+      std::vector<unsigned int>                    component;
+      std::vector<double>                          values;
+      std::vector<std::vector<double>>             phi; ///< [dof][point]
+      std::vector<double>                          JxW;
+      std::vector<dealii::Tensor<1, dim>>          normal;
+
+      /// u^- - u^+ (RD: u) at point q.
+      dealii::Tensor<1, dim>
+      jump(const unsigned int q) const;
+    };
+
+    /// Face data of `f` at the state `u`: the Gauss rule of the element, or
+    /// the adaptive rule for the state's contact regimes.
+    void
+    evaluate(const Face                               &f,
+             const dealii::hp::MappingCollection<dim> &mapping,
+             const Vector_t                           &u,
+             FaceData                                 &d) const;
+
     std::vector<Face>                    faces; ///< of locally owned cells
     bool                                 any_faces = false;
     const dealii::hp::FECollection<dim> *fe        = nullptr;
