@@ -2,7 +2,7 @@
 // cap (material 2) whose peg fills the slot; they share the slot walls, the
 // slot bottom and the base top under the cap. Triangles.
 // gmsh -2 -format msh2 connector_2d.geo -o connector_2d.msh
-h = 0.1;
+DefineConstant[ h = 0.1 ];  // element size: gmsh -setnumber h 0.05 ...
 Point(1) = {0, 0, 0, h};     Point(2) = {3, 0, 0, h};
 Point(3) = {3, 1, 0, h};     Point(4) = {2.5, 1, 0, h};
 Point(5) = {2, 1, 0, h};     Point(6) = {2, 0.4, 0, h};
