@@ -8,6 +8,8 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
 
+#include <nlohmann/json.hpp>
+
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -68,6 +70,36 @@ expect_failure(const std::string &app,
   while (!message.empty() && message.back() == '\n')
     message.pop_back();
   dealii::deallog << "  message: " << message << std::endl;
+}
+
+#if defined(FORMA_APP) && defined(FORMA_SOURCE_DIR)
+/// Run the shipped example parameter_files/<directory>/<name>.prm as a user
+/// would (output into ./<name>, `extra` further arguments), log its exit
+/// code and status, and return its summary.json.
+inline nlohmann::json
+run_example(const std::string &directory,
+            const std::string &name,
+            const std::string &extra = "")
+{
+  const std::string prm = std::string(FORMA_SOURCE_DIR) + "/parameter_files/" +
+                          directory + "/" + name + ".prm";
+  const int      status = std::system((std::string(FORMA_APP) + " " + prm +
+                                  " --set 'Output directory=" + name + "'" +
+                                  extra + " > " + name + ".stdout 2>&1")
+                                   .c_str());
+  nlohmann::json s;
+  std::ifstream(name + "/summary.json") >> s;
+  dealii::deallog << name << ": exit code " << WEXITSTATUS(status)
+                  << ", status " << s["status"].get<std::string>() << std::endl;
+  return s;
+}
+#endif
+
+/// Log a named yes/no finding.
+inline void
+check(const std::string &what, const bool ok)
+{
+  dealii::deallog << "  " << what << ": " << (ok ? "yes" : "NO") << std::endl;
 }
 
 #ifdef FORMA_APP

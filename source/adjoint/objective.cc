@@ -236,6 +236,11 @@ namespace forma
         : AutoDiffTerm<dim, Volume<dim>>(name, weight)
         , bound(bound)
       {}
+      bool
+      depends_on_state() const override
+      {
+        return false;
+      }
       template <typename N>
       N
       j(unsigned int,
@@ -439,6 +444,11 @@ namespace forma
         i.material_ids = {material};
         return {i, i};
       }
+      bool
+      depends_on_state() const override
+      {
+        return kind == Kind::disassembly;
+      }
       void
       integrand(const unsigned int           k,
                 const IntegrandContext<dim> &c,
@@ -524,6 +534,11 @@ namespace forma
       {
         this->regularization = r;
         this->exponent       = p;
+      }
+      bool
+      depends_on_state() const override
+      {
+        return false;
       }
       std::vector<typename ObjectiveTerm<dim>::Integral>
       integrals() const override
@@ -615,7 +630,8 @@ namespace forma
 
 
   template <int dim>
-  Objective<dim>::Objective(const Parameters &parameters)
+  Objective<dim>::Objective(const Parameters &parameters,
+                            const bool        state_terms_only)
     : parameters(parameters)
   {
     const std::string                    entry = "Objective/Terms";
@@ -726,9 +742,10 @@ namespace forma
           AssertThrow(false,
                       ExcMessage(entry + ": unknown term '" + name +
                                  "' (see --print-parameters for the list)."));
-        term_list.push_back(std::move(t));
+        if (!state_terms_only || t->depends_on_state())
+          term_list.push_back(std::move(t));
       }
-    AssertThrow(!term_list.empty(),
+    AssertThrow(!term_list.empty() || state_terms_only,
                 ExcMessage(entry + " is empty: give at least one term."));
   }
 

@@ -8,6 +8,7 @@
 #include <forma/base/plot.h>
 #include <forma/base/run_context.h>
 #include <forma/elasticity/jobs.h>
+#include <forma/elasticity/load_cases.h>
 #include <forma/elasticity/parameters.h>
 #include <forma/elasticity/simulator.h>
 #include <forma/elasticity/taylor_test.h>
@@ -44,6 +45,12 @@ namespace
   simulate_job(const forma::ElasticityParameters &parameters,
                forma::RunContext                 &context)
   {
+    AssertThrow(dealii::Utilities::trim(parameters.load_cases).empty(),
+                dealii::ExcMessage(
+                  "Mode = simulate runs one load case: move the case to "
+                  "Boundary conditions/Traction and clear Load cases (e.g. "
+                  "--set 'Boundary conditions/Load cases='), or use Mode = "
+                  "optimize with Optimization/Max iterations = 0."));
     forma::ElasticitySimulator<dim> simulator(parameters,
                                               context.communicator());
     simulator.run(&context);
@@ -61,14 +68,14 @@ namespace
       std::min(parameters.newton_relative_tolerance, 1e-12);
     parameters.newton_absolute_tolerance =
       std::min(parameters.newton_absolute_tolerance, 1e-14);
-    forma::ElasticitySimulator<dim> simulator(parameters,
-                                              context.communicator());
+    forma::LoadCases<dim> simulator(parameters, context.communicator());
     simulator.prepare(&context);
     AssertThrow(simulator.design_layout().size() > 0,
                 dealii::ExcMessage("Design/Parameters is empty: there is "
                                    "nothing to differentiate."));
-    simulator.set_objective(
-      std::make_shared<const forma::Objective<dim>>(parameters.objective));
+    simulator.set_objective(parameters.objective);
+    if (simulator.n_cases() > 1)
+      context.print(std::to_string(simulator.n_cases()) + " load cases");
 
     std::string blocks;
     for (const auto &b : simulator.design_layout().blocks)
@@ -162,15 +169,16 @@ namespace
                const forma::OptimizationParameters &settings,
                forma::RunContext                   &context)
   {
-    forma::ElasticitySimulator<dim> simulator(parameters,
-                                              context.communicator());
+    forma::LoadCases<dim> simulator(parameters, context.communicator());
     simulator.prepare(&context);
     const auto &layout = simulator.design_layout();
     AssertThrow(layout.size() > 0,
                 dealii::ExcMessage("Design/Parameters is empty: there is "
                                    "nothing to optimize."));
-    simulator.set_objective(
-      std::make_shared<const forma::Objective<dim>>(parameters.objective));
+    simulator.set_objective(parameters.objective);
+    if (simulator.n_cases() > 1)
+      context.print(std::to_string(simulator.n_cases()) +
+                    " load cases; VTU frames show the first");
 
     // The simulator keeps the last solved design; solve only when q moves.
     std::vector<double> solved;

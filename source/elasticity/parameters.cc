@@ -77,6 +77,16 @@ namespace forma
                       Patterns::Anything(),
                       "Tractions per reference area, records '<boundary id> : "
                       "<dim expressions>'.");
+    prm.declare_entry(
+      "Load cases",
+      "",
+      Patterns::Anything(),
+      "Several load cases at once (static): alternative Traction records, "
+      "one per case, separated by '|', e.g. '3 : 1, -1 | 3 : -1, -1'. Each "
+      "case is solved (and its adjoint) on the same design; the objective "
+      "sums the state-dependent terms over the cases, terms of the design "
+      "alone (volume, volume bound, assembly, alignment, smoothing) count "
+      "once. Empty: the one case of Traction.");
     prm.declare_entry("Pressure",
                       "",
                       Patterns::Anything(),
@@ -209,10 +219,11 @@ namespace forma
     prm.leave_subsection();
 
     prm.enter_subsection("Boundary conditions");
-    dirichlet = prm.get("Dirichlet");
-    traction  = prm.get("Traction");
-    pressure  = prm.get("Pressure");
-    constants = prm.get("Constants");
+    dirichlet  = prm.get("Dirichlet");
+    traction   = prm.get("Traction");
+    load_cases = prm.get("Load cases");
+    pressure   = prm.get("Pressure");
+    constants  = prm.get("Constants");
     prm.leave_subsection();
 
     prm.enter_subsection("Loads");
@@ -259,6 +270,9 @@ namespace forma
     AssertThrow(adaptivity == "none" || problem == "static",
                 ExcMessage("Finite element/Adaptivity is available for static "
                            "problems only."));
+    AssertThrow(load_cases.empty() || problem == "static",
+                ExcMessage("Boundary conditions/Load cases: several load "
+                           "cases are for static problems."));
     AssertThrow(contact.empty() || problem == "static",
                 ExcMessage("Contact: smoothed penalty contact is a static "
                            "model (thesis ch. 2); set Time/Problem = "

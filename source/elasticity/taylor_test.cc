@@ -1,12 +1,14 @@
+#include <forma/elasticity/load_cases.h>
+#include <forma/elasticity/simulator.h>
 #include <forma/elasticity/taylor_test.h>
 
 #include <sstream>
 
 namespace forma
 {
-  template <int dim>
+  template <typename Model>
   GradientCheckResult
-  taylor_test(ElasticitySimulator<dim>                       &simulator,
+  taylor_test(Model                                          &simulator,
               const GradientCheckParameters                  &parameters,
               const std::function<void(const std::string &)> &log)
   {
@@ -45,6 +47,14 @@ namespace forma
               const std::function<void(const std::string &)> &);
   template GradientCheckResult
   taylor_test(ElasticitySimulator<3> &,
+              const GradientCheckParameters &,
+              const std::function<void(const std::string &)> &);
+  template GradientCheckResult
+  taylor_test(LoadCases<2> &,
+              const GradientCheckParameters &,
+              const std::function<void(const std::string &)> &);
+  template GradientCheckResult
+  taylor_test(LoadCases<3> &,
               const GradientCheckParameters &,
               const std::function<void(const std::string &)> &);
 } // namespace forma

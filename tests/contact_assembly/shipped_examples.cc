@@ -13,34 +13,13 @@
 
 using nlohmann::json;
 
-json
-run(const std::string &name, const std::string &extra = "")
-{
-  const std::string prm = std::string(FORMA_SOURCE_DIR) +
-                          "/parameter_files/contact_assembly/" + name + ".prm";
-  const int status = std::system((std::string(FORMA_APP) + " " + prm +
-                                  " --set 'Output directory=" + name + "'" +
-                                  extra + " > " + name + ".stdout 2>&1")
-                                   .c_str());
-  json      s;
-  std::ifstream(name + "/summary.json") >> s;
-  dealii::deallog << name << ": exit code " << WEXITSTATUS(status)
-                  << ", status " << s["status"].get<std::string>() << std::endl;
-  return s;
-}
-
-void
-check(const std::string &what, const bool ok)
-{
-  dealii::deallog << "  " << what << ": " << (ok ? "yes" : "NO") << std::endl;
-}
 
 int
 main()
 {
   initlog();
   {
-    const auto s   = run("box_on_floor");
+    const auto s   = run_example("contact_assembly", "box_on_floor");
     const auto top = s["steps"].back()["point_displacements"][0];
     check("u(2, 1) = (0.0078, -0.00911) within 1e-10",
           std::abs(top[0].get<double>() - 0.0078) < 1e-10 &&
@@ -51,7 +30,9 @@ main()
             std::abs(f[1].get<double>() - 0.02) < 1e-12);
   }
   {
-    const auto   s      = run("connector_stress", " --set 'Optimization/Max iterations=40'");
+    const auto   s      = run_example("contact_assembly",
+                               "connector_stress",
+                               " --set 'Optimization/Max iterations=40'");
     const double stress = s["final_max_stress"].get<double>() /
                           s["initial_max_stress"].get<double>();
     const double volume =

@@ -14,27 +14,6 @@
 
 using nlohmann::json;
 
-json
-run(const std::string &name, const std::string &extra = "")
-{
-  const std::string prm = std::string(FORMA_SOURCE_DIR) +
-                          "/parameter_files/transient_ipc/" + name + ".prm";
-  const int status = std::system((std::string(FORMA_APP) + " " + prm +
-                                  " --set 'Output directory=" + name + "'" +
-                                  extra + " > " + name + ".stdout 2>&1")
-                                   .c_str());
-  json      s;
-  std::ifstream(name + "/summary.json") >> s;
-  dealii::deallog << name << ": exit code " << WEXITSTATUS(status)
-                  << ", status " << s["status"].get<std::string>() << std::endl;
-  return s;
-}
-
-void
-check(const std::string &what, const bool ok)
-{
-  dealii::deallog << "  " << what << ": " << (ok ? "yes" : "NO") << std::endl;
-}
 
 double
 ratio(const json &s)
@@ -69,7 +48,7 @@ main()
 {
   initlog();
   {
-    const auto s = run("bridge_shape_recovery");
+    const auto s = run_example("transient_ipc", "bridge_shape_recovery");
     check("objective reduced below 1e-5 of its start", ratio(s) < 1e-5);
     const double offset = s["optimization"]["final_design"]
                            ["shape: max vertex offset from the mesh"]
@@ -78,7 +57,7 @@ main()
           offset < 1e-3);
   }
   {
-    const auto s = run("bridge_stress");
+    const auto s = run_example("transient_ipc", "bridge_stress");
     check("stress L2 norm reduced at least 4x",
           final_term(s, "stress") < 0.25 * first_term(s, "stress"));
     // weight 1e5 * (V - V_t)^2: excess volume below 1e-3 of V_t = 6.14
@@ -86,14 +65,14 @@ main()
           std::sqrt(final_term(s, "volume bound") / 1e5) < 6.1425e-3);
   }
   {
-    const auto s = run("beam_3d_stress");
+    const auto s = run_example("transient_ipc", "beam_3d_stress");
     check("von Mises L6 norm reduced at least 2.5x",
           final_term(s, "von mises") < 0.4 * first_term(s, "von mises"));
     check("volume within 0.5% of its bound",
           std::sqrt(final_term(s, "volume bound") / 1e5) < 0.03);
   }
   {
-    const auto s = run("bridge_material_recovery");
+    const auto s = run_example("transient_ipc", "bridge_material_recovery");
     check("lambda = 160, mu = 80 recovered within 1%",
           within(s["optimization"]["final_design"]["material"],
                  {160, 80},
@@ -102,9 +81,12 @@ main()
   {
     // Kill-and-resume: stop after 4 iterations, then continue from the
     // checkpoint to the same answer.
-    run("bridge_material_recovery", " --set 'Optimization/Max iterations=4'");
-    const auto s =
-      run("bridge_material_recovery", " --set 'Optimization/Resume=true'");
+    run_example("transient_ipc",
+                "bridge_material_recovery",
+                " --set 'Optimization/Max iterations=4'");
+    const auto        s = run_example("transient_ipc",
+                               "bridge_material_recovery",
+                               " --set 'Optimization/Resume=true'");
     std::ifstream     in("bridge_material_recovery.stdout");
     const std::string out((std::istreambuf_iterator<char>(in)),
                           std::istreambuf_iterator<char>());
@@ -116,18 +98,21 @@ main()
                  0.01));
   }
   {
-    const auto s = run("strip_shape_recovery_remesh");
+    const auto s = run_example("transient_ipc", "strip_shape_recovery_remesh");
     check("remeshed at least 3 times",
           s["optimization"]["remeshes"].size() >= 3);
     check("objective reduced below 2e-3 of its start", ratio(s) < 2e-3);
-    const auto plain = run("strip_shape_recovery_remesh",
-                           " --set 'Optimization/Remesh quality=0'");
+    const auto plain = run_example("transient_ipc",
+                                   "strip_shape_recovery_remesh",
+                                   " --set 'Optimization/Remesh quality=0'");
     check("without remeshing the steps vanish above 5e-2", ratio(plain) > 5e-2);
     // Kill-and-resume after remeshes: the run continues on the last mesh.
-    run("strip_shape_recovery_remesh",
-        " --set 'Optimization/Max iterations=20'");
-    const auto r =
-      run("strip_shape_recovery_remesh", " --set 'Optimization/Resume=true'");
+    run_example("transient_ipc",
+                "strip_shape_recovery_remesh",
+                " --set 'Optimization/Max iterations=20'");
+    const auto        r = run_example("transient_ipc",
+                               "strip_shape_recovery_remesh",
+                               " --set 'Optimization/Resume=true'");
     std::ifstream     in("strip_shape_recovery_remesh.stdout");
     const std::string out((std::istreambuf_iterator<char>(in)),
                           std::istreambuf_iterator<char>());
@@ -137,11 +122,11 @@ main()
           ratio(r) < 5e-3);
   }
   {
-    const auto s = run("sine_bar");
+    const auto s = run_example("transient_ipc", "sine_bar");
     check("objective reduced at least 20x", ratio(s) < 0.05);
   }
   {
-    const auto s = run("oscillator_material_recovery");
+    const auto s = run_example("transient_ipc", "oscillator_material_recovery");
     check("E = 2e4, nu = 0.25 recovered within 1%",
           within(s["optimization"]["final_design"]["material"],
                  {2e4, 0.25},

@@ -90,6 +90,14 @@ namespace forma
       return false;
     }
 
+    /// Whether the term depends on the state u (false: on the design
+    /// alone, e.g. volume; such terms count once over several load cases).
+    virtual bool
+    depends_on_state() const
+    {
+      return true;
+    }
+
     /**
      * Regularization terms are functions of the design alone, evaluated by
      * the simulator that knows the mesh topology: `boundary smoothing`
@@ -135,7 +143,10 @@ namespace forma
   public:
     using Parameters = ObjectiveParameters;
 
-    explicit Objective(const Parameters &parameters);
+    /// `state_terms_only`: keep only the terms that depend on the state
+    /// (the objective of a further load case); the list may then be empty.
+    explicit Objective(const Parameters &parameters,
+                       const bool        state_terms_only = false);
 
     const std::vector<std::unique_ptr<ObjectiveTerm<dim>>> &
     terms() const

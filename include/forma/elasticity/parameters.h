@@ -41,6 +41,7 @@ namespace forma
     // Boundary conditions and loads
     std::string dirichlet;
     std::string traction;
+    std::string load_cases; ///< alternative Traction records, '|' between
     std::string pressure;
     std::string gravity;
     std::string body_force;

@@ -10,14 +10,15 @@
 namespace forma
 {
   /**
-   * Taylor test of the simulator's adjoint gradient at its current design,
-   * along a random direction (random_direction() with the mesh's cell size):
+   * Taylor test of a model's adjoint gradient at its current design, along
+   * a random direction (random_direction() with the mesh's cell size):
    * `prepare()` and `set_objective()` must have been called. `log` receives
-   * one line per row. The simulator is left at the starting design.
+   * one line per row. The model (an ElasticitySimulator or LoadCases) is
+   * left at the starting design.
    */
-  template <int dim>
+  template <typename Model>
   GradientCheckResult
-  taylor_test(ElasticitySimulator<dim>                       &simulator,
+  taylor_test(Model                                          &model,
               const GradientCheckParameters                  &parameters,
               const std::function<void(const std::string &)> &log = {});
 } // namespace forma

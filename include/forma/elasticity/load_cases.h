@@ -1,0 +1,103 @@
+#ifndef forma_elasticity_load_cases_h
+#define forma_elasticity_load_cases_h
+
+#include <deal.II/base/mpi.h>
+
+#include <forma/adjoint/design.h>
+#include <forma/adjoint/objective.h>
+#include <forma/elasticity/parameters.h>
+
+#include <nlohmann/json.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace forma
+{
+  class RunContext;
+  template <int dim>
+  class ElasticitySimulator;
+
+  /**
+   * Several static load cases on one design (thesis ch. 2.6, Fig. 2.10):
+   * one simulator per case of `Boundary conditions/Load cases` (or the one
+   * case of Traction), all on the same mesh and design. The objective is
+   * the sum over the cases of the state-dependent terms plus, once, the
+   * terms of the design alone; its gradient is the sum of the cases'
+   * adjoint gradients. Remeshing remeshes the first case and moves the
+   * others onto its mesh. The interface mirrors ElasticitySimulator's
+   * adjoint layer, so the optimization and gradient-check jobs drive either.
+   */
+  template <int dim>
+  class LoadCases
+  {
+  public:
+    LoadCases(const ElasticityParameters &parameters, const MPI_Comm comm);
+    ~LoadCases();
+
+    unsigned int
+    n_cases() const;
+
+    ElasticitySimulator<dim> &
+    operator[](const unsigned int k);
+
+    /// Set up every case; `context` prints for the first.
+    void
+    prepare(RunContext *context);
+
+    /// Case 0 with the whole objective, the others with its
+    /// state-dependent terms.
+    void
+    set_objective(const ObjectiveParameters &parameters);
+
+    const DesignLayout &
+    design_layout() const;
+    const std::vector<double> &
+    design() const;
+    void
+    set_design(const std::vector<double> &q);
+    void
+    solve_design();
+    double
+    objective() const;
+    /// Weighted terms summed over the cases, by name.
+    std::vector<std::pair<std::string, double>>
+    objective_terms() const;
+    double
+    gradient(std::vector<double> &dJ) const;
+
+    /// VTU of the first case.
+    void
+    write_state(const unsigned int index, RunContext &context);
+    /// The first case's statistics with the largest stresses over all
+    /// cases, and per case (`load_cases`) when there are several.
+    nlohmann::json
+    state_statistics() const;
+    /// Forward and adjoint statistics summed over the cases.
+    nlohmann::json
+    adjoint_statistics() const;
+
+    double
+    max_shape_offset() const;
+    double
+    cell_size() const;
+    double
+    mesh_quality() const;
+    bool
+    remesh_improves(std::string &reason);
+    std::string
+    remesh(const std::string &file_stem);
+    void
+    load_remeshed(const std::string &file_stem);
+    std::vector<double>
+    material_offsets() const;
+    unsigned int
+    n_remeshes() const;
+
+  private:
+    std::vector<std::unique_ptr<ElasticitySimulator<dim>>> cases;
+  };
+} // namespace forma
+
+#endif

@@ -1,0 +1,247 @@
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/utilities.h>
+
+#include <forma/base/records.h>
+#include <forma/elasticity/load_cases.h>
+#include <forma/elasticity/simulator.h>
+
+#include <algorithm>
+
+namespace forma
+{
+  template <int dim>
+  LoadCases<dim>::LoadCases(const ElasticityParameters &parameters,
+                            const MPI_Comm              comm)
+  {
+    std::vector<std::string> tractions = {parameters.traction};
+    if (!dealii::Utilities::trim(parameters.load_cases).empty())
+      tractions = split_top_level(parameters.load_cases, '|');
+    for (const auto &t : tractions)
+      {
+        ElasticityParameters p = parameters;
+        p.traction             = dealii::Utilities::trim(t);
+        cases.push_back(std::make_unique<ElasticitySimulator<dim>>(p, comm));
+      }
+  }
+
+  template <int dim>
+  LoadCases<dim>::~LoadCases() = default;
+
+  template <int dim>
+  unsigned int
+  LoadCases<dim>::n_cases() const
+  {
+    return cases.size();
+  }
+
+  template <int dim>
+  ElasticitySimulator<dim> &
+  LoadCases<dim>::operator[](const unsigned int k)
+  {
+    return *cases[k];
+  }
+
+  template <int dim>
+  void
+  LoadCases<dim>::prepare(RunContext *context)
+  {
+    for (unsigned int k = 0; k < cases.size(); ++k)
+      cases[k]->prepare(k == 0 ? context : nullptr);
+  }
+
+  template <int dim>
+  void
+  LoadCases<dim>::set_objective(const ObjectiveParameters &parameters)
+  {
+    for (unsigned int k = 0; k < cases.size(); ++k)
+      cases[k]->set_objective(
+        std::make_shared<const Objective<dim>>(parameters, k > 0));
+  }
+
+  template <int dim>
+  const DesignLayout &
+  LoadCases<dim>::design_layout() const
+  {
+    return cases[0]->design_layout();
+  }
+
+  template <int dim>
+  const std::vector<double> &
+  LoadCases<dim>::design() const
+  {
+    return cases[0]->design();
+  }
+
+  template <int dim>
+  void
+  LoadCases<dim>::set_design(const std::vector<double> &q)
+  {
+    for (auto &c : cases)
+      c->set_design(q);
+  }
+
+  template <int dim>
+  void
+  LoadCases<dim>::solve_design()
+  {
+    for (unsigned int k = 0; k < cases.size(); ++k)
+      try
+        {
+          cases[k]->solve_design();
+        }
+      catch (const std::exception &e)
+        {
+          if (cases.size() == 1)
+            throw;
+          AssertThrow(false,
+                      dealii::ExcMessage("load case " + std::to_string(k + 1) +
+                                         ": " + e.what()));
+        }
+  }
+
+  template <int dim>
+  double
+  LoadCases<dim>::objective() const
+  {
+    double J = 0;
+    for (const auto &c : cases)
+      J += c->objective();
+    return J;
+  }
+
+  template <int dim>
+  std::vector<std::pair<std::string, double>>
+  LoadCases<dim>::objective_terms() const
+  {
+    std::vector<std::pair<std::string, double>> terms;
+    for (const auto &c : cases)
+      for (const auto &[name, value] : c->objective_terms())
+        {
+          const auto it =
+            std::find_if(terms.begin(), terms.end(), [&](const auto &t) {
+              return t.first == name;
+            });
+          if (it == terms.end())
+            terms.emplace_back(name, value);
+          else
+            it->second += value;
+        }
+    return terms;
+  }
+
+  template <int dim>
+  double
+  LoadCases<dim>::gradient(std::vector<double> &dJ) const
+  {
+    double J = cases[0]->gradient(dJ);
+    for (unsigned int k = 1; k < cases.size(); ++k)
+      {
+        std::vector<double> g;
+        J += cases[k]->gradient(g);
+        for (unsigned int i = 0; i < dJ.size(); ++i)
+          dJ[i] += g[i];
+      }
+    return J;
+  }
+
+  template <int dim>
+  void
+  LoadCases<dim>::write_state(const unsigned int index, RunContext &context)
+  {
+    cases[0]->write_state(index, context);
+  }
+
+  template <int dim>
+  nlohmann::json
+  LoadCases<dim>::state_statistics() const
+  {
+    nlohmann::json s = cases[0]->state_statistics();
+    if (cases.size() == 1)
+      return s;
+    nlohmann::json per_case = nlohmann::json::array();
+    for (const auto &c : cases)
+      {
+        const auto t = c->state_statistics();
+        for (const char *key : {"max_stress", "max_von_mises_stress"})
+          s[key] = std::max(double(s[key]), double(t[key]));
+        per_case.push_back(t);
+      }
+    s["load_cases"] = per_case;
+    return s;
+  }
+
+  template <int dim>
+  nlohmann::json
+  LoadCases<dim>::adjoint_statistics() const
+  {
+    nlohmann::json s = cases[0]->adjoint_statistics();
+    if (cases.size() > 1)
+      s["load_cases"] = cases.size();
+    return s;
+  }
+
+  template <int dim>
+  double
+  LoadCases<dim>::max_shape_offset() const
+  {
+    return cases[0]->max_shape_offset();
+  }
+
+  template <int dim>
+  double
+  LoadCases<dim>::cell_size() const
+  {
+    return cases[0]->cell_size();
+  }
+
+  template <int dim>
+  double
+  LoadCases<dim>::mesh_quality() const
+  {
+    return cases[0]->mesh_quality();
+  }
+
+  template <int dim>
+  bool
+  LoadCases<dim>::remesh_improves(std::string &reason)
+  {
+    return cases[0]->remesh_improves(reason);
+  }
+
+  template <int dim>
+  std::string
+  LoadCases<dim>::remesh(const std::string &file_stem)
+  {
+    AssertThrow(cases.size() == 1 || !file_stem.empty(),
+                dealii::ExcInternalError());
+    const std::string line = cases[0]->remesh(file_stem);
+    for (unsigned int k = 1; k < cases.size(); ++k)
+      cases[k]->load_remeshed(file_stem);
+    return line;
+  }
+
+  template <int dim>
+  void
+  LoadCases<dim>::load_remeshed(const std::string &file_stem)
+  {
+    for (auto &c : cases)
+      c->load_remeshed(file_stem);
+  }
+
+  template <int dim>
+  std::vector<double>
+  LoadCases<dim>::material_offsets() const
+  {
+    return cases[0]->material_offsets();
+  }
+
+  template <int dim>
+  unsigned int
+  LoadCases<dim>::n_remeshes() const
+  {
+    return cases[0]->n_remeshes();
+  }
+
+  template class LoadCases<2>;
+  template class LoadCases<3>;
+} // namespace forma
