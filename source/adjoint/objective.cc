@@ -729,12 +729,19 @@ namespace forma
                key(kv, "beta", 1., where)}};
             AssertThrow(constants[1] > 0 && constants[2] >= 0,
                         ExcMessage(where + ": need epsilon > 0, beta >= 0."));
+            auto id = [&](const std::string &k, const double top) {
+              const double v = key(kv, k, none, where);
+              AssertThrow(v >= 0 && v < top && v == std::floor(v),
+                          ExcMessage(where + ": '" + k +
+                                     "' must be an id (an integer >= 0)."));
+              return static_cast<unsigned int>(v);
+            };
             t = std::make_unique<InterfaceTerm<dim>>(
               name,
               w,
               kind,
-              static_cast<types::boundary_id>(key(kv, "boundary", none, where)),
-              static_cast<types::material_id>(key(kv, "material", none, where)),
+              static_cast<types::boundary_id>(id("boundary", 255)),
+              static_cast<types::material_id>(id("material", 255)),
               y,
               constants);
           }

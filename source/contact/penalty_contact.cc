@@ -186,7 +186,10 @@ namespace forma
                                          *fe,
                                          quadrature,
                                          update_quadrature_points);
-    for (unsigned int a = 0; a < sides.size(); ++a)
+    // Checks of locally owned pairs fail on one rank only: collect the
+    // message and throw on every rank after the loop.
+    std::string failure;
+    for (unsigned int a = 0; a < sides.size() && failure.empty(); ++a)
       {
         AssertThrow(
           partner[a] >= 0,
@@ -208,10 +211,12 @@ namespace forma
             m.cell->active_cell_index() < o.cell->active_cell_index();
         if (!minus || !m.cell->is_locally_owned())
           continue;
-        AssertThrow(m.cell->active_fe_index() == o.cell->active_fe_index(),
-                    ExcMessage("Contact: the two sides of a deformable-"
-                               "deformable interface need the same element "
-                               "degree."));
+        if (m.cell->active_fe_index() != o.cell->active_fe_index())
+          {
+            failure = "Contact: the two sides of a deformable-deformable "
+                      "interface need the same element degree.";
+            break;
+          }
         Face face;
         face.cell         = m.cell;
         face.face         = m.face;
@@ -230,14 +235,17 @@ namespace forma
             for (unsigned int k = 1; k < y.size(); ++k)
               if (x[q].distance(y[k]) < x[q].distance(y[best]))
                 best = k;
-            AssertThrow(x[q].distance(y[best]) <= 1e-8 * m.size,
-                        ExcMessage("Contact: the quadrature points of two "
-                                   "paired deformable-deformable faces do not "
-                                   "coincide (non-matching interface)."));
+            if (x[q].distance(y[best]) > 1e-8 * m.size)
+              failure = "Contact: the quadrature points of two paired "
+                        "deformable-deformable faces do not coincide "
+                        "(non-matching interface).";
             face.permutation.push_back(best);
           }
         faces.push_back(face);
       }
+    for (const auto &message :
+         Utilities::MPI::all_gather(dof_handler.get_communicator(), failure))
+      AssertThrow(message.empty(), ExcMessage(message));
     any_faces = Utilities::MPI::max(faces.empty() ? 0 : 1,
                                     dof_handler.get_communicator()) == 1;
   }
@@ -292,6 +300,7 @@ namespace forma
     d.values.resize(n1 + n2);
     for (unsigned int i = 0; i < n1 + n2; ++i)
       d.values[i] = u(d.dofs[i]);
+    d.valid = true;
 
     // Values of the "-" side at face points `x` (reference face
     // coordinates), of the partner at the same physical points; fills
@@ -332,6 +341,15 @@ namespace forma
       mapping[0].transform_points_real_to_unit_cell(f.partner,
                                                     fv.get_quadrature_points(),
                                                     unit);
+      // A point the inverse mapping did not find (+inf) or outside the
+      // partner: the interface is too distorted to pair points.
+      for (auto &x : unit)
+        if (!std::isfinite(x[0]) ||
+            !f.partner->reference_cell().contains_point(x, 1e-6))
+          {
+            d.valid = false;
+            x = f.partner->reference_cell().template vertex<dim>(0);
+          }
       FEValues<dim> pv(mapping[0],
                        f.partner->get_fe(),
                        Quadrature<dim>(unit),
@@ -398,8 +416,10 @@ namespace forma
                                 const bool                        transpose,
                                 TrilinosWrappers::SparseMatrix   *matrix,
                                 Vector_t                         &residual,
-                                Vector_t                         *raw) const
+                                Vector_t                         *raw,
+                                bool &evaluated) const
   {
+    evaluated = true;
     FaceData               d;
     FullMatrix<double>     local, transposed;
     dealii::Vector<double> local_residual;
@@ -408,6 +428,7 @@ namespace forma
       {
         const ContactLaw &cl = law(f);
         evaluate(f, mapping, u, d);
+        evaluated &= d.valid;
         const unsigned int n = d.dofs.size();
         local_residual.reinit(n);
         if (matrix)

@@ -1,6 +1,7 @@
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/utilities.h>
 
+#include <forma/base/application.h>
 #include <forma/base/records.h>
 #include <forma/elasticity/load_cases.h>
 #include <forma/elasticity/simulator.h>
@@ -46,7 +47,17 @@ namespace forma
   LoadCases<dim>::prepare(RunContext *context)
   {
     for (unsigned int k = 0; k < cases.size(); ++k)
-      cases[k]->prepare(k == 0 ? context : nullptr);
+      {
+        cases[k]->prepare(k == 0 ? context : nullptr);
+        AssertThrow(cases[k]->design_layout().size() ==
+                      cases[0]->design_layout().size(),
+                    dealii::ExcMessage(
+                      "Boundary conditions/Load cases: case " +
+                      std::to_string(k + 1) +
+                      " has another design space than case 1 (the 'loads' "
+                      "design block has one entry per traction record: give "
+                      "every case the same number of records)."));
+      }
   }
 
   template <int dim>
@@ -95,7 +106,7 @@ namespace forma
             throw;
           AssertThrow(false,
                       dealii::ExcMessage("load case " + std::to_string(k + 1) +
-                                         ": " + e.what()));
+                                         ": " + error_message(e)));
         }
   }
 
@@ -158,10 +169,10 @@ namespace forma
     nlohmann::json s = cases[0]->state_statistics();
     if (cases.size() == 1)
       return s;
-    nlohmann::json per_case = nlohmann::json::array();
-    for (const auto &c : cases)
+    nlohmann::json per_case = nlohmann::json::array({s});
+    for (unsigned int k = 1; k < cases.size(); ++k)
       {
-        const auto t = c->state_statistics();
+        const auto t = cases[k]->state_statistics();
         for (const char *key : {"max_stress", "max_von_mises_stress"})
           s[key] = std::max(double(s[key]), double(t[key]));
         per_case.push_back(t);

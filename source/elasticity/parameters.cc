@@ -277,6 +277,19 @@ namespace forma
                 ExcMessage("Contact: smoothed penalty contact is a static "
                            "model (thesis ch. 2); set Time/Problem = "
                            "static."));
+    AssertThrow(contact.deformable.empty() || !mesh.separate_interfaces.empty(),
+                ExcMessage("Contact/Deformable-deformable: the interfaces come "
+                           "from Mesh/Separate interfaces (which cuts them "
+                           "open and keeps their two sides together in shape "
+                           "designs); set it, e.g. '1-2 : 10'."));
+    AssertThrow(contact.empty() || model == ConstitutiveModel::linear_elastic,
+                ExcMessage("Contact: the smoothed penalty model is linearized "
+                           "(gaps along the undeformed normal, thesis ch. 2): "
+                           "set Material/Model = linear elastic."));
+    AssertThrow(!contact.has_friction() || linear_solver.type != "cg-amg",
+                ExcMessage("Contact: friction makes the Jacobian "
+                           "unsymmetric; use Solver/Linear solver = direct or "
+                           "gmres-amg, not cg-amg."));
     AssertThrow(contact.empty() || adaptivity == "none",
                 ExcMessage("Contact: adaptive refinement is not available "
                            "with contact (paired interface faces); set "

@@ -208,12 +208,10 @@ namespace forma
                                                     b.first.end_raw());
               });
 
-    std::unique_ptr<parallel::TriangulationBase<dim>> new_tria;
-    if (simplex)
-      new_tria = std::make_unique<parallel::shared::Triangulation<dim>>(comm);
-    else
-      new_tria = std::make_unique<parallel::distributed::Triangulation<dim>>(
-        comm, Triangulation<dim>::limit_level_difference_at_vertices);
+    auto new_tria =
+      make_parallel_triangulation<dim>(simplex,
+                                       !p.mesh.separate_interfaces.empty(),
+                                       comm);
     new_tria->copy_triangulation(serial);
     // The DoF handlers let go of the old mesh before it is destroyed.
     dof_handler.reinit(*new_tria);

@@ -832,13 +832,18 @@ namespace forma
 
     // Contact faces (few): serially, into the same containers.
     if (admissible && contact.active())
-      energy += contact.assemble(mapping,
-                                 u_ghost,
-                                 constraints_zero,
-                                 transpose_matrix,
-                                 with_matrix ? &jacobian : nullptr,
-                                 residual,
-                                 raw);
+      {
+        bool evaluated = true;
+        energy += contact.assemble(mapping,
+                                   u_ghost,
+                                   constraints_zero,
+                                   transpose_matrix,
+                                   with_matrix ? &jacobian : nullptr,
+                                   residual,
+                                   raw,
+                                   evaluated);
+        admissible &= evaluated;
+      }
 
     // Compress even when a cell was inadmissible, so the containers stay
     // usable for the next (shorter-step) assembly.

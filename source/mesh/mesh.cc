@@ -229,25 +229,36 @@ namespace forma
     Triangulation<dim> coarse;
     create_coarse_mesh(params, coarse);
 
-    std::unique_ptr<parallel::TriangulationBase<dim>> tria;
-    if (coarse.all_reference_cells_are_hyper_cube() &&
-        params.separate_interfaces.empty())
-      tria = std::make_unique<parallel::distributed::Triangulation<dim>>(
-        comm, Triangulation<dim>::limit_level_difference_at_vertices);
-    else
-      {
-        AssertThrow(coarse.all_reference_cells_are_simplex() ||
-                      coarse.all_reference_cells_are_hyper_cube(),
-                    ExcMessage("meshes mixing quads/hexes with simplices (or "
-                               "wedges/pyramids) are not supported."));
-        tria = std::make_unique<parallel::shared::Triangulation<dim>>(comm);
-      }
+    AssertThrow(coarse.all_reference_cells_are_simplex() ||
+                  coarse.all_reference_cells_are_hyper_cube(),
+                ExcMessage("meshes mixing quads/hexes with simplices (or "
+                           "wedges/pyramids) are not supported."));
+    auto tria = make_parallel_triangulation<dim>(
+      !coarse.all_reference_cells_are_hyper_cube(),
+      !params.separate_interfaces.empty(),
+      comm);
     tria->copy_triangulation(coarse);
     if (!params.convert_to_simplices)
       tria->refine_global(params.initial_refinement);
     return tria;
   }
 
+  template <int dim>
+  std::unique_ptr<parallel::TriangulationBase<dim>>
+  make_parallel_triangulation(const bool     simplex,
+                              const bool     shared,
+                              const MPI_Comm comm)
+  {
+    if (simplex || shared)
+      return std::make_unique<parallel::shared::Triangulation<dim>>(comm);
+    return std::make_unique<parallel::distributed::Triangulation<dim>>(
+      comm, Triangulation<dim>::limit_level_difference_at_vertices);
+  }
+
+  template std::unique_ptr<parallel::TriangulationBase<2>>
+  make_parallel_triangulation<2>(const bool, const bool, const MPI_Comm);
+  template std::unique_ptr<parallel::TriangulationBase<3>>
+  make_parallel_triangulation<3>(const bool, const bool, const MPI_Comm);
   template void
   create_coarse_mesh<2>(const MeshParameters &, Triangulation<2> &);
   template void

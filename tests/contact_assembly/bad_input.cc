@@ -64,7 +64,26 @@ main()
                            " set Deformable-deformable = 10 : alpha=1e-3\n"),
                  good);
   expect_failure("no_partner",
-                 contact(" set Deformable-deformable = 5 : alpha=1e-3\n"),
+                 separated("1-2 : 10",
+                           " set Deformable-deformable = 5 : alpha=1e-3\n"),
+                 good);
+  expect_failure("interface_not_cut",
+                 contact(" set Deformable-deformable = 10 : alpha=1e-3\n"),
+                 good);
+  expect_failure("neo_hookean",
+                 contact(" set Rigid-deformable = 2 : alpha=1e-3\n") +
+                   "subsection Material\n set Model = neo-hookean\nend\n",
+                 good);
+  expect_failure("friction_with_cg",
+                 contact(" set Rigid-deformable = 2 : alpha=1e-3, mu=0.3\n") +
+                   "subsection Solver\n set Linear solver = cg-amg\nend\n",
+                 good);
+  expect_failure("objective_id",
+                 contact(" set Rigid-deformable = 2 : alpha=1e-3\n") +
+                   "set Mode = verify gradient\n"
+                   "subsection Design\n set Parameters = shape\nend\n"
+                   "subsection Objective\n set Terms = assembly : "
+                   "boundary=2.5, material=0, y=1\nend\n",
                  good);
   expect_failure("materials_not_adjacent", separated("1-3 : 10", ""), good);
   expect_failure("bad_cut_syntax", separated("1 : 10", ""), good);

@@ -76,6 +76,8 @@ namespace forma
      * locally owned contact faces at the state `u` (ghosted); `raw` gets the
      * residual without constraints. Returns the local part of the penalty
      * potential int H_eta(j . n) / alpha ds (meaningful without friction).
+     * `evaluated` is false where the adaptive rule could not pair the
+     * points of a DD face (a state too distorted: take a shorter step).
      */
     double
     assemble(const dealii::hp::MappingCollection<dim> &mapping,
@@ -84,7 +86,8 @@ namespace forma
              const bool                                transpose,
              dealii::TrilinosWrappers::SparseMatrix   *matrix,
              Vector_t                                 &residual,
-             Vector_t                                 *raw) const;
+             Vector_t                                 *raw,
+             bool                                     &evaluated) const;
 
     /**
      * Add p^T (d h / d x) theta_a for every shape DoF a of the vector Q1/P1
@@ -135,6 +138,7 @@ namespace forma
       std::vector<std::vector<double>>             phi; ///< [dof][point]
       std::vector<double>                          JxW;
       std::vector<dealii::Tensor<1, dim>>          normal;
+      bool valid = true; ///< false: partner points not found
 
       /// u^- - u^+ (RD: u) at point q.
       dealii::Tensor<1, dim>

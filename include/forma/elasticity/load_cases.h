@@ -74,7 +74,8 @@ namespace forma
     /// cases, and per case (`load_cases`) when there are several.
     nlohmann::json
     state_statistics() const;
-    /// Forward and adjoint statistics summed over the cases.
+    /// Forward and adjoint statistics of the first case, with the number
+    /// of cases.
     nlohmann::json
     adjoint_statistics() const;
 

@@ -63,6 +63,14 @@ namespace forma
   template <int dim>
   std::unique_ptr<dealii::parallel::TriangulationBase<dim, dim>>
   create_distributed_mesh(const MeshParameters &params, const MPI_Comm comm);
+
+  /// An empty triangulation of the kind create_distributed_mesh() picks:
+  /// shared for simplices or when `shared` (cut interfaces), else p4est.
+  template <int dim>
+  std::unique_ptr<dealii::parallel::TriangulationBase<dim, dim>>
+  make_parallel_triangulation(const bool     simplex,
+                              const bool     shared,
+                              const MPI_Comm comm);
 } // namespace forma
 
 #endif
