@@ -36,12 +36,23 @@ namespace forma
     public:
       using ObjectiveTerm<dim>::ObjectiveTerm;
 
-      // Default: one volume integral, J = I.
+      // Default: one volume integral (over `materials`, empty: all),
+      // J = I.
       std::vector<typename ObjectiveTerm<dim>::Integral>
       integrals() const override
       {
-        return {{}};
+        typename ObjectiveTerm<dim>::Integral i;
+        i.material_ids = materials;
+        return {i};
       }
+
+      void
+      restrict_to_material(const types::material_id id) override
+      {
+        materials = {id};
+      }
+
+      std::set<types::material_id> materials;
 
       double
       combine(const std::vector<double> &I,
@@ -589,7 +600,9 @@ namespace forma
         "removed along the disassembly direction x=.., y=.., z=..): "
         "'assembly' (eq. 2.17), "
         "'disassembly : tolerance=u_tol' (eq. 2.18), 'alignment : "
-        "target=W, epsilon=0.1, beta=1' (eqs. 2.19-2.20).");
+        "target=W, epsilon=0.1, beta=1' (eqs. 2.19-2.20). The stress, "
+        "compliance and volume terms take 'material=id' to integrate over "
+        "one part only (e.g. the printed connectors of an assembly).");
       prm.declare_entry("Time weighting",
                         "integral",
                         Patterns::Selection("integral|final"),
@@ -749,6 +762,22 @@ namespace forma
           AssertThrow(false,
                       ExcMessage(entry + ": unknown term '" + name +
                                  "' (see --print-parameters for the list)."));
+        if (kv.count("material") && name != "assembly" &&
+            name != "disassembly" && name != "alignment")
+          {
+            const double m = kv.at("material");
+            AssertThrow(m >= 0 && m < 255 && m == std::floor(m),
+                        ExcMessage(where + ": 'material' must be a material "
+                                           "id (an integer >= 0)."));
+            const bool volume_term =
+              name == "stress" || name == "von mises" || name == "compliance" ||
+              name == "volume" || name == "volume bound" ||
+              name == "stress bound" || name == "von mises bound";
+            AssertThrow(volume_term,
+                        ExcMessage(where + ": 'material' is not available "
+                                           "for this term."));
+            t->restrict_to_material(static_cast<types::material_id>(m));
+          }
         if (!state_terms_only || t->depends_on_state())
           term_list.push_back(std::move(t));
       }

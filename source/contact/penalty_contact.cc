@@ -1,5 +1,6 @@
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/fe/mapping.h>
@@ -107,6 +108,16 @@ namespace forma
     any_faces  = false;
     fe         = &dof_handler.get_fe_collection();
     quadrature = face_quadrature;
+    // Paired triangle faces meet in any of their orientations: their rule
+    // must map onto itself under vertex permutations (Witherden-Vincent).
+    if (dim == 3 &&
+        !dof_handler.get_triangulation().all_reference_cells_are_hyper_cube())
+      {
+        quadrature = hp::QCollection<dim - 1>();
+        for (unsigned int i = 0; i < fe->size(); ++i)
+          quadrature.push_back(
+            QWitherdenVincentSimplex<dim - 1>((*fe)[i].degree + 1));
+      }
     if (parameters.empty())
       return;
     std::set<types::boundary_id> mesh_ids;

@@ -771,12 +771,15 @@ namespace forma
 
     // Which integrals live on the volume, which on a boundary id.
     std::vector<unsigned int> volume_mask, any_boundary, n_integrals;
+    std::vector<std::set<types::material_id>> integral_materials;
     for (const auto &t : J.terms())
       for (const auto &i : t->integrals())
         {
           volume_mask.push_back(!i.boundary);
           any_boundary.push_back(i.boundary);
+          integral_materials.push_back(i.material_ids);
         }
+    std::vector<unsigned int> cell_mask;
     for (const auto &t : J.terms())
       n_integrals.push_back(t->integrals().size());
     const bool has_boundary_terms =
@@ -907,12 +910,18 @@ namespace forma
             ref_u.resize(nq);
             fv[disp].get_function_values(reference_ghost, ref_u);
           }
+        // Volume integrals restricted to some materials skip the others.
+        cell_mask = volume_mask;
+        for (unsigned int k = 0; k < cell_mask.size(); ++k)
+          if (!integral_materials[k].empty() &&
+              !integral_materials[k].count(cell->material_id()))
+            cell_mask[k] = 0;
         for (unsigned int q = 0; q < nq; ++q)
           {
             ctx.X = s.X[q];
             if (has_reference)
               ctx.target = Tensor<1, dim>(s.X[q]) + ref_u[q];
-            objective_point(fv, sv, q, ctx, mat, volume_mask, false, cell);
+            objective_point(fv, sv, q, ctx, mat, cell_mask, false, cell);
           }
 
         // p^T d_q h of the volume forces (eq. 3.24 and the material forms).
@@ -1546,12 +1555,15 @@ namespace forma
   {
     auto &m = *impl;
     m.set_step_state(m.u_states.size() - 1);
-    hp::FEValues<dim>           hp_fv(m.mapping,
+    hp::FEValues<dim>                    hp_fv(m.mapping,
                             m.fe,
                             m.quadrature,
                             update_gradients | update_JxW_values);
-    std::vector<Tensor<2, dim>> grads;
-    double                      vm = 0, frobenius = 0, volume = 0;
+    std::vector<Tensor<2, dim>>          grads;
+    double                               vm = 0, frobenius = 0, volume = 0;
+    std::map<types::material_id, double> by_material;
+    for (const auto id : m.all_ids)
+      by_material[id] = 0;
     for (const auto &cell : m.dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
@@ -1566,6 +1578,8 @@ namespace forma
               const auto s = mat.cauchy_stress(grads[q]);
               vm           = std::max(vm, von_mises(s));
               frobenius    = std::max(frobenius, s.norm());
+              by_material[cell->material_id()] =
+                std::max(by_material[cell->material_id()], s.norm());
               volume += fv.JxW(q);
             }
         }
@@ -1573,6 +1587,10 @@ namespace forma
     j["max_von_mises_stress"] = Utilities::MPI::max(vm, m.comm);
     j["max_stress"]           = Utilities::MPI::max(frobenius, m.comm);
     j["volume"]               = Utilities::MPI::sum(volume, m.comm);
+    if (by_material.size() > 1)
+      for (const auto &[id, value] : by_material)
+        j["max_stress_by_material"][std::to_string(id)] =
+          Utilities::MPI::max(value, m.comm);
     if (m.contact.active())
       j["contact"] = m.contact.statistics(m.mapping, m.u_ghost, m.comm);
     return j;

@@ -55,8 +55,9 @@ namespace forma
     {
       bool                                 boundary = false;
       std::set<dealii::types::boundary_id> boundary_ids; ///< empty: all
-      /// Boundary integrals: only faces of cells with these material ids
-      /// (one side of a cut interface); empty: all.
+      /// Only cells (volume integrals) or faces of cells (boundary
+      /// integrals, e.g. one side of a cut interface) with these material
+      /// ids; empty: all.
       std::set<dealii::types::material_id> material_ids;
     };
 
@@ -89,6 +90,12 @@ namespace forma
     {
       return false;
     }
+
+    /// Integrate only over cells of material `id` (volume terms; others
+    /// reject it in the parser).
+    virtual void
+    restrict_to_material(const dealii::types::material_id)
+    {}
 
     /// Whether the term depends on the state u (false: on the design
     /// alone, e.g. volume; such terms count once over several load cases).

@@ -154,8 +154,9 @@ namespace forma
     /**
      * Of the last solved state (final step): the largest von Mises and
      * Frobenius (in-plane for 2D, the measure of the stress objective)
-     * Cauchy stress at the quadrature points, the volume (area) of the
-     * current design, and the contact statistics (when there is contact).
+     * Cauchy stress at the quadrature points (and per material id when
+     * there are several), the volume (area) of the current design, and the
+     * contact statistics (when there is contact).
      */
     nlohmann::json
     state_statistics() const;
