@@ -99,6 +99,23 @@ namespace forma
 
 
   template <int dim>
+  struct PenaltyContact<dim>::GaussValues
+  {
+    GaussValues(const hp::MappingCollection<dim> &mapping,
+                const hp::FECollection<dim>      &fe,
+                const hp::QCollection<dim - 1>   &quadrature)
+      : minus(mapping,
+              fe,
+              quadrature,
+              update_values | update_JxW_values | update_normal_vectors)
+      , partner(mapping, fe, quadrature, update_values)
+    {}
+    hp::FEFaceValues<dim> minus, partner;
+  };
+
+
+
+  template <int dim>
   void
   PenaltyContact<dim>::setup(const DoFHandler<dim>            &dof_handler,
                              const hp::MappingCollection<dim> &mapping,
@@ -289,6 +306,7 @@ namespace forma
   PenaltyContact<dim>::evaluate(const Face                       &f,
                                 const hp::MappingCollection<dim> &mapping,
                                 const Vector_t                   &u,
+                                GaussValues                      &gauss,
                                 FaceData                         &d) const
   {
     const auto        &fe1 = f.cell->get_fe();
@@ -317,7 +335,30 @@ namespace forma
     // coordinates), of the partner at the same physical points; fills
     // everything but the weights when `weights` is empty.
     const unsigned int fe_index = f.cell->active_fe_index();
-    auto               at = [&](const Quadrature<dim - 1> &q, const bool full) {
+    if (parameters.quadrature == "gauss")
+      {
+        // The elements' rule, with FE values made once per pass.
+        d.quadrature = quadrature[fe_index];
+        gauss.minus.reinit(f.cell, f.face);
+        const auto        &fv = gauss.minus.get_present_fe_values();
+        const unsigned int nq = fv.n_quadrature_points;
+        d.phi.assign(n1 + n2, std::vector<double>(nq, 0.));
+        for (unsigned int i = 0; i < n1; ++i)
+          for (unsigned int k = 0; k < nq; ++k)
+            d.phi[i][k] = fv.shape_value(i, k);
+        d.normal = fv.get_normal_vectors();
+        d.JxW    = fv.get_JxW_values();
+        if (f.deformable)
+          {
+            gauss.partner.reinit(f.partner, f.partner_face);
+            const auto &pv = gauss.partner.get_present_fe_values();
+            for (unsigned int i = 0; i < n2; ++i)
+              for (unsigned int k = 0; k < nq; ++k)
+                d.phi[n1 + i][k] = -pv.shape_value(i, f.permutation[k]);
+          }
+        return;
+      }
+    auto at = [&](const Quadrature<dim - 1> &q, const bool full) {
       FEFaceValues<dim> fv(mapping[0],
                            fe1,
                            q,
@@ -335,19 +376,6 @@ namespace forma
         d.JxW = fv.get_JxW_values();
       if (!f.deformable)
         return;
-      if (parameters.quadrature == "gauss")
-        {
-          // The partner's own rule, permuted to these points.
-          FEFaceValues<dim> pv(mapping[0],
-                               f.partner->get_fe(),
-                               quadrature[fe_index],
-                               update_values);
-          pv.reinit(f.partner, f.partner_face);
-          for (unsigned int i = 0; i < n2; ++i)
-            for (unsigned int k = 0; k < nq; ++k)
-              d.phi[n1 + i][k] = -pv.shape_value(i, f.permutation[k]);
-          return;
-        }
       std::vector<Point<dim>> unit(nq);
       mapping[0].transform_points_real_to_unit_cell(f.partner,
                                                     fv.get_quadrature_points(),
@@ -359,7 +387,7 @@ namespace forma
             !f.partner->reference_cell().contains_point(x, 1e-6))
           {
             d.valid = false;
-            x = f.partner->reference_cell().template vertex<dim>(0);
+            x       = f.partner->reference_cell().template vertex<dim>(0);
           }
       FEValues<dim> pv(mapping[0],
                        f.partner->get_fe(),
@@ -371,37 +399,31 @@ namespace forma
           d.phi[n1 + i][k] = -pv.shape_value(i, k);
     };
 
-    if (parameters.quadrature == "gauss")
-      d.quadrature = quadrature[fe_index];
-    else
-      {
-        const ContactLaw &cl       = law(f);
-        const bool        friction = cl.mu > 0;
-        auto              regime   = [&](const std::vector<Point<dim - 1>> &x) {
-          at(Quadrature<dim - 1>(x), false);
-          std::vector<int> codes(x.size());
-          for (unsigned int k = 0; k < x.size(); ++k)
-            {
-              const Tensor<1, dim> j     = d.jump(k);
-              const double         gap   = j * d.normal[k];
-              const double         slip2 = j * j - gap * gap;
-              codes[k] = contact::contact_regime(gap,
-                                                 std::sqrt(std::max(slip2, 0.)),
-                                                 cl.eta,
-                                                 cl.eta_n,
-                                                 friction);
-            }
-          return codes;
-        };
-        const bool simplex =
-          f.cell->face(f.face)->reference_cell().is_simplex() && dim == 3;
-        d.quadrature =
-          contact::adaptive_quadrature<dim - 1>(simplex,
-                                                regime,
-                                                parameters.gauss_points,
-                                                parameters.adaptive_depth,
-                                                parameters.samples);
-      }
+    {
+      const ContactLaw &cl       = law(f);
+      const bool        friction = cl.mu > 0;
+      auto              regime   = [&](const std::vector<Point<dim - 1>> &x) {
+        at(Quadrature<dim - 1>(x), false);
+        std::vector<int> codes(x.size());
+        for (unsigned int k = 0; k < x.size(); ++k)
+          {
+            const Tensor<1, dim> j     = d.jump(k);
+            const double         gap   = j * d.normal[k];
+            const double         slip2 = j * j - gap * gap;
+            codes[k]                   = contact::contact_regime(
+              gap, std::sqrt(std::max(slip2, 0.)), cl.eta, cl.eta_n, friction);
+          }
+        return codes;
+      };
+      const bool simplex =
+        f.cell->face(f.face)->reference_cell().is_simplex() && dim == 3;
+      d.quadrature =
+        contact::adaptive_quadrature<dim - 1>(simplex,
+                                              regime,
+                                              parameters.gauss_points,
+                                              parameters.adaptive_depth,
+                                              parameters.samples);
+    }
     at(d.quadrature, true);
   }
 
@@ -432,13 +454,14 @@ namespace forma
   {
     evaluated = true;
     FaceData               d;
+    GaussValues            gauss(mapping, *fe, quadrature);
     FullMatrix<double>     local, transposed;
     dealii::Vector<double> local_residual;
     double                 potential = 0;
     for (const auto &f : faces)
       {
         const ContactLaw &cl = law(f);
-        evaluate(f, mapping, u, d);
+        evaluate(f, mapping, u, gauss, d);
         evaluated &= d.valid;
         const unsigned int n = d.dofs.size();
         local_residual.reinit(n);
@@ -501,10 +524,11 @@ namespace forma
     dealii::Vector<double>               local(ns);
     std::vector<types::global_dof_index> shape_dofs(ns);
     FaceData                             d;
+    GaussValues                          gauss(mapping, *fe, quadrature);
     for (const auto &f : faces)
       {
         const ContactLaw &cl = law(f);
-        evaluate(f, mapping, u, d);
+        evaluate(f, mapping, u, gauss, d);
         // The adjoint's jump from the same shape values.
         std::vector<double> adjoint(d.dofs.size());
         for (unsigned int i = 0; i < d.dofs.size(); ++i)
@@ -569,11 +593,12 @@ namespace forma
     for (const auto *m : {&parameters.rigid, &parameters.deformable})
       for (const auto &[id, law] : *m)
         sums[id];
-    FaceData d;
+    FaceData    d;
+    GaussValues gauss(mapping, *fe, quadrature);
     for (const auto &f : faces)
       {
         const ContactLaw &cl = law(f);
-        evaluate(f, mapping, u, d);
+        evaluate(f, mapping, u, gauss, d);
         Sums &s = sums[f.id];
         for (unsigned int q = 0; q < d.JxW.size(); ++q)
           {

@@ -145,12 +145,16 @@ namespace forma
       jump(const unsigned int q) const;
     };
 
+    /// FE face values of both sides for the Gauss rules, made once per pass.
+    struct GaussValues;
+
     /// Face data of `f` at the state `u`: the Gauss rule of the element, or
     /// the adaptive rule for the state's contact regimes.
     void
     evaluate(const Face                               &f,
              const dealii::hp::MappingCollection<dim> &mapping,
              const Vector_t                           &u,
+             GaussValues                              &gauss,
              FaceData                                 &d) const;
 
     std::vector<Face>                    faces; ///< of locally owned cells
