@@ -331,9 +331,6 @@ namespace forma
       d.values[i] = u(d.dofs[i]);
     d.valid = true;
 
-    // Values of the "-" side at face points `x` (reference face
-    // coordinates), of the partner at the same physical points; fills
-    // everything but the weights when `weights` is empty.
     const unsigned int fe_index = f.cell->active_fe_index();
     if (parameters.quadrature == "gauss")
       {
@@ -358,6 +355,9 @@ namespace forma
           }
         return;
       }
+    // Adaptive rule: values of the "-" side at the points of `q` (reference
+    // face coordinates) and of the partner at the same physical points;
+    // weights only when `full` (sample points need none).
     auto at = [&](const Quadrature<dim - 1> &q, const bool full) {
       FEFaceValues<dim> fv(mapping[0],
                            fe1,
