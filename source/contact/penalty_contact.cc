@@ -317,9 +317,11 @@ namespace forma
     f.cell->get_dof_indices(d.dofs);
     if (f.deformable)
       {
-        std::vector<types::global_dof_index> b(n2);
-        f.partner->get_dof_indices(b);
-        d.dofs.insert(d.dofs.end(), b.begin(), b.end());
+        d.partner_dofs.resize(n2);
+        f.partner->get_dof_indices(d.partner_dofs);
+        d.dofs.insert(d.dofs.end(),
+                      d.partner_dofs.begin(),
+                      d.partner_dofs.end());
       }
     d.component.resize(n1 + n2);
     for (unsigned int i = 0; i < n1 + n2; ++i)
@@ -339,7 +341,7 @@ namespace forma
         gauss.minus.reinit(f.cell, f.face);
         const auto        &fv = gauss.minus.get_present_fe_values();
         const unsigned int nq = fv.n_quadrature_points;
-        d.phi.assign(n1 + n2, std::vector<double>(nq, 0.));
+        d.phi.reinit(n1 + n2, nq);
         for (unsigned int i = 0; i < n1; ++i)
           for (unsigned int k = 0; k < nq; ++k)
             d.phi[i][k] = fv.shape_value(i, k);
@@ -367,7 +369,7 @@ namespace forma
                              (full ? update_JxW_values : update_default));
       fv.reinit(f.cell, f.face);
       const unsigned int nq = q.size();
-      d.phi.assign(n1 + n2, std::vector<double>(nq, 0.));
+      d.phi.reinit(n1 + n2, nq);
       for (unsigned int i = 0; i < n1; ++i)
         for (unsigned int k = 0; k < nq; ++k)
           d.phi[i][k] = fv.shape_value(i, k);
@@ -525,12 +527,13 @@ namespace forma
     std::vector<types::global_dof_index> shape_dofs(ns);
     FaceData                             d;
     GaussValues                          gauss(mapping, *fe, quadrature);
+    std::vector<double>                  adjoint;
     for (const auto &f : faces)
       {
         const ContactLaw &cl = law(f);
         evaluate(f, mapping, u, gauss, d);
         // The adjoint's jump from the same shape values.
-        std::vector<double> adjoint(d.dofs.size());
+        adjoint.resize(d.dofs.size());
         for (unsigned int i = 0; i < d.dofs.size(); ++i)
           adjoint[i] = p(d.dofs[i]);
         const typename DoFHandler<dim>::active_cell_iterator shape_cell(

@@ -779,7 +779,11 @@ namespace forma
           any_boundary.push_back(i.boundary);
           integral_materials.push_back(i.material_ids);
         }
-    std::vector<unsigned int> cell_mask;
+    const bool any_restriction =
+      std::any_of(integral_materials.begin(),
+                  integral_materials.end(),
+                  [](const auto &m) { return !m.empty(); });
+    std::vector<unsigned int> cell_mask = volume_mask;
     for (const auto &t : J.terms())
       n_integrals.push_back(t->integrals().size());
     const bool has_boundary_terms =
@@ -911,11 +915,11 @@ namespace forma
             fv[disp].get_function_values(reference_ghost, ref_u);
           }
         // Volume integrals restricted to some materials skip the others.
-        cell_mask = volume_mask;
-        for (unsigned int k = 0; k < cell_mask.size(); ++k)
-          if (!integral_materials[k].empty() &&
-              !integral_materials[k].count(cell->material_id()))
-            cell_mask[k] = 0;
+        if (any_restriction)
+          for (unsigned int k = 0; k < cell_mask.size(); ++k)
+            cell_mask[k] = volume_mask[k] &&
+                           (integral_materials[k].empty() ||
+                            integral_materials[k].count(cell->material_id()));
         for (unsigned int q = 0; q < nq; ++q)
           {
             ctx.X = s.X[q];

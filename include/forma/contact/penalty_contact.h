@@ -2,6 +2,7 @@
 #define forma_contact_penalty_contact_h
 
 #include <deal.II/base/quadrature.h>
+#include <deal.II/base/table.h>
 #include <deal.II/base/tensor.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/hp/fe_collection.h>
@@ -132,12 +133,12 @@ namespace forma
     struct FaceData
     {
       dealii::Quadrature<dim - 1>                  quadrature; ///< "-" face
-      std::vector<dealii::types::global_dof_index> dofs;
+      std::vector<dealii::types::global_dof_index> dofs, partner_dofs;
       std::vector<unsigned int>                    component;
       std::vector<double>                          values;
-      std::vector<std::vector<double>>             phi; ///< [dof][point]
-      std::vector<double>                          JxW;
-      std::vector<dealii::Tensor<1, dim>>          normal;
+      dealii::Table<2, double> phi; ///< [dof][point], reused across faces
+      std::vector<double>      JxW;
+      std::vector<dealii::Tensor<1, dim>> normal;
       bool valid = true; ///< false: partner points not found
 
       /// u^- - u^+ (RD: u) at point q.
