@@ -1,7 +1,7 @@
 // forma-transient-ipc: differentiable static and transient elasticity
-// (thesis ch. 3). This version: the forward simulator without contact and
-// its adjoint gradients (shape, materials, damping, loads, initial
-// conditions) with a Taylor test. The jobs live in the library
+// (thesis ch. 3). This version: the forward simulator with IPC contact and
+// friction, and its adjoint gradients (shape, materials, damping, loads,
+// initial conditions; without contact so far) with a Taylor test. The jobs live in the library
 // (forma/elasticity/jobs.h).
 
 #include <forma/base/application.h>
@@ -22,13 +22,14 @@ main(int argc, char **argv)
   app.modes       = {"simulate", "verify gradient", "optimize"};
   app.declare_parameters = [](dealii::ParameterHandler &prm) {
     forma::ElasticityParameters::declare(prm);
+    forma::ipc::IpcParameters::declare(prm);
     forma::declare_elasticity_job_parameters(prm);
   };
   app.run = [](dealii::ParameterHandler &prm,
                const std::string        &dir,
                forma::RunContext        &context) {
     forma::ElasticityParameters parameters;
-    parameters.parse(prm, dir);
+    parameters.parse(prm, dir, false, true);
     forma::run_elasticity_job(prm.get("Mode"), parameters, prm, context);
   };
   return forma::run_application(argc, argv, app);

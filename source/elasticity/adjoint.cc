@@ -1457,6 +1457,10 @@ namespace forma
   void
   ElasticitySimulator<dim>::prepare(RunContext *context)
   {
+    AssertThrow(!impl->ipc_contact,
+                ExcMessage("IPC: gradients through IPC contact are not "
+                           "available yet; Mode = simulate runs with IPC, "
+                           "gradients and optimization without it."));
     if (!impl->prepared)
       {
         impl->prepared = true;

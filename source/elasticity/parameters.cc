@@ -196,12 +196,15 @@ namespace forma
   void
   ElasticityParameters::parse(ParameterHandler  &prm,
                               const std::string &prm_dir,
-                              const bool         with_contact)
+                              const bool         with_contact,
+                              const bool         with_ipc)
   {
     dim = prm.get_integer("Dimension");
     mesh.parse(prm, prm_dir);
     if (with_contact)
       contact.parse(prm);
+    if (with_ipc)
+      ipc.parse(prm, dim);
 
     prm.enter_subsection("Finite element");
     degree           = prm.get_integer("Degree");
@@ -294,6 +297,16 @@ namespace forma
                 ExcMessage("Contact: adaptive refinement is not available "
                            "with contact (paired interface faces); set "
                            "Finite element/Adaptivity = none."));
+    AssertThrow(!ipc.enabled || adaptivity == "none",
+                ExcMessage("IPC: adaptive refinement is not available with "
+                           "IPC contact yet; set Finite element/Adaptivity = "
+                           "none."));
+    AssertThrow(!ipc.enabled || contact.empty(),
+                ExcMessage("IPC and smoothed penalty contact exclude each "
+                           "other."));
+    AssertThrow(!ipc.enabled || load_cases.empty(),
+                ExcMessage("IPC: several load cases are not available with "
+                           "IPC contact."));
     AssertThrow(max_degree >= degree || adaptivity != "hp",
                 ExcMessage("Finite element/Max degree is below Degree."));
   }

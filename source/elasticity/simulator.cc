@@ -94,6 +94,8 @@ namespace forma
         shape_fe = std::make_unique<FESystem<dim>>(FE_Q<dim>(1), dim);
       }
     reference_mapping = hp::MappingCollection<dim>(mesh_mapping);
+    if (p.ipc.enabled)
+      ipc_contact = std::make_unique<ipc::IpcContact<dim>>(p.ipc);
     dof_handler.reinit(*tria);
     shape_dof_handler.reinit(*tria);
     setup_shape();
@@ -537,18 +539,15 @@ namespace forma
     owned = dof_handler.locally_owned_dofs();
     DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
 
+    constraint_lines = relevant;
+    if (ipc_contact)
+      {
+        ipc_contact->setup(dof_handler, mapping, owned, comm);
+        constraint_lines.add_indices(ipc_contact->collision_dofs());
+      }
     make_constraints(time);
     contact.setup(dof_handler, mapping, face_quadrature);
-
-    TrilinosWrappers::SparsityPattern sp(owned, owned, relevant, comm);
-    DoFTools::make_sparsity_pattern(dof_handler,
-                                    sp,
-                                    constraints_zero,
-                                    false,
-                                    Utilities::MPI::this_mpi_process(comm));
-    contact.add_couplings(constraints_zero, sp);
-    sp.compress();
-    jacobian.reinit(sp);
+    build_jacobian_pattern();
 
     u.reinit(owned, comm);
     residual.reinit(owned, comm);
@@ -564,12 +563,50 @@ namespace forma
 
   template <int dim>
   void
+  ElasticitySimulator<dim>::Impl::build_jacobian_pattern()
+  {
+    // Rows of constraint_lines are writable: contact adds to rows of DoFs
+    // owned elsewhere.
+    TrilinosWrappers::SparsityPattern sp(owned, owned, constraint_lines, comm);
+    DoFTools::make_sparsity_pattern(dof_handler,
+                                    sp,
+                                    constraints_zero,
+                                    false,
+                                    Utilities::MPI::this_mpi_process(comm));
+    contact.add_couplings(constraints_zero, sp);
+    if (ipc_contact)
+      ipc_contact->add_couplings(constraints_zero, sp);
+    sp.compress();
+    jacobian.reinit(sp);
+  }
+
+
+
+  template <int dim>
+  bool
+  ElasticitySimulator<dim>::Impl::potential_merit() const
+  {
+    if (!transient)
+      return true;
+    if (!ipc_contact)
+      return false;
+    // Damping (Brown et al.) is not the gradient of a potential.
+    for (const auto &c : cell_damping_coefficients)
+      if (c[0] != 0 || c[1] != 0)
+        return false;
+    return true;
+  }
+
+
+
+  template <int dim>
+  void
   ElasticitySimulator<dim>::Impl::make_constraints(const double t)
   {
     for (auto *c : {&constraints_zero, &constraints_bc})
       {
         c->clear();
-        c->reinit(relevant);
+        c->reinit(constraint_lines);
         DoFTools::make_hanging_node_constraints(dof_handler, *c);
       }
     for (const auto &d : dirichlet)
@@ -591,7 +628,7 @@ namespace forma
       }
     for (auto *c : {&constraints_zero, &constraints_bc})
       {
-        c->make_consistent_in_parallel(owned, relevant, comm);
+        c->make_consistent_in_parallel(owned, constraint_lines, comm);
         c->close();
       }
   }
@@ -690,7 +727,10 @@ namespace forma
 
         for (unsigned int q = 0; q < nq; ++q)
           {
-            if (!mat.admissible(s.grad_u[q]))
+            // With IPC every model must stay inversion-free.
+            if (!mat.admissible(s.grad_u[q]) ||
+                (ipc_contact &&
+                 determinant(unit_symmetric_tensor<dim>() + s.grad_u[q]) <= 0))
               {
                 c.admissible = false;
                 return;
@@ -717,6 +757,16 @@ namespace forma
                   u_q[cfe.system_to_component_index(i).first] +=
                     u_ghost(c.dofs[i]) * fv.shape_value(i, q);
                 c.energy += (mat.energy_density(s.grad_u[q]) + f * u_q) * JxW;
+              }
+            else if (ipc_contact)
+              {
+                // The incremental potential of the time step (its merit):
+                // W + rho / (2 (beta dt)^2) |u + w|^2 - b . u.
+                const Tensor<1, dim> a = s.u[q] + s.w[q];
+                const double         m = rho * inertia_factor;
+                c.energy += (mat.energy_density(s.grad_u[q]) +
+                             0.5 * m * (a * a) + (f - m * a) * s.u[q]) *
+                            JxW;
               }
             for (unsigned int i = 0; i < n; ++i)
               {
@@ -776,7 +826,7 @@ namespace forma
                           cfe.system_to_component_index(i).first;
                         c.residual(i) -=
                           t[ci] * ff.shape_value(i, q) * ff.JxW(q);
-                        if (!dynamic)
+                        if (!dynamic || ipc_contact)
                           c.energy -= t[ci] * u_ghost(c.dofs[i]) *
                                       ff.shape_value(i, q) * ff.JxW(q);
                       }
@@ -844,6 +894,17 @@ namespace forma
                                    evaluated);
         admissible &= evaluated;
       }
+    if (ipc_contact) // collective: every rank
+      {
+        bool apart = true;
+        energy += ipc_contact->assemble(u_owned,
+                                        constraints_zero,
+                                        with_matrix ? &jacobian : nullptr,
+                                        residual,
+                                        raw,
+                                        apart);
+        admissible &= apart;
+      }
 
     // Compress even when a cell was inadmissible, so the containers stay
     // usable for the next (shorter-step) assembly.
@@ -868,6 +929,8 @@ namespace forma
     time = t;
     make_constraints(t);
     constraints_bc.distribute(u);
+    if (ipc_contact && ipc_contact->update_candidates(u, nullptr))
+      build_jacobian_pattern();
 
     AssertThrow(assemble(u, true, nullptr),
                 ExcMessage(where + " (t = " + fmt(t) +
@@ -882,6 +945,12 @@ namespace forma
 
     unsigned int linear_its = 0;
     Vector_t     du(owned, comm), trial(owned, comm);
+    // IPC: a full Newton step shorter than this is convergence (the
+    // Newton decrement of Li et al. 2020, in the max norm).
+    const double step_tolerance =
+      ipc_contact ? p.ipc.newton_step_tolerance *
+                      ipc_contact->mesh().diagonal() * (transient ? dt : 1.) :
+                    0.;
     for (unsigned int it = 0; it < p.max_newton_iterations; ++it)
       {
         if (norm <= tolerance)
@@ -895,6 +964,25 @@ namespace forma
         solver_seconds += timer.wall_time();
         constraints_zero.distribute(du);
 
+        // IPC: no step may bring a pair into contact (CCD along the step).
+        double max_step = 1.;
+        if (ipc_contact)
+          {
+            if (du.linfty_norm() <= step_tolerance)
+              {
+                if (context)
+                  context->log("    Newton step below the step tolerance, "
+                               "residual " +
+                               fmt(norm, 3));
+                return {it, linear_its};
+              }
+            if (ipc_contact->update_candidates(u, &du))
+              build_jacobian_pattern();
+            max_step = ipc_contact->max_step(u, du);
+            if (max_step < 1.)
+              ++ccd_limited_steps;
+          }
+
         // Static problems are minimizations of the potential energy: its
         // Armijo condition accepts the long Newton steps that a residual
         // norm merit would cut (large rotations). Where the energy change
@@ -904,10 +992,11 @@ namespace forma
         const double slope   = residual * du;
         // Friction is not a potential force: there only the residual
         // decides.
-        const bool energy_merit = !transient && !contact.has_friction() &&
+        const bool energy_merit = potential_merit() &&
+                                  !contact.has_friction() &&
                                   slope < -1e-10 * (std::abs(energy0) + 1e-300);
 
-        double step     = 1.;
+        double step     = max_step;
         bool   accepted = false;
         for (unsigned int h = 0; h <= p.max_line_search_halvings;
              ++h, step *= 0.5)
@@ -958,6 +1047,15 @@ namespace forma
                                   "ratio, no part held by contact alone "
                                   "pulled away)." :
                                   "")));
+        if (ipc_contact && ipc_contact->update_stiffness())
+          {
+            // A stiffer barrier: the state's residual and merit change.
+            assemble(u, true, nullptr);
+            norm = residual.l2_norm();
+            if (context)
+              context->log("    barrier stiffness raised to " +
+                           fmt(ipc_contact->barrier_stiffness(), 4));
+          }
         if (context)
           context->log("    Newton " + std::to_string(it + 1) + ": residual " +
                        fmt(norm, 3) + ", step " + fmt(step, 3));
@@ -1005,6 +1103,7 @@ namespace forma
                             update_values | update_gradients |
                               update_JxW_values);
     double         kinetic = 0, elastic = 0, potential = 0, mass = 0;
+    unsigned int   inverted = 0;
     Tensor<1, dim> first_moment;
     std::vector<Tensor<2, dim>> grads;
     std::vector<Tensor<1, dim>> vals, vels;
@@ -1023,8 +1122,11 @@ namespace forma
           fv[disp].get_function_values(u_ghost, vals);
           if (transient)
             fv[disp].get_function_values(v_ghost, vels);
+          bool cell_inverted = false;
           for (unsigned int q = 0; q < nq; ++q)
             {
+              cell_inverted |=
+                determinant(unit_symmetric_tensor<dim>() + grads[q]) <= 0;
               const double JxW = fv.JxW(q);
               elastic += mat.energy_density(grads[q]) * JxW;
               if (transient)
@@ -1036,6 +1138,7 @@ namespace forma
               max_von_mises = std::max(max_von_mises, von_mises(sigma));
               max_frobenius = std::max(max_frobenius, sigma.norm());
             }
+          inverted += cell_inverted ? 1 : 0;
         }
     typename ElasticitySimulator<dim>::StepRecord r;
     r.step              = step;
@@ -1052,6 +1155,14 @@ namespace forma
     max_frobenius = Utilities::MPI::max(max_frobenius, comm);
     for (const auto &x : points)
       r.point_displacements.push_back(point_value(x));
+    if (ipc_contact)
+      {
+        r.contact                      = last_ipc_step;
+        r.contact["inverted_elements"] = Utilities::MPI::sum(inverted, comm);
+        inverted_elements =
+          std::max<unsigned int>(inverted_elements,
+                                 r.contact["inverted_elements"]);
+      }
     steps.push_back(r);
   }
 
@@ -1279,28 +1390,93 @@ namespace forma
 
   template <int dim>
   void
+  ElasticitySimulator<dim>::Impl::prepare_ipc_stiffness()
+  {
+    if (!ipc_contact || ipc_contact->barrier_stiffness() > 0)
+      return;
+    // The automatic barrier stiffness follows the stiffness of the rest of
+    // the system: the mean diagonal of its Jacobian at the current state.
+    if (ipc_contact->update_candidates(u, nullptr))
+      build_jacobian_pattern();
+    assemble(u, true, nullptr);
+    double sum = 0;
+    for (const auto i : owned)
+      sum += std::abs(jacobian.diag_element(i));
+    ipc_contact->set_stiffness_scale(Utilities::MPI::sum(sum, comm) /
+                                     dof_handler.n_dofs());
+    if (context)
+      context->log(
+        "IPC: barrier distance " + fmt(ipc_contact->barrier_distance(), 4) +
+        ", barrier stiffness " + fmt(ipc_contact->barrier_stiffness(), 4));
+  }
+
+
+
+  template <int dim>
+  std::string
+  ElasticitySimulator<dim>::Impl::ipc_progress()
+  {
+    if (!ipc_contact)
+      return "";
+    const auto st    = ipc_contact->last_state(comm);
+    run_min_distance = std::min(run_min_distance, st.first);
+    last_ipc_step    = {{"active_pairs", st.second},
+                        {"barrier_stiffness", ipc_contact->barrier_stiffness()},
+                        {"ccd_limited_steps", ccd_limited_steps}};
+    last_ipc_step["obstacle_force"] =
+      to_json(ipc_contact->obstacle_reaction(comm));
+    last_ipc_step["min_distance"] =
+      st.first < std::numeric_limits<double>::max() ? nlohmann::json(st.first) :
+                                                      nlohmann::json();
+    ccd_limited_steps = 0;
+    return ", contacts " + std::to_string(st.second) +
+           (st.second > 0 ? ", min distance " + fmt(st.first, 3) : "");
+  }
+
+
+
+  template <int dim>
+  void
   ElasticitySimulator<dim>::Impl::solve_static()
   {
     // Contact (and friction) may hold a body without supports; if it does
     // not, Newton's method says so.
-    AssertThrow(!dirichlet.empty() || contact.active(),
+    AssertThrow(!dirichlet.empty() || contact.active() || ipc_contact,
                 ExcMessage(
                   "a static problem needs Dirichlet conditions "
                   "(Boundary conditions/Dirichlet) or contact to remove "
                   "rigid-body motions."));
-    transient = false;
-    u         = 0;
+    transient                  = false;
+    u                          = 0;
+    const bool lagged_friction = ipc_contact && p.ipc.has_friction();
     for (unsigned int k = 1; k <= p.load_steps; ++k)
       {
         const double      t = p.end_time * k / p.load_steps;
         const std::string where =
           "load step " + std::to_string(k) + "/" + std::to_string(p.load_steps);
-        const auto its = newton(t, where);
+        prepare_ipc_stiffness();
+        // IPC friction: normal forces and tangents lagged from the last
+        // solve, slip measured from the previous load step.
+        const Vector_t                        start = u;
+        std::pair<unsigned int, unsigned int> its{0, 0};
+        for (unsigned int l = 0;
+             l < (lagged_friction ? p.ipc.friction_iterations : 1);
+             ++l)
+          {
+            if (lagged_friction)
+              ipc_contact->update_friction(
+                u, start, p.ipc.friction_velocity * p.end_time / p.load_steps);
+            const auto i = newton(t, where);
+            its.first += i.first;
+            its.second += i.second;
+          }
         if (quiet)
           continue;
+        const std::string contacts = ipc_progress();
         record_step(k, t, its.first, its.second);
         print_progress("[" + where + "] t = " + fmt(t) +
-                       ", Newton iterations: " + std::to_string(its.first));
+                       ", Newton iterations: " + std::to_string(its.first) +
+                       contacts);
       }
     if (store_states)
       u_states.assign(1, u);
@@ -1380,9 +1556,20 @@ namespace forma
         u_old_ghost    = u_history[0];
         inertia_factor = 1. / (bdt * bdt);
 
-        // Predictor: the previous displacement advanced by its velocity.
+        // Predictor: the previous displacement advanced by its velocity;
+        // with IPC the previous state (the predictor may cross a contact;
+        // Newton's CCD-filtered steps then move from a contact-free state).
         u = u_history[0];
-        u.add(dt, v_history[0]);
+        if (ipc_contact)
+          {
+            prepare_ipc_stiffness();
+            if (p.ipc.has_friction())
+              ipc_contact->update_friction(u_history[0],
+                                           u_history[0],
+                                           p.ipc.friction_velocity * dt);
+          }
+        else
+          u.add(dt, v_history[0]);
         const std::string where = "time step " + std::to_string(i);
         std::pair<unsigned int, unsigned int> its;
         try
@@ -1417,12 +1604,13 @@ namespace forma
           }
         if (quiet)
           continue;
+        const std::string contacts = ipc_progress();
         record_step(i, t, its.first, its.second);
         if (i % p.output_every == 0 || i == n)
           write_output(i, t);
         print_progress("[step " + std::to_string(i) + "/" + std::to_string(n) +
-                       "] t = " + fmt(t) +
-                       ", Newton iterations: " + std::to_string(its.first));
+                       "] t = " + fmt(t) + ", Newton iterations: " +
+                       std::to_string(its.first) + contacts);
       }
   }
 
@@ -1526,6 +1714,14 @@ namespace forma
               ", max penetration " + fmt(double(c["max_penetration"]), 3) +
               ", max slip " + fmt(double(c["max_slip"]), 3));
           }
+        if (ipc_contact)
+          context->print(
+            "IPC: smallest distance " +
+            (run_min_distance < std::numeric_limits<double>::max() ?
+               fmt(run_min_distance, 3) :
+               std::string("above dhat")) +
+            " (dhat " + fmt(ipc_contact->barrier_distance(), 3) +
+            "), inverted elements " + std::to_string(inverted_elements));
         context->print("max von Mises stress: " + fmt(max_von_mises) +
                        ", max Frobenius stress: " + fmt(max_frobenius));
         context->log("assembly wall time " + fmt(assembly_seconds, 4) +
@@ -1659,6 +1855,8 @@ namespace forma
         for (const auto &d : r.point_displacements)
           pts.push_back(to_json(d));
         j["point_displacements"] = pts;
+        if (!r.contact.is_null())
+          j["contact"] = r.contact;
         steps.push_back(j);
       }
     s["steps"]            = steps;
@@ -1673,6 +1871,22 @@ namespace forma
     s["reactions"] = reactions;
     if (impl->contact.active())
       s["contact"] = impl->contact_statistics;
+    if (impl->ipc_contact)
+      {
+        const auto    &m = impl->ipc_contact->mesh();
+        nlohmann::json c;
+        c["barrier_distance"]     = impl->ipc_contact->barrier_distance();
+        c["barrier_stiffness"]    = impl->ipc_contact->barrier_stiffness();
+        c["collision_vertices"]   = m.n_vertices();
+        c["collision_primitives"] = dim == 2 ? m.edges.size() : m.faces.size();
+        c["min_distance"] =
+          impl->run_min_distance < std::numeric_limits<double>::max() ?
+            nlohmann::json(impl->run_min_distance) :
+            nlohmann::json();
+        c["inverted_elements"] = impl->inverted_elements;
+        c["timings"]           = impl->ipc_contact->timings();
+        s["ipc"]               = c;
+      }
     nlohmann::json pts = nlohmann::json::array();
     for (const auto &x : impl->points)
       pts.push_back(to_json(Tensor<1, dim>(x)));

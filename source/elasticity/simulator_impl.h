@@ -22,6 +22,7 @@
 #include <forma/adjoint/objective.h>
 #include <forma/contact/penalty_contact.h>
 #include <forma/elasticity/simulator.h>
+#include <forma/ipc/ipc_contact.h>
 #include <forma/mesh/remesh.h>
 #include <forma/physics/damping.h>
 #include <forma/physics/material.h>
@@ -29,6 +30,7 @@
 
 #include <array>
 #include <deque>
+#include <limits>
 #include <map>
 #include <set>
 #include <string>
@@ -153,6 +155,10 @@ namespace forma
     build_loads();
     void
     setup_system();
+    /// (Re)build the Jacobian's sparsity pattern: the mesh's couplings and
+    /// those of the IPC contact candidates.
+    void
+    build_jacobian_pattern();
     void
     make_constraints(const double time);
     void
@@ -396,6 +402,29 @@ namespace forma
     // Smoothed penalty contact and friction (Contact section; thesis ch. 2).
     PenaltyContact<dim> contact;
     nlohmann::json      contact_statistics; ///< of the last recorded state
+
+    // Incremental potential contact (IPC section; thesis ch. 3.6-3.7).
+    std::unique_ptr<ipc::IpcContact<dim>> ipc_contact;
+    /// DoFs whose constraints every rank needs: locally relevant ones and
+    /// the collision mesh's (contact couples DoFs of any rank).
+    IndexSet constraint_lines;
+    /// IPC state of the last Newton solve: line searches cut by CCD, and
+    /// over the run the smallest distance and the inverted elements.
+    unsigned int ccd_limited_steps = 0;
+    double       run_min_distance  = std::numeric_limits<double>::max();
+    unsigned int inverted_elements = 0;
+    /// The automatic barrier stiffness, scaled on the first call.
+    void
+    prepare_ipc_stiffness();
+    /// Contact state of the last solve for the progress line (and
+    /// last_ipc_step); empty without IPC.
+    std::string
+                   ipc_progress();
+    nlohmann::json last_ipc_step;
+    /// Whether the Newton line search may use the potential as merit:
+    /// static problems, and transient ones without damping with IPC.
+    bool
+    potential_merit() const;
 
     // State read by assemble().
     bool   transient      = false;

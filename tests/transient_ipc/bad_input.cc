@@ -91,6 +91,43 @@ main()
                         "subsection Optimization\n set Remesh quality = "
                         "0.5\nend\n",
                  good);
+  // IPC contact: a geometry that already intersects, a body behind an
+  // obstacle, a barrier distance above the mesh size, unknown obstacles,
+  // gradients (not available with IPC yet).
+  std::ofstream("overlap.msh")
+    << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n8\n"
+       "1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n"
+       "5 0.8 0.5 0\n6 1.8 0.5 0\n7 1.8 1.5 0\n8 0.8 1.5 0\n"
+       "$EndNodes\n$Elements\n2\n"
+       "1 3 2 0 1 1 2 3 4\n2 3 2 1 2 5 6 7 8\n$EndElements\n";
+  const std::string ipc =
+    "subsection IPC\n set Enabled = true\n set Barrier distance = 0.01\nend\n";
+  expect_failure("ipc_intersecting_input",
+                 base + ipc +
+                   "subsection Mesh\n set Source = file\n set File = "
+                   "overlap.msh\nend\n"
+                   "subsection Boundary conditions\n set Traction = \nend\n",
+                 good);
+  expect_failure("ipc_behind_plane",
+                 base + ipc +
+                   "subsection IPC\n set Obstacles = plane : 0, 0.5 : 0, "
+                   "1\nend\n",
+                 good);
+  expect_failure("ipc_barrier_distance",
+                 base + ipc +
+                   "subsection IPC\n set Barrier distance = 2\nend\n",
+                 good);
+  expect_failure("ipc_unknown_obstacle",
+                 base + ipc +
+                   "subsection IPC\n set Obstacles = sphere : 0, 0 : "
+                   "1\nend\n",
+                 good);
+  expect_failure("ipc_gradient",
+                 base + ipc +
+                   "set Mode = verify gradient\n"
+                   "subsection Design\n set Parameters = material\nend\n"
+                   "subsection Objective\n set Terms = compliance\nend\n",
+                 good);
   dealii::deallog << "failed run recorded in failed-run/summary.json: "
                   << (read_file("results/failed-run/summary.json")
                             .find("\"status\": \"failed\"") !=

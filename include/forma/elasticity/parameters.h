@@ -6,6 +6,7 @@
 #include <forma/adjoint/design.h>
 #include <forma/adjoint/objective.h>
 #include <forma/contact/contact_parameters.h>
+#include <forma/ipc/ipc_parameters.h>
 #include <forma/mesh/mesh.h>
 #include <forma/physics/material.h>
 #include <forma/solvers/linear_solver.h>
@@ -65,6 +66,8 @@ namespace forma
 
     // Smoothed penalty contact (declared by apps that offer it)
     ContactParameters contact;
+    // Incremental potential contact (declared by apps that offer it)
+    ipc::IpcParameters ipc;
 
     // Gradients (adjoint layer)
     DesignParameters    design;
@@ -75,14 +78,15 @@ namespace forma
     unsigned int output_every = 1;
     std::string  points;
 
-    /// Apps with contact declare ContactParameters too and parse
-    /// `with_contact`.
+    /// Apps with contact declare ContactParameters (IpcParameters) too
+    /// and parse `with_contact` (`with_ipc`).
     static void
     declare(dealii::ParameterHandler &prm);
     void
     parse(dealii::ParameterHandler &prm,
           const std::string        &prm_directory,
-          const bool                with_contact = false);
+          const bool                with_contact = false,
+          const bool                with_ipc     = false);
   };
 } // namespace forma
 

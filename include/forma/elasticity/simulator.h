@@ -52,6 +52,9 @@ namespace forma
       double                              gravity_potential; ///< -int rho g . u
       dealii::Tensor<1, dim>              mean_displacement; ///< mass-weighted
       std::vector<dealii::Tensor<1, dim>> point_displacements;
+      /// IPC: active pairs, smallest distance, barrier stiffness, steps
+      /// cut by CCD, inverted elements (null without IPC).
+      nlohmann::json contact;
     };
 
     struct CycleRecord

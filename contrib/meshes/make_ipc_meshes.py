@@ -1,0 +1,114 @@
+#!/usr/bin/env python3
+"""Write the multi-body meshes of the IPC examples and tests as Gmsh 2.2
+ASCII files: structured quads (2D) or hexahedra (3D) per body, cell tag =
+the body's material id, boundary tag = 10 * body + side (sides: 0 left,
+1 right, 2 bottom, 3 top, 4 front, 5 back). Run from the repository root:
+    python3 contrib/meshes/make_ipc_meshes.py
+"""
+import os
+
+OUT = "parameter_files/transient_ipc/meshes"
+
+
+class Mesh:
+    def __init__(self, dim):
+        self.dim = dim
+        self.nodes, self.cells, self.faces = [], [], []
+
+    def block(self, lo, hi, n, body):
+        """A box [lo, hi] with n cells per direction, material id `body`."""
+        d = self.dim
+        base = len(self.nodes)
+        nz = n[2] if d == 3 else 0
+        idx = {}
+        for k in range(nz + 1):
+            for j in range(n[1] + 1):
+                for i in range(n[0] + 1):
+                    p = [lo[0] + (hi[0] - lo[0]) * i / n[0],
+                         lo[1] + (hi[1] - lo[1]) * j / n[1],
+                         lo[2] + (hi[2] - lo[2]) * k / nz if d == 3 else 0.0]
+                    idx[(i, j, k)] = len(self.nodes)
+                    self.nodes.append(p)
+        v = lambda i, j, k=0: idx[(i, j, k)]
+        if d == 2:
+            for j in range(n[1]):
+                for i in range(n[0]):
+                    self.cells.append((body, (v(i, j), v(i + 1, j),
+                                              v(i + 1, j + 1), v(i, j + 1))))
+            for j in range(n[1]):
+                self.faces.append((10 * body + 0, (v(0, j), v(0, j + 1))))
+                self.faces.append((10 * body + 1, (v(n[0], j), v(n[0], j + 1))))
+            for i in range(n[0]):
+                self.faces.append((10 * body + 2, (v(i, 0), v(i + 1, 0))))
+                self.faces.append((10 * body + 3, (v(i, n[1]), v(i + 1, n[1]))))
+        else:
+            for k in range(nz):
+                for j in range(n[1]):
+                    for i in range(n[0]):
+                        self.cells.append((body, (
+                            v(i, j, k), v(i + 1, j, k), v(i + 1, j + 1, k),
+                            v(i, j + 1, k), v(i, j, k + 1), v(i + 1, j, k + 1),
+                            v(i + 1, j + 1, k + 1), v(i, j + 1, k + 1))))
+            quad = lambda a, b, c, e: (a, b, c, e)
+            for k in range(nz):
+                for j in range(n[1]):
+                    self.faces.append((10 * body + 0, quad(
+                        v(0, j, k), v(0, j + 1, k), v(0, j + 1, k + 1), v(0, j, k + 1))))
+                    self.faces.append((10 * body + 1, quad(
+                        v(n[0], j, k), v(n[0], j + 1, k), v(n[0], j + 1, k + 1),
+                        v(n[0], j, k + 1))))
+            for k in range(nz):
+                for i in range(n[0]):
+                    self.faces.append((10 * body + 2, quad(
+                        v(i, 0, k), v(i + 1, 0, k), v(i + 1, 0, k + 1), v(i, 0, k + 1))))
+                    self.faces.append((10 * body + 3, quad(
+                        v(i, n[1], k), v(i + 1, n[1], k), v(i + 1, n[1], k + 1),
+                        v(i, n[1], k + 1))))
+            for j in range(n[1]):
+                for i in range(n[0]):
+                    self.faces.append((10 * body + 4, quad(
+                        v(i, j, 0), v(i + 1, j, 0), v(i + 1, j + 1, 0), v(i, j + 1, 0))))
+                    self.faces.append((10 * body + 5, quad(
+                        v(i, j, nz), v(i + 1, j, nz), v(i + 1, j + 1, nz),
+                        v(i, j + 1, nz))))
+
+    def write(self, name):
+        cell_type, face_type = (3, 1) if self.dim == 2 else (5, 3)
+        with open(os.path.join(OUT, name), "w") as f:
+            f.write("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n%d\n"
+                    % len(self.nodes))
+            for i, p in enumerate(self.nodes):
+                f.write("%d %.12g %.12g %.12g\n" % ((i + 1,) + tuple(p)))
+            f.write("$EndNodes\n$Elements\n%d\n"
+                    % (len(self.cells) + len(self.faces)))
+            k = 1
+            for tag, vs in self.faces:
+                f.write("%d %d 2 %d %d %s\n" % (k, face_type, tag, tag,
+                                                " ".join(str(v + 1) for v in vs)))
+                k += 1
+            for tag, vs in self.cells:
+                f.write("%d %d 2 %d %d %s\n" % (k, cell_type, tag, tag,
+                                                " ".join(str(v + 1) for v in vs)))
+                k += 1
+            f.write("$EndElements\n")
+
+
+def main():
+    # Two equal blocks 0.1 apart: the left one is thrown at the right one.
+    m = Mesh(2)
+    m.block((0, 0), (1, 1), (4, 4), 0)
+    m.block((1.1, 0.2), (2.1, 1.2), (4, 4), 1)
+    m.write("two_blocks_2d.msh")
+    # A stack of three blocks 0.005 apart for a static press (3D): within
+    # the barrier distance of each other, so the barrier holds them from
+    # the start (a floating block alone would make the static problem
+    # singular).
+    m = Mesh(3)
+    for b in range(3):
+        z = 1.005 * b
+        m.block((0, 0, z), (1, 1, z + 1), (2, 2, 2), b)
+    m.write("stack_3d.msh")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,93 @@
+#ifndef forma_ipc_collision_mesh_h
+#define forma_ipc_collision_mesh_h
+
+#include <deal.II/base/index_set.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/types.h>
+
+#include <forma/ipc/distance.h>
+
+#include <array>
+#include <set>
+#include <vector>
+
+namespace dealii
+{
+  template <int dim, int spacedim>
+  class DoFHandler;
+  namespace hp
+  {
+    template <int dim, int spacedim>
+    class MappingCollection;
+  }
+} // namespace dealii
+
+namespace forma
+{
+  namespace ipc
+  {
+    /**
+     * The surface IPC sees (thesis ch. 3.7, Li et al. 2020): the boundary of
+     * the finite element mesh as segments (2D) or triangles (3D) whose
+     * vertices are the support points of the boundary faces, so that
+     * higher-order elements collide on their nodes (a P2 edge gives two
+     * segments, a Q2 face eight triangles). Each vertex carries the global
+     * indices of its dim displacement DoFs; the displacement of a collision
+     * vertex is the value of those DoFs (Lagrange elements interpolate), so
+     * the map from DoFs to collision displacements is a selection, and
+     * constraints (hanging nodes, Dirichlet values) act through the
+     * AffineConstraints the contributions are distributed with.
+     *
+     * Every rank holds the whole collision mesh (gathered at construction):
+     * contact couples parts owned anywhere. Vertex order follows the DoF
+     * numbering.
+     */
+    template <int dim>
+    struct CollisionMesh
+    {
+      /// Build from the boundary faces with ids in `boundaries` (all
+      /// boundary faces if empty), at the positions of the current shape
+      /// (`mapping`). Collective.
+      CollisionMesh(const dealii::DoFHandler<dim, dim>            &dof_handler,
+                    const dealii::hp::MappingCollection<dim, dim> &mapping,
+                    const std::set<dealii::types::boundary_id>    &boundaries,
+                    const MPI_Comm                                 comm);
+
+      unsigned int
+      n_vertices() const
+      {
+        return rest.size();
+      }
+
+      /// Vertex positions at rest (the current design), z = 0 in 2D.
+      std::vector<Vec> rest;
+      /// Displacement DoFs of each vertex.
+      std::vector<std::array<dealii::types::global_dof_index, dim>> dofs;
+      /// Material id of a cell the vertex belongs to (the body, for
+      /// per-pair friction).
+      std::vector<dealii::types::material_id> body;
+      /// Area (2D: length) the vertex represents: half (2D) or a third (3D)
+      /// of its incident segments / triangles.
+      std::vector<double> vertex_area;
+
+      /// Segments: the boundary in 2D; the triangles' edges in 3D.
+      std::vector<std::array<unsigned int, 2>> edges;
+      /// 3D: a third of the areas of the edge's triangles (2D: length).
+      std::vector<double> edge_area;
+      /// 3D: boundary triangles.
+      std::vector<std::array<unsigned int, 3>> faces;
+
+      /// All DoFs of collision vertices (every rank needs their values).
+      dealii::IndexSet collision_dofs;
+
+      /// Diagonal of the bounding box at rest.
+      double
+      diagonal() const;
+      /// Shortest segment (2D) or triangle edge (3D) at rest.
+      double
+      shortest_edge() const;
+    };
+  } // namespace ipc
+} // namespace forma
+
+#endif

@@ -1,0 +1,231 @@
+#ifndef forma_ipc_ipc_contact_h
+#define forma_ipc_ipc_contact_h
+
+#include <deal.II/base/index_set.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/tensor.h>
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/trilinos_sparsity_pattern.h>
+#include <deal.II/lac/trilinos_vector.h>
+
+#include <forma/ipc/ccd.h>
+#include <forma/ipc/collision_mesh.h>
+#include <forma/ipc/ipc_parameters.h>
+
+#include <nlohmann/json.hpp>
+
+#include <memory>
+#include <set>
+#include <vector>
+
+namespace dealii
+{
+  template <int dim, int spacedim>
+  class DoFHandler;
+  namespace hp
+  {
+    template <int dim, int spacedim>
+    class MappingCollection;
+  }
+} // namespace dealii
+
+namespace forma
+{
+  namespace ipc
+  {
+    /**
+     * Incremental potential contact as a form of the discrete problem
+     * (thesis ch. 3.6-3.7, Li et al. 2020): the potential
+     *   E(u) = kappa sum_k A_k b(d_k(x + u))
+     *        + sum_k mu_k N_k f_0(|T_k^T Gamma_k (u - u^{i-1})|)
+     * over the primitive pairs k of the collision mesh (and the static
+     * planes) closer than dhat, with lagged normal forces N_k, tangent
+     * bases T_k and closest-point weights Gamma_k for friction. Its
+     * gradient is added to the residual, its Hessian, with every pair's
+     * block projected to positive semi-definite, to the Jacobian, and its
+     * value to the Newton line search's merit; continuous collision
+     * detection caps every Newton step so that no pair ever touches.
+     *
+     * Candidate pairs come from a sort-and-sweep broad phase over boxes of
+     * the primitives swept along the step and grown by dhat; each candidate
+     * is classified (point-point, point-edge, ... ) at every evaluation.
+     * Candidates couple vertices anywhere in the mesh: the Jacobian's
+     * sparsity pattern grows with them (update_candidates() says when).
+     * Work is split over MPI ranks by candidate; every rank holds the
+     * collision mesh and the displacements of its vertices.
+     */
+    template <int dim>
+    class IpcContact
+    {
+    public:
+      using Vector_t = dealii::TrilinosWrappers::MPI::Vector;
+
+      explicit IpcContact(const IpcParameters &parameters);
+      ~IpcContact();
+
+      /**
+       * Build the collision mesh at the current shape (`mapping`), fix dhat
+       * and check the rest state: throws with the place if boundary
+       * primitives intersect or touch, or a body starts on the wrong side
+       * of a plane. Collective.
+       */
+      void
+      setup(const dealii::DoFHandler<dim, dim>            &dof_handler,
+            const dealii::hp::MappingCollection<dim, dim> &mapping,
+            const dealii::IndexSet                        &owned,
+            const MPI_Comm                                 comm);
+
+      const CollisionMesh<dim> &
+      mesh() const;
+
+      /// DoFs every rank must be able to read and write (collision mesh).
+      const dealii::IndexSet &
+      collision_dofs() const;
+
+      double
+      barrier_distance() const
+      {
+        return dhat;
+      }
+
+      double
+      barrier_stiffness() const
+      {
+        return kappa;
+      }
+
+      /**
+       * The automatic barrier stiffness: kappa_min makes a pair's barrier
+       * as stiff as an average DoF of the rest of the system (mean diagonal
+       * `mean_diagonal` of its Jacobian) half-way into dhat; kappa starts
+       * there and may grow to 1e4 kappa_min.
+       */
+      void
+      set_stiffness_scale(const double mean_diagonal);
+
+      /**
+       * Collect the candidate pairs for the states u + s du, s in [0, 1]
+       * (for the state u alone if `du` is null). Returns (on every rank)
+       * whether the Jacobian's sparsity pattern misses couplings of the
+       * candidates; then rebuild it with add_couplings(). Collective.
+       */
+      bool
+      update_candidates(const Vector_t &u, const Vector_t *du);
+
+      /// Add the couplings of the candidates and friction pairs handled by
+      /// this rank.
+      void
+      add_couplings(const dealii::AffineConstraints<double>   &constraints,
+                    dealii::TrilinosWrappers::SparsityPattern &pattern) const;
+
+      /// The largest fraction in (0, 1] of the step du from u that no
+      /// candidate pair crosses (additive CCD). Collective.
+      double
+      max_step(const Vector_t &u, const Vector_t &du);
+
+      /**
+       * Add the potential's gradient to `residual` (and `raw`, without
+       * constraints) and its projected Hessian to `matrix` (if given) at
+       * state u. Returns this rank's part of the potential; `admissible` is
+       * set to false if a pair touches or crosses (d <= 0).
+       */
+      double
+      assemble(const Vector_t                          &u,
+               const dealii::AffineConstraints<double> &constraints,
+               dealii::TrilinosWrappers::SparseMatrix  *matrix,
+               Vector_t                                &residual,
+               Vector_t                                *raw,
+               bool                                    &admissible);
+
+      /**
+       * Lagged friction: normal forces, tangent bases and closest points of
+       * the pairs active at `u_lagged`; slip is measured from `u_start`
+       * (the previous step), smoothed below `eta` (eq. 3.26). Collective.
+       */
+      void
+      update_friction(const Vector_t &u_lagged,
+                      const Vector_t &u_start,
+                      const double    eta);
+
+      /// After an accepted Newton step at the state of the last assemble():
+      /// the adaptive stiffness update of IPC. Returns whether kappa grew.
+      bool
+      update_stiffness();
+
+      /// Smallest distance over the candidates and the number of pairs
+      /// within dhat at the last assemble() (over all ranks).
+      std::pair<double, unsigned int>
+      last_state(const MPI_Comm comm) const;
+
+      /// Force the obstacles exert on the bodies (barrier and friction) at
+      /// the last assemble(). Collective.
+      dealii::Tensor<1, dim>
+      obstacle_reaction(const MPI_Comm comm) const;
+
+      /// Accumulated wall times: broad phase, CCD, assembly (this rank).
+      nlohmann::json
+      timings() const;
+
+    private:
+      struct Candidate
+      {
+        PairKind                    kind;
+        std::array<unsigned int, 4> vertex;
+        unsigned int                plane = 0;
+      };
+      struct FrictionPair
+      {
+        unsigned int                n = 0;
+        std::array<unsigned int, 4> vertex;
+        std::array<double, 4>       weight; ///< slip = sum weight_i du_i
+        std::array<Vec, dim - 1>    tangent;
+        double                      mu_n     = 0;     ///< mu times normal force
+        bool                        obstacle = false; ///< against a plane
+      };
+
+      /// Positions rest + u of every collision vertex; u imported into
+      /// `values` first.
+      std::vector<Vec>
+      positions(const Vector_t &u);
+      std::vector<Vec>
+      displacements(const Vector_t &u);
+      /// Fill `candidates` for the segment u + s du (or the state u).
+      void
+      collect_candidates(const Vector_t &u, const Vector_t *du);
+      std::array<Vec, 4>
+      pair_positions(const Candidate &c, const std::vector<Vec> &x) const;
+      /// Local DoFs of a list of vertices.
+      std::vector<dealii::types::global_dof_index>
+      local_dofs(const unsigned int *vertex, const unsigned int n) const;
+      double
+      friction_coefficient(const unsigned int a, const unsigned int b) const;
+      /// Pairs this rank evaluates.
+      bool
+      mine(const unsigned int k) const
+      {
+        return k % n_ranks == rank;
+      }
+
+      const IpcParameters                 parameters;
+      std::unique_ptr<CollisionMesh<dim>> collision_mesh;
+      MPI_Comm                            comm;
+      unsigned int                        rank = 0, n_ranks = 1;
+      Vector_t                            values; ///< ghosted on the mesh
+      double                              dhat = 0, kappa = 0;
+      double                              kappa_min = 0, kappa_max = 0;
+      bool                                automatic_kappa = true;
+      std::vector<Candidate>              candidates;
+      std::set<std::pair<unsigned int, unsigned int>> couplings;
+      std::vector<FrictionPair>                       friction;
+      std::vector<Vec> friction_start; ///< displacements at the step start
+      double           friction_eta = 1;
+      double           min_distance = 0, previous_min_distance = 0;
+      unsigned int     n_active = 0;
+      Vec              obstacle_force;
+      double           broad_seconds = 0, ccd_seconds = 0, assemble_seconds = 0;
+    };
+  } // namespace ipc
+} // namespace forma
+
+#endif

@@ -1,0 +1,332 @@
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/quadrature.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/fe/mapping.h>
+#include <deal.II/hp/fe_values.h>
+#include <deal.II/hp/mapping_collection.h>
+#include <deal.II/hp/q_collection.h>
+
+#include <forma/ipc/collision_mesh.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+namespace forma
+{
+  namespace ipc
+  {
+    using namespace dealii;
+
+    namespace
+    {
+      /**
+       * Triangles of the lattice of a face's support points (unit face
+       * coordinates `unit`): tensor grids on quads (any distinct coordinate
+       * values), the equispaced lattice of degree k on triangles.
+       */
+      template <int dim>
+      std::vector<std::array<unsigned int, 3>>
+      lattice_triangles(const std::vector<Point<dim - 1>> &unit,
+                        const bool                         quad)
+      {
+        std::vector<std::array<unsigned int, 3>> tris;
+        if constexpr (dim == 3)
+          {
+            std::map<std::pair<int, int>, unsigned int> at;
+            int                                         n = 0;
+            if (quad)
+              {
+                std::vector<double> xs, ys;
+                for (const auto &p : unit)
+                  {
+                    xs.push_back(p[0]);
+                    ys.push_back(p[1]);
+                  }
+                const auto distinct = [](std::vector<double> &v) {
+                  std::sort(v.begin(), v.end());
+                  v.erase(std::unique(v.begin(),
+                                      v.end(),
+                                      [](double a, double b) {
+                                        return std::abs(a - b) < 1e-8;
+                                      }),
+                          v.end());
+                };
+                distinct(xs);
+                distinct(ys);
+                const auto index = [](const std::vector<double> &v, double x) {
+                  return int(std::lower_bound(v.begin(), v.end(), x - 1e-8) -
+                             v.begin());
+                };
+                for (unsigned int i = 0; i < unit.size(); ++i)
+                  at[{index(xs, unit[i][0]), index(ys, unit[i][1])}] = i;
+                n = int(xs.size()) - 1;
+                for (int i = 0; i < n; ++i)
+                  for (int j = 0; j < n; ++j)
+                    {
+                      const unsigned int a = at.at({i, j}),
+                                         b = at.at({i + 1, j}),
+                                         c = at.at({i + 1, j + 1}),
+                                         d = at.at({i, j + 1});
+                      tris.push_back({{a, b, c}});
+                      tris.push_back({{a, c, d}});
+                    }
+              }
+            else
+              {
+                // P_k: k (k + 1) / 2 + ... points; k from the count.
+                while ((n + 1) * (n + 2) / 2 < int(unit.size()))
+                  ++n;
+                for (unsigned int i = 0; i < unit.size(); ++i)
+                  at[{int(std::lround(n * unit[i][0])),
+                      int(std::lround(n * unit[i][1]))}] = i;
+                for (int i = 0; i < n; ++i)
+                  for (int j = 0; i + j < n; ++j)
+                    {
+                      tris.push_back({{at.at({i, j}),
+                                       at.at({i + 1, j}),
+                                       at.at({i, j + 1})}});
+                      if (i + j < n - 1)
+                        tris.push_back({{at.at({i + 1, j}),
+                                         at.at({i + 1, j + 1}),
+                                         at.at({i, j + 1})}});
+                    }
+              }
+          }
+        (void)unit;
+        (void)quad;
+        return tris;
+      }
+    } // namespace
+
+
+
+    template <int dim>
+    CollisionMesh<dim>::CollisionMesh(
+      const DoFHandler<dim>              &dof_handler,
+      const hp::MappingCollection<dim>   &mapping,
+      const std::set<types::boundary_id> &boundaries,
+      const MPI_Comm                      comm)
+    {
+      const auto          &fe = dof_handler.get_fe_collection();
+      hp::QCollection<dim> support;
+      for (unsigned int i = 0; i < fe.size(); ++i)
+        {
+          AssertThrow(fe[i].n_base_elements() == 1 &&
+                        fe[i].base_element(0).has_support_points(),
+                      ExcMessage("IPC contact needs Lagrange elements."));
+          AssertThrow(dim == 2 || fe[i].degree <= 2,
+                      ExcMessage("IPC contact in 3D: Finite element/Degree "
+                                 "must be 1 or 2."));
+          support.push_back(Quadrature<dim>(fe[i].get_unit_support_points()));
+        }
+      hp::FEValues<dim> fe_values(mapping,
+                                  fe,
+                                  support,
+                                  update_quadrature_points);
+
+      // Local records: per vertex [key, dofs..., body] and [x, y, z]; per
+      // primitive its vertex keys (the key of a vertex is its x DoF).
+      std::vector<types::global_dof_index> v_ints, prims;
+      std::vector<double>                  v_reals;
+      std::set<types::global_dof_index>    seen;
+      std::vector<types::global_dof_index> cell_dofs, face_dofs;
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        {
+          if (!cell->is_locally_owned() || !cell->at_boundary())
+            continue;
+          bool fe_ready = false;
+          for (const unsigned int f : cell->face_indices())
+            {
+              const auto face = cell->face(f);
+              if (!face->at_boundary() ||
+                  (!boundaries.empty() &&
+                   boundaries.count(face->boundary_id()) == 0))
+                continue;
+              const auto &cfe = cell->get_fe();
+              if (!fe_ready)
+                {
+                  fe_values.reinit(cell);
+                  cell_dofs.resize(cfe.n_dofs_per_cell());
+                  cell->get_dof_indices(cell_dofs);
+                  fe_ready = true;
+                }
+              const FEValues<dim> &fv       = fe_values.get_present_fe_values();
+              const auto          &base     = cfe.base_element(0);
+              const unsigned int   n_points = base.n_dofs_per_face(f);
+              face_dofs.resize(cfe.n_dofs_per_face(f));
+              face->get_dof_indices(face_dofs, cell->active_fe_index());
+              std::vector<std::array<types::global_dof_index, dim>> point(
+                n_points);
+              for (unsigned int i = 0; i < face_dofs.size(); ++i)
+                {
+                  const auto ci = cfe.face_system_to_component_index(i, f);
+                  point[ci.second][ci.first] = face_dofs[i];
+                }
+              for (unsigned int b = 0; b < n_points; ++b)
+                {
+                  const types::global_dof_index key = point[b][0];
+                  if (!seen.insert(key).second)
+                    continue;
+                  const unsigned int i =
+                    std::find(cell_dofs.begin(), cell_dofs.end(), key) -
+                    cell_dofs.begin();
+                  Assert(i < cell_dofs.size(), ExcInternalError());
+                  v_ints.push_back(key);
+                  for (unsigned int d = 0; d < dim; ++d)
+                    v_ints.push_back(point[b][d]);
+                  v_ints.push_back(cell->material_id());
+                  for (unsigned int d = 0; d < 3; ++d)
+                    v_reals.push_back(d < dim ? fv.quadrature_point(i)[d] : 0.);
+                }
+
+              const std::vector<Point<dim - 1>> &unit =
+                base.get_unit_face_support_points(f);
+              if (dim == 2)
+                {
+                  std::vector<unsigned int> order(n_points);
+                  for (unsigned int b = 0; b < n_points; ++b)
+                    order[b] = b;
+                  std::sort(order.begin(),
+                            order.end(),
+                            [&](unsigned int a, unsigned int b) {
+                              return unit[a][0] < unit[b][0];
+                            });
+                  for (unsigned int k = 0; k + 1 < n_points; ++k)
+                    {
+                      prims.push_back(point[order[k]][0]);
+                      prims.push_back(point[order[k + 1]][0]);
+                    }
+                }
+              else
+                for (const auto &t :
+                     lattice_triangles<dim>(unit, face->n_vertices() == 4))
+                  for (const unsigned int b : t)
+                    prims.push_back(point[b][0]);
+            }
+        }
+
+      // Gather everything on every rank.
+      std::map<types::global_dof_index, unsigned int> index;
+      {
+        const auto all_ints  = Utilities::MPI::all_gather(comm, v_ints);
+        const auto all_reals = Utilities::MPI::all_gather(comm, v_reals);
+        struct Vertex
+        {
+          std::array<types::global_dof_index, dim> dofs;
+          types::material_id                       body;
+          Vec                                      x;
+        };
+        std::map<types::global_dof_index, Vertex> vertices;
+        for (unsigned int r = 0; r < all_ints.size(); ++r)
+          for (unsigned int k = 0; k * (dim + 2) < all_ints[r].size(); ++k)
+            {
+              const types::global_dof_index *v  = &all_ints[r][k * (dim + 2)];
+              auto                           it = vertices.find(v[0]);
+              if (it != vertices.end())
+                {
+                  it->second.body =
+                    std::min<types::material_id>(it->second.body, v[dim + 1]);
+                  continue;
+                }
+              Vertex x;
+              for (unsigned int d = 0; d < dim; ++d)
+                x.dofs[d] = v[1 + d];
+              x.body = v[dim + 1];
+              for (unsigned int d = 0; d < 3; ++d)
+                x.x[d] = all_reals[r][3 * k + d];
+              vertices.emplace(v[0], x);
+            }
+        collision_dofs.set_size(dof_handler.n_dofs());
+        for (const auto &v : vertices)
+          {
+            index[v.first] = rest.size();
+            rest.push_back(v.second.x);
+            dofs.push_back(v.second.dofs);
+            body.push_back(v.second.body);
+            for (const auto i : v.second.dofs)
+              collision_dofs.add_index(i);
+          }
+        collision_dofs.compress();
+      }
+
+      const auto all_prims = Utilities::MPI::all_gather(comm, prims);
+      vertex_area.assign(rest.size(), 0.);
+      if (dim == 2)
+        {
+          for (const auto &p : all_prims)
+            for (unsigned int k = 0; 2 * k < p.size(); ++k)
+              {
+                const std::array<unsigned int, 2> e{
+                  {index.at(p[2 * k]), index.at(p[2 * k + 1])}};
+                const double l = (rest[e[0]] - rest[e[1]]).norm();
+                edges.push_back(e);
+                edge_area.push_back(l);
+                vertex_area[e[0]] += l / 2;
+                vertex_area[e[1]] += l / 2;
+              }
+        }
+      else
+        {
+          std::map<std::pair<unsigned int, unsigned int>, double> edge_map;
+          for (const auto &p : all_prims)
+            for (unsigned int k = 0; 3 * k < p.size(); ++k)
+              {
+                const std::array<unsigned int, 3> t{{index.at(p[3 * k]),
+                                                     index.at(p[3 * k + 1]),
+                                                     index.at(p[3 * k + 2])}};
+                const double a = 0.5 * cross_product_3d(rest[t[1]] - rest[t[0]],
+                                                        rest[t[2]] - rest[t[0]])
+                                         .norm();
+                faces.push_back(t);
+                for (unsigned int j = 0; j < 3; ++j)
+                  {
+                    vertex_area[t[j]] += a / 3;
+                    const unsigned int u = t[j], w = t[(j + 1) % 3];
+                    edge_map[{std::min(u, w), std::max(u, w)}] += a / 3;
+                  }
+              }
+          for (const auto &e : edge_map)
+            {
+              edges.push_back({{e.first.first, e.first.second}});
+              edge_area.push_back(e.second);
+            }
+        }
+    }
+
+
+
+    template <int dim>
+    double
+    CollisionMesh<dim>::diagonal() const
+    {
+      if (rest.empty())
+        return 0;
+      Vec lo = rest[0], hi = rest[0];
+      for (const auto &x : rest)
+        for (unsigned int d = 0; d < 3; ++d)
+          {
+            lo[d] = std::min(lo[d], x[d]);
+            hi[d] = std::max(hi[d], x[d]);
+          }
+      return (hi - lo).norm();
+    }
+
+
+
+    template <int dim>
+    double
+    CollisionMesh<dim>::shortest_edge() const
+    {
+      double l = std::numeric_limits<double>::max();
+      for (const auto &e : edges)
+        l = std::min(l, (rest[e[0]] - rest[e[1]]).norm());
+      return l;
+    }
+
+    template struct CollisionMesh<2>;
+    template struct CollisionMesh<3>;
+  } // namespace ipc
+} // namespace forma
