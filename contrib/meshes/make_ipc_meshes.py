@@ -5,7 +5,9 @@ the body's material id, boundary tag = 10 * body + side (sides: 0 left,
 1 right, 2 bottom, 3 top, 4 front, 5 back). Run from the repository root:
     python3 contrib/meshes/make_ipc_meshes.py
 """
+import math
 import os
+import random
 
 OUT = "parameter_files/transient_ipc/meshes"
 
@@ -15,8 +17,9 @@ class Mesh:
         self.dim = dim
         self.nodes, self.cells, self.faces = [], [], []
 
-    def block(self, lo, hi, n, body):
-        """A box [lo, hi] with n cells per direction, material id `body`."""
+    def block(self, lo, hi, n, body, angle=0.0):
+        """A box [lo, hi] with n cells per direction, material id `body`,
+        turned by `angle` (radians, about z through its center)."""
         d = self.dim
         base = len(self.nodes)
         nz = n[2] if d == 3 else 0
@@ -27,6 +30,11 @@ class Mesh:
                     p = [lo[0] + (hi[0] - lo[0]) * i / n[0],
                          lo[1] + (hi[1] - lo[1]) * j / n[1],
                          lo[2] + (hi[2] - lo[2]) * k / nz if d == 3 else 0.0]
+                    if angle:
+                        cx, cy = 0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])
+                        x, y = p[0] - cx, p[1] - cy
+                        p[0] = cx + math.cos(angle) * x - math.sin(angle) * y
+                        p[1] = cy + math.sin(angle) * x + math.cos(angle) * y
                     idx[(i, j, k)] = len(self.nodes)
                     self.nodes.append(p)
         v = lambda i, j, k=0: idx[(i, j, k)]
@@ -99,6 +107,15 @@ def main():
     m.block((0, 0), (1, 1), (4, 4), 0)
     m.block((1.1, 0.2), (2.1, 1.2), (4, 4), 1)
     m.write("two_blocks_2d.msh")
+    # A pile: 16 turned blocks (4 rows of 4) above a box, to be dropped in.
+    m = Mesh(2)
+    rng = random.Random(3)
+    for r in range(4):
+        for c in range(4):
+            x, y = 0.1 + 1.2 * c + 0.3 * (r % 2), 0.3 + 1.3 * r
+            m.block((x, y), (x + 0.8, y + 0.8), (2, 2), 4 * r + c,
+                    rng.uniform(-0.6, 0.6))
+    m.write("pile_2d.msh")
     # A stack of three blocks 0.005 apart for a static press (3D): within
     # the barrier distance of each other, so the barrier holds them from
     # the start (a floating block alone would make the static problem

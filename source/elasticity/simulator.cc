@@ -590,11 +590,12 @@ namespace forma
       return true;
     if (!ipc_contact)
       return false;
-    // Damping (Brown et al.) is not the gradient of a potential.
+    // Damping (Brown et al.) is not the gradient of a potential. Ranks see
+    // different cells: decide together.
+    bool damped = false;
     for (const auto &c : cell_damping_coefficients)
-      if (c[0] != 0 || c[1] != 0)
-        return false;
-    return true;
+      damped |= (c[0] != 0 || c[1] != 0);
+    return Utilities::MPI::max(damped ? 1 : 0, comm) == 0;
   }
 
 
@@ -928,14 +929,40 @@ namespace forma
   {
     time = t;
     make_constraints(t);
+    const Vector_t before = ipc_contact ? u : Vector_t();
     constraints_bc.distribute(u);
-    if (ipc_contact && ipc_contact->update_candidates(u, nullptr))
-      build_jacobian_pattern();
+    if (ipc_contact)
+      {
+        // Prescribed boundary motion is not filtered by the barrier: it
+        // must not carry a boundary into (or through) another.
+        Vector_t jump = u;
+        jump -= before;
+        if (jump.linfty_norm() > 0)
+          {
+            if (ipc_contact->update_candidates(before, &jump))
+              build_jacobian_pattern();
+            const double s = ipc_contact->max_step(before, jump, 1e-3);
+            AssertThrow(s >= 1.,
+                        ExcMessage(
+                          where + " (t = " + fmt(t) +
+                          "): the prescribed displacements (Dirichlet) of "
+                          "this step carry a boundary into contact (CCD stops "
+                          "them at " +
+                          fmt(s, 3) +
+                          " of the step); use more load steps or a smaller "
+                          "time step, or let contact move those parts."));
+          }
+        if (ipc_contact->update_candidates(u, nullptr))
+          build_jacobian_pattern();
+      }
 
     AssertThrow(assemble(u, true, nullptr),
                 ExcMessage(where + " (t = " + fmt(t) +
                            "): the initial guess "
-                           "inverts an element (det F <= 0); use more load "
+                           "inverts an element (det F <= 0)" +
+                           (ipc_contact ? std::string(" or touches a contact") :
+                                          std::string()) +
+                           "; use more load "
                            "steps or a smaller time step."));
     double norm = residual.l2_norm();
     force_scale = std::max(force_scale, norm);
@@ -1524,6 +1551,8 @@ namespace forma
     make_constraints(0.);
     constraints_zero.distribute(u); // hanging nodes only matter here
     time = 0;
+    if (ipc_contact && u.linfty_norm() > 0)
+      ipc_contact->check_state(u, "Initial conditions/Displacement", false);
     if (store_states)
       {
         u_states.assign(1, u);
@@ -1578,7 +1607,10 @@ namespace forma
           }
         catch (...)
           {
-            // The predictor may invert elements; restart from u^{i-1}.
+            // The predictor may invert elements; restart from u^{i-1}
+            // (IPC steps start there already).
+            if (ipc_contact)
+              throw;
             u   = u_history[0];
             its = newton(t, where);
           }

@@ -131,8 +131,9 @@ namespace forma
       // primitive its vertex keys (the key of a vertex is its x DoF).
       std::vector<types::global_dof_index> v_ints, prims;
       std::vector<double>                  v_reals;
-      std::set<types::global_dof_index>    seen;
-      std::vector<types::global_dof_index> cell_dofs, face_dofs;
+      /// Position of each vertex's record in v_ints.
+      std::map<types::global_dof_index, unsigned int> seen;
+      std::vector<types::global_dof_index>            cell_dofs, face_dofs;
       for (const auto &cell : dof_handler.active_cell_iterators())
         {
           if (!cell->is_locally_owned() || !cell->at_boundary())
@@ -168,8 +169,18 @@ namespace forma
               for (unsigned int b = 0; b < n_points; ++b)
                 {
                   const types::global_dof_index key = point[b][0];
-                  if (!seen.insert(key).second)
-                    continue;
+                  const auto                    it  = seen.find(key);
+                  if (it != seen.end())
+                    {
+                      // A vertex of several bodies: the lowest material id,
+                      // whatever the cell order.
+                      auto &body = v_ints[it->second + dim + 1];
+                      body =
+                        std::min<types::global_dof_index>(body,
+                                                          cell->material_id());
+                      continue;
+                    }
+                  seen[key] = v_ints.size();
                   const unsigned int i =
                     std::find(cell_dofs.begin(), cell_dofs.end(), key) -
                     cell_dofs.begin();

@@ -49,6 +49,9 @@ namespace forma
         for (unsigned int i = 0; i < n; ++i)
           for (unsigned int j = 0; j < n; ++j)
             A(i, j) = 0.5 * (H(i, j) + H(j, i));
+        for (unsigned int i = 0; i < n; ++i)
+          for (unsigned int j = 0; j < n; ++j)
+            H(i, j) = A(i, j);
         Vector<double>     lambda;
         FullMatrix<double> V;
         A.compute_eigenvalues_symmetric(
@@ -240,14 +243,8 @@ namespace forma
       AssertThrow(m.n_vertices() > 0,
                   ExcMessage("IPC: the collision mesh is empty: no boundary "
                              "faces with the ids of IPC/Boundaries."));
-      dhat = parameters.dhat > 0 ? parameters.dhat :
-                                   parameters.relative_dhat * m.diagonal();
-      AssertThrow(dhat < m.shortest_edge(),
-                  ExcMessage("IPC/Barrier distance (" + sig(dhat) +
-                             ") must be below the shortest boundary segment "
-                             "of the collision mesh (" +
-                             sig(m.shortest_edge()) +
-                             "): lower it or coarsen the mesh."));
+      dhat            = parameters.dhat > 0 ? parameters.dhat :
+                                              parameters.relative_dhat * m.diagonal();
       automatic_kappa = parameters.kappa == 0;
       kappa           = parameters.kappa;
       IndexSet ghost  = m.collision_dofs;
@@ -257,18 +254,37 @@ namespace forma
       friction.clear();
       previous_min_distance = std::numeric_limits<double>::max();
 
-      // The rest state must be free of contact: no touching pairs, no
-      // crossing primitives, every vertex on the open side of the planes.
       Vector_t zero(owned, comm);
       update_candidates(zero, nullptr);
-      const std::vector<Vec> x = positions(zero);
+      check_state(zero, "the mesh as read", true);
+    }
+
+
+
+    template <int dim>
+    void
+    IpcContact<dim>::check_state(const Vector_t    &u,
+                                 const std::string &where,
+                                 const bool         rest)
+    {
+      collect_candidates(u, nullptr);
+      const std::vector<Vec> x = positions(u);
+      const auto            &m = *collision_mesh;
       std::string            problem;
       double                 closest = std::numeric_limits<double>::max();
       for (unsigned int k = 0; k < candidates.size() && problem.empty(); ++k)
         {
           const double d =
             pair_distance(candidates[k].kind, pair_positions(candidates[k], x));
-          closest = std::min(closest, d);
+          // Pairs of one body (material id) within dhat at rest would push
+          // the body apart before any load: dhat is too large for the mesh.
+          const auto &v   = candidates[k].vertex;
+          bool        one = candidates[k].kind != PairKind::point_plane;
+          for (unsigned int i = 1; one && i < n_vertices(candidates[k].kind);
+               ++i)
+            one = m.body[v[i]] == m.body[v[0]];
+          if (one)
+            closest = std::min(closest, d);
           if (d <= 0)
             problem = (candidates[k].kind == PairKind::point_plane ?
                          "the boundary point " +
@@ -337,11 +353,18 @@ namespace forma
             }
         }
       AssertThrow(problem.empty(),
-                  ExcMessage(
-                    "IPC: the input geometry already intersects: " + problem +
-                    ". Bodies must start apart (and on the open "
-                    "side of every obstacle)."));
-      (void)closest;
+                  ExcMessage("IPC: the geometry of " + where +
+                             " already intersects: " + problem +
+                             ". Bodies must start apart (and on the open "
+                             "side of every obstacle)."));
+      AssertThrow(!rest || closest > dhat,
+                  ExcMessage("IPC/Barrier distance (" + sig(dhat) +
+                             ") must be below the distance between boundary "
+                             "primitives of one body at rest (" +
+                             sig(closest) +
+                             "): lower it or coarsen the mesh (bodies that "
+                             "start within dhat of each other need "
+                             "different material ids)."));
     }
 
 
@@ -492,7 +515,9 @@ namespace forma
 
     template <int dim>
     double
-    IpcContact<dim>::max_step(const Vector_t &u, const Vector_t &du)
+    IpcContact<dim>::max_step(const Vector_t &u,
+                              const Vector_t &du,
+                              const double    gap)
     {
       Timer                  timer;
       const std::vector<Vec> x  = positions(u);
@@ -508,8 +533,10 @@ namespace forma
             else
               for (unsigned int i = 0; i < n_vertices(c.kind); ++i)
                 dX[i] = dx[c.vertex[i]];
-            t =
-              std::min(t, additive_ccd(c.kind, X, dX, parameters.ccd_gap).time);
+            t = std::min(
+              t,
+              additive_ccd(c.kind, X, dX, gap > 0 ? gap : parameters.ccd_gap)
+                .time);
           }
       t = Utilities::MPI::min(t, comm);
       ccd_seconds += timer.wall_time();

@@ -46,7 +46,7 @@ namespace forma
                         "scaled to the elastic and inertial stiffness of the "
                         "mesh, balanced against the other forces where "
                         "contact starts, doubled while the closest distance "
-                        "keeps shrinking below dhat / 100).");
+                        "keeps shrinking below 0.03 dhat).");
       prm.declare_entry("Obstacles",
                         "",
                         Patterns::Anything(),
@@ -85,12 +85,16 @@ namespace forma
                         "falls to this fraction of its distance at the step "
                         "start.");
       prm.declare_entry("Newton step tolerance",
-                        "1e-6",
+                        "1e-5",
                         Patterns::Double(0),
                         "With IPC, Newton also stops when the largest "
                         "displacement change of a full Newton step is below "
                         "this times the bounding box diagonal (times the "
-                        "time step for transient problems: a velocity).");
+                        "time step for transient problems: a velocity; IPC's "
+                        "default). The projected contact Hessians make "
+                        "Newton's convergence linear near the solution, so "
+                        "this criterion, not the residual, usually stops "
+                        "contact steps.");
       prm.leave_subsection();
     }
 

@@ -17,6 +17,7 @@
 
 #include <memory>
 #include <set>
+#include <string>
 #include <vector>
 
 namespace dealii
@@ -120,9 +121,19 @@ namespace forma
                     dealii::TrilinosWrappers::SparsityPattern &pattern) const;
 
       /// The largest fraction in (0, 1] of the step du from u that no
-      /// candidate pair crosses (additive CCD). Collective.
+      /// candidate pair crosses (additive CCD, stopping where a distance
+      /// falls to `gap` times its start; 0: IPC/CCD gap). Collective.
       double
-      max_step(const Vector_t &u, const Vector_t &du);
+      max_step(const Vector_t &u, const Vector_t &du, const double gap = 0);
+
+      /**
+       * Throw with the place if at state u boundary primitives touch or
+       * cross, or a boundary point is on or behind a plane (`where` names
+       * the state in the message); at `rest`, also if primitives of one
+       * body are closer than dhat. Collective.
+       */
+      void
+      check_state(const Vector_t &u, const std::string &where, const bool rest);
 
       /**
        * Add the potential's gradient to `residual` (and `raw`, without

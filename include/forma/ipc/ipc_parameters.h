@@ -32,8 +32,7 @@ namespace forma
     struct IpcParameters
     {
       bool                                 enabled = false;
-      std::set<dealii::types::boundary_id> boundaries; ///< empty: all
-      bool                                 self_contact  = true;
+      std::set<dealii::types::boundary_id> boundaries;        ///< empty: all
       double                               dhat          = 0; ///< 0: automatic
       double                               relative_dhat = 1e-3;
       double                               kappa         = 0; ///< 0: adaptive
@@ -47,7 +46,7 @@ namespace forma
       double       friction_velocity     = 1e-3; ///< eps_v (length / time)
       unsigned int friction_iterations   = 1;
       double       ccd_gap               = 0.1;
-      double       newton_step_tolerance = 1e-6;
+      double       newton_step_tolerance = 1e-5;
 
       static void
       declare(dealii::ParameterHandler &prm);
