@@ -101,6 +101,29 @@ class Mesh:
             f.write("$EndElements\n")
 
 
+def write_polyline(name, points):
+    """A 2D obstacle: a polyline as Gmsh line elements (type 1)."""
+    with open(os.path.join(OUT, name), "w") as f:
+        f.write("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n%d\n"
+                % len(points))
+        for i, p in enumerate(points):
+            f.write("%d %.12g %.12g 0\n" % (i + 1, p[0], p[1]))
+        f.write("$EndNodes\n$Elements\n%d\n" % (len(points) - 1))
+        for i in range(len(points) - 1):
+            f.write("%d 1 2 1 1 %d %d\n" % (i + 1, i + 1, i + 2))
+        f.write("$EndElements\n")
+
+
+def write_obj(name, vertices, faces):
+    """A 3D obstacle surface as a Wavefront OBJ file."""
+    with open(os.path.join(OUT, name), "w") as f:
+        f.write("# forma IPC obstacle (contrib/meshes/make_ipc_meshes.py)\n")
+        for v in vertices:
+            f.write("v %.12g %.12g %.12g\n" % tuple(v))
+        for t in faces:
+            f.write("f %s\n" % " ".join(str(i + 1) for i in t))
+
+
 def main():
     # Two equal blocks 0.1 apart: the left one is thrown at the right one.
     m = Mesh(2)
@@ -116,6 +139,32 @@ def main():
             m.block((x, y), (x + 0.8, y + 0.8), (2, 2), 4 * r + c,
                     rng.uniform(-0.6, 0.6))
     m.write("pile_2d.msh")
+    # A curved ramp (a quarter pipe of radius 2 into a flat floor) for a
+    # ball rolling down it, and a second block to hit at the bottom.
+    ramp = [(-0.5, 2.5), (0.0, 2.0)]
+    for k in range(1, 25):
+        a = 0.5 * math.pi * k / 24
+        ramp.append((2.0 - 2.0 * math.cos(a), 2.0 - 2.0 * math.sin(a)))
+    ramp.append((7.0, 0.0))
+    write_polyline("ramp_2d.msh", ramp)
+    # A 3D bowl (a paraboloid z = 0.25 r^2 on a polar grid) as OBJ.
+    verts, faces = [(0.0, 0.0, 0.0)], []
+    nr, nt = 8, 24
+    for i in range(1, nr + 1):
+        r = 2.0 * i / nr
+        for j in range(nt):
+            t = 2 * math.pi * j / nt
+            verts.append((r * math.cos(t), r * math.sin(t), 0.25 * r * r))
+    ring = lambda i, j: 1 + (i - 1) * nt + j % nt
+    for j in range(nt):
+        faces.append((0, ring(1, j), ring(1, j + 1)))
+    for i in range(1, nr):
+        for j in range(nt):
+            a, b = ring(i, j), ring(i, j + 1)
+            c, d = ring(i + 1, j + 1), ring(i + 1, j)
+            faces.append((a, d, c))
+            faces.append((a, c, b))
+    write_obj("bowl_3d.obj", verts, faces)
     # A stack of three blocks 0.005 apart for a static press (3D): within
     # the barrier distance of each other, so the barrier holds them from
     # the start (a floating block alone would make the static problem

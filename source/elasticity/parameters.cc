@@ -204,7 +204,7 @@ namespace forma
     if (with_contact)
       contact.parse(prm);
     if (with_ipc)
-      ipc.parse(prm, dim);
+      ipc.parse(prm, dim, prm_dir);
 
     prm.enter_subsection("Finite element");
     degree           = prm.get_integer("Degree");

@@ -9,6 +9,7 @@
 #include <deal.II/hp/q_collection.h>
 
 #include <forma/ipc/collision_mesh.h>
+#include <forma/ipc/obstacle_mesh.h>
 
 #include <algorithm>
 #include <cmath>
@@ -264,41 +265,82 @@ namespace forma
       }
 
       const auto all_prims = Utilities::MPI::all_gather(comm, prims);
+      obstacle.assign(rest.size(), -1);
+      for (const auto &p : all_prims)
+        for (unsigned int k = 0; dim * k < p.size(); ++k)
+          {
+            if (dim == 2)
+              edges.push_back({{index.at(p[2 * k]), index.at(p[2 * k + 1])}});
+            else
+              faces.push_back({{index.at(p[3 * k]),
+                                index.at(p[3 * k + 1]),
+                                index.at(p[3 * k + 2])}});
+          }
+      finalize();
+    }
+
+
+
+    template <int dim>
+    void
+    CollisionMesh<dim>::add_obstacle(const ObstacleMesh &o,
+                                     const unsigned int  id)
+    {
+      const unsigned int                       offset = rest.size();
+      std::array<types::global_dof_index, dim> none;
+      none.fill(numbers::invalid_dof_index);
+      for (const Vec &x : o.vertices)
+        {
+          rest.push_back(x);
+          dofs.push_back(none);
+          body.push_back(numbers::invalid_material_id);
+          obstacle.push_back(id);
+        }
+      if (dim == 2)
+        for (const auto &e : o.edges)
+          edges.push_back({{offset + e[0], offset + e[1]}});
+      else
+        for (const auto &f : o.faces)
+          faces.push_back({{offset + f[0], offset + f[1], offset + f[2]}});
+      finalize();
+    }
+
+
+
+    template <int dim>
+    void
+    CollisionMesh<dim>::finalize()
+    {
       vertex_area.assign(rest.size(), 0.);
       if (dim == 2)
         {
-          for (const auto &p : all_prims)
-            for (unsigned int k = 0; 2 * k < p.size(); ++k)
-              {
-                const std::array<unsigned int, 2> e{
-                  {index.at(p[2 * k]), index.at(p[2 * k + 1])}};
-                const double l = (rest[e[0]] - rest[e[1]]).norm();
-                edges.push_back(e);
-                edge_area.push_back(l);
-                vertex_area[e[0]] += l / 2;
-                vertex_area[e[1]] += l / 2;
-              }
+          edge_area.clear();
+          for (const auto &e : edges)
+            {
+              const double l = (rest[e[0]] - rest[e[1]]).norm();
+              edge_area.push_back(l);
+              vertex_area[e[0]] += l / 2;
+              vertex_area[e[1]] += l / 2;
+            }
         }
       else
         {
+          // The edges of the triangles, with a third of their areas.
           std::map<std::pair<unsigned int, unsigned int>, double> edge_map;
-          for (const auto &p : all_prims)
-            for (unsigned int k = 0; 3 * k < p.size(); ++k)
-              {
-                const std::array<unsigned int, 3> t{{index.at(p[3 * k]),
-                                                     index.at(p[3 * k + 1]),
-                                                     index.at(p[3 * k + 2])}};
-                const double a = 0.5 * cross_product_3d(rest[t[1]] - rest[t[0]],
-                                                        rest[t[2]] - rest[t[0]])
-                                         .norm();
-                faces.push_back(t);
-                for (unsigned int j = 0; j < 3; ++j)
-                  {
-                    vertex_area[t[j]] += a / 3;
-                    const unsigned int u = t[j], w = t[(j + 1) % 3];
-                    edge_map[{std::min(u, w), std::max(u, w)}] += a / 3;
-                  }
-              }
+          for (const auto &t : faces)
+            {
+              const double a = 0.5 * cross_product_3d(rest[t[1]] - rest[t[0]],
+                                                      rest[t[2]] - rest[t[0]])
+                                       .norm();
+              for (unsigned int j = 0; j < 3; ++j)
+                {
+                  vertex_area[t[j]] += a / 3;
+                  const unsigned int u = t[j], w = t[(j + 1) % 3];
+                  edge_map[{std::min(u, w), std::max(u, w)}] += a / 3;
+                }
+            }
+          edges.clear();
+          edge_area.clear();
           for (const auto &e : edge_map)
             {
               edges.push_back({{e.first.first, e.first.second}});
@@ -313,16 +355,18 @@ namespace forma
     double
     CollisionMesh<dim>::diagonal() const
     {
-      if (rest.empty())
-        return 0;
-      Vec lo = rest[0], hi = rest[0];
-      for (const auto &x : rest)
-        for (unsigned int d = 0; d < 3; ++d)
-          {
-            lo[d] = std::min(lo[d], x[d]);
-            hi[d] = std::max(hi[d], x[d]);
-          }
-      return (hi - lo).norm();
+      // Of the bodies (obstacles may be large).
+      Vec  lo, hi;
+      bool any = false;
+      for (unsigned int v = 0; v < rest.size(); ++v)
+        if (!fixed(v))
+          for (unsigned int d = 0; d < 3; ++d)
+            {
+              lo[d] = any ? std::min(lo[d], rest[v][d]) : rest[v][d];
+              hi[d] = any ? std::max(hi[d], rest[v][d]) : rest[v][d];
+              any   = any || d == 2;
+            }
+      return any ? (hi - lo).norm() : 0.;
     }
 
 

@@ -11,6 +11,7 @@
 #include <forma/ipc/barrier.h>
 #include <forma/ipc/broad_phase.h>
 #include <forma/ipc/ipc_contact.h>
+#include <forma/ipc/obstacle_mesh.h>
 
 #include "formulas.h"
 #include <Sacado.hpp>
@@ -156,8 +157,9 @@ namespace forma
       const auto      &m = *collision_mesh;
       std::vector<Vec> x(m.n_vertices());
       for (unsigned int v = 0; v < x.size(); ++v)
-        for (unsigned int d = 0; d < dim; ++d)
-          x[v][d] = values(m.dofs[v][d]);
+        if (!m.fixed(v))
+          for (unsigned int d = 0; d < dim; ++d)
+            x[v][d] = values(m.dofs[v][d]);
       return x;
     }
 
@@ -202,8 +204,9 @@ namespace forma
     {
       std::vector<types::global_dof_index> dofs;
       for (unsigned int i = 0; i < n; ++i)
-        for (unsigned int d = 0; d < dim; ++d)
-          dofs.push_back(collision_mesh->dofs[vertex[i]][d]);
+        if (!collision_mesh->fixed(vertex[i]))
+          for (unsigned int d = 0; d < dim; ++d)
+            dofs.push_back(collision_mesh->dofs[vertex[i]][d]);
       return dofs;
     }
 
@@ -214,7 +217,11 @@ namespace forma
     IpcContact<dim>::friction_coefficient(const unsigned int a,
                                           const unsigned int b) const
     {
-      const auto ia = collision_mesh->body[a], ib = collision_mesh->body[b];
+      const auto &m = *collision_mesh;
+      for (const unsigned int v : {a, b})
+        if (m.fixed(v) && parameters.meshes[m.obstacle[v]].friction >= 0)
+          return parameters.meshes[m.obstacle[v]].friction;
+      const auto ia = m.body[a], ib = m.body[b];
       const auto it =
         parameters.pair_friction.find({std::min(ia, ib), std::max(ia, ib)});
       return it != parameters.pair_friction.end() ? it->second :
@@ -239,6 +246,9 @@ namespace forma
                              "nodes (no adaptive refinement)."));
       collision_mesh = std::make_unique<CollisionMesh<dim>>(
         dof_handler, mapping, parameters.boundaries, comm);
+      for (unsigned int k = 0; k < parameters.meshes.size(); ++k)
+        collision_mesh->add_obstacle(
+          read_obstacle_mesh(parameters.meshes[k].file, dim), k);
       const auto &m = *collision_mesh;
       AssertThrow(m.n_vertices() > 0,
                   ExcMessage("IPC: the collision mesh is empty: no boundary "
@@ -470,10 +480,11 @@ namespace forma
       collect_candidates(u, du);
       // Couplings this rank will write: its candidates and friction pairs.
       std::set<std::pair<unsigned int, unsigned int>> required;
+      const auto                                     &mesh = *collision_mesh;
       const auto require = [&](const unsigned int *v, const unsigned int n) {
         for (unsigned int i = 0; i < n; ++i)
           for (unsigned int j = i + 1; j < n; ++j)
-            if (v[i] != v[j])
+            if (v[i] != v[j] && !mesh.fixed(v[i]) && !mesh.fixed(v[j]))
               required.emplace(std::min(v[i], v[j]), std::max(v[i], v[j]));
       };
       for (unsigned int k = 0; k < candidates.size(); ++k)
@@ -651,6 +662,16 @@ namespace forma
             for (unsigned int a = 0; a < n_arguments(s.type); ++a)
               if (std::find(used.begin(), used.end(), s.slot[a]) == used.end())
                 used.push_back(s.slot[a]);
+          // Obstacle vertices do not move: constants, not variables.
+          bool against_obstacle = c.kind == PairKind::point_plane;
+          for (unsigned int i = 0; i < used.size();)
+            if (m.fixed(c.vertex[used[i]]))
+              {
+                against_obstacle = true;
+                used.erase(used.begin() + i);
+              }
+            else
+              ++i;
           const unsigned int n = dim * used.size();
 
           std::array<internal::V3<AD>, 4> y;
@@ -680,9 +701,9 @@ namespace forma
           g.reinit(n);
           for (unsigned int i = 0; i < n; ++i)
             g[i] = e.dx(i).val();
-          if (c.kind == PairKind::point_plane)
-            for (unsigned int dd = 0; dd < dim; ++dd)
-              obstacle_force[dd] -= g[dd];
+          if (against_obstacle)
+            for (unsigned int i = 0; i < n; ++i)
+              obstacle_force[i % dim] -= g[i];
           if (raw)
             for (unsigned int i = 0; i < n; ++i)
               (*raw)(dofs[i]) += g[i];
@@ -721,15 +742,23 @@ namespace forma
           Vec force;
           for (unsigned int j = 0; j < dim - 1; ++j)
             force += a * tau[j] * f.tangent[j];
-          const auto         dofs = local_dofs(f.vertex.data(), f.n);
-          const unsigned int n    = dofs.size();
-          g.reinit(n);
+          // The moving vertices of the pair (obstacle vertices are fixed).
+          std::vector<unsigned int> moving;
           for (unsigned int i = 0; i < f.n; ++i)
+            if (!m.fixed(f.vertex[i]))
+              moving.push_back(i);
+          std::vector<types::global_dof_index> dofs;
+          for (const unsigned int i : moving)
             for (unsigned int dd = 0; dd < dim; ++dd)
-              g[dim * i + dd] = f.weight[i] * force[dd];
+              dofs.push_back(m.dofs[f.vertex[i]][dd]);
+          const unsigned int n = dofs.size();
+          g.reinit(n);
+          for (unsigned int k = 0; k < moving.size(); ++k)
+            for (unsigned int dd = 0; dd < dim; ++dd)
+              g[dim * k + dd] = f.weight[moving[k]] * force[dd];
           if (f.obstacle)
-            for (unsigned int dd = 0; dd < dim; ++dd)
-              obstacle_force[dd] -= g[dd];
+            for (unsigned int i = 0; i < n; ++i)
+              obstacle_force[i % dim] -= g[i];
           if (raw)
             for (unsigned int i = 0; i < n; ++i)
               (*raw)(dofs[i]) += g[i];
@@ -744,12 +773,12 @@ namespace forma
                     B += h * outer_product(f.tangent[j], f.tangent[l]);
                   }
               H.reinit(n, n);
-              for (unsigned int i = 0; i < f.n; ++i)
-                for (unsigned int j = 0; j < f.n; ++j)
+              for (unsigned int i = 0; i < moving.size(); ++i)
+                for (unsigned int j = 0; j < moving.size(); ++j)
                   for (unsigned int p = 0; p < dim; ++p)
                     for (unsigned int q = 0; q < dim; ++q)
                       H(dim * i + p, dim * j + q) =
-                        f.weight[i] * f.weight[j] * B[p][q];
+                        f.weight[moving[i]] * f.weight[moving[j]] * B[p][q];
               constraints.distribute_local_to_global(
                 H, g, dofs, *matrix, residual);
             }
@@ -890,6 +919,8 @@ namespace forma
                 }
               f.mu_n =
                 friction_coefficient(c.vertex[s.slot[0]], f.vertex[f.n - 1]);
+              for (unsigned int a = 0; a < f.n; ++a)
+                f.obstacle |= m.fixed(f.vertex[a]);
             }
           if (d <= 0 || d >= dhat || f.mu_n <= 0 || normal.norm() == 0)
             continue;

@@ -52,8 +52,12 @@ namespace forma
                         Patterns::Anything(),
                         "Static obstacles, ';' between records: 'plane : "
                         "<point> : <normal> [: mu = <friction>]', e.g. "
-                        "'plane : 0, 0 : 0, 1'. Bodies stay on the side the "
-                        "normal points to.");
+                        "'plane : 0, 0 : 0, 1' (bodies stay on the side the "
+                        "normal points to), or 'mesh : <file> [: mu = "
+                        "<friction>]': a surface from a Gmsh .msh (its "
+                        "elements of dimension dim - 1, or the boundary of "
+                        "its cells), .stl (3D) or .obj file, relative to the "
+                        ".prm file.");
       prm.declare_entry("Friction coefficient",
                         "0",
                         Patterns::Double(0),
@@ -101,7 +105,9 @@ namespace forma
 
 
     void
-    IpcParameters::parse(ParameterHandler &prm, const unsigned int dim)
+    IpcParameters::parse(ParameterHandler  &prm,
+                         const unsigned int dim,
+                         const std::string &prm_directory)
     {
       prm.enter_subsection("IPC");
       enabled = prm.get_bool("Enabled");
@@ -129,20 +135,48 @@ namespace forma
                   ExcMessage("IPC/Friction velocity must be positive."));
 
       planes.clear();
+      meshes.clear();
       const std::string entry = "IPC/Obstacles";
       for (const auto &record : split_top_level(prm.get("Obstacles"), ';'))
         {
           if (Utilities::trim(record).empty())
             continue;
-          const auto fields = split_top_level(record, ':');
-          AssertThrow(fields.size() == 3 || fields.size() == 4,
-                      ExcMessage(entry + ": '" + record +
-                                 "' should read 'plane : <point> : <normal> "
-                                 "[: mu = <value>]'."));
-          AssertThrow(Utilities::trim(fields[0]) == "plane",
-                      ExcMessage(entry + ": unknown obstacle type '" +
-                                 Utilities::trim(fields[0]) +
-                                 "' (available: plane)."));
+          const auto        fields = split_top_level(record, ':');
+          const std::string type =
+            fields.empty() ? "" : Utilities::trim(fields[0]);
+          AssertThrow(type == "plane" || type == "mesh",
+                      ExcMessage(entry + ": unknown obstacle type '" + type +
+                                 "' in '" + record +
+                                 "' (available: plane, mesh)."));
+          const unsigned int n_geometry = type == "plane" ? 3 : 2;
+          AssertThrow(fields.size() == n_geometry ||
+                        fields.size() == n_geometry + 1,
+                      ExcMessage(entry + ": '" + record + "' should read " +
+                                 (type == "plane" ?
+                                    "'plane : <point> : <normal> [: mu = "
+                                    "<value>]'." :
+                                    "'mesh : <file> [: mu = <value>]'.")));
+          double friction = -1;
+          if (fields.size() == n_geometry + 1)
+            {
+              const auto kv = parse_key_values(fields.back(), entry);
+              AssertThrow(kv.size() == 1 && kv.count("mu") && kv.at("mu") >= 0,
+                          ExcMessage(entry +
+                                     ": expected 'mu = <value >= "
+                                     "0>' in '" +
+                                     record + "'."));
+              friction = kv.at("mu");
+            }
+          if (type == "mesh")
+            {
+              MeshObstacle o;
+              o.file = Utilities::trim(fields[1]);
+              if (!o.file.empty() && o.file[0] != '/')
+                o.file = prm_directory + "/" + o.file;
+              o.friction = friction;
+              meshes.push_back(o);
+              continue;
+            }
           Plane p;
           for (unsigned int k = 1; k <= 2; ++k)
             {
@@ -159,16 +193,7 @@ namespace forma
                       ExcMessage(entry + ": the normal of '" + record +
                                  "' is zero."));
           p.normal /= p.normal.norm();
-          if (fields.size() == 4)
-            {
-              const auto kv = parse_key_values(fields[3], entry);
-              AssertThrow(kv.size() == 1 && kv.count("mu") && kv.at("mu") >= 0,
-                          ExcMessage(entry +
-                                     ": expected 'mu = <value >= "
-                                     "0>' in '" +
-                                     record + "'."));
-              p.friction = kv.at("mu");
-            }
+          p.friction = friction;
           planes.push_back(p);
         }
 
@@ -207,6 +232,9 @@ namespace forma
           return true;
       for (const auto &p : planes)
         if (p.friction > 0)
+          return true;
+      for (const auto &m : meshes)
+        if (m.friction > 0)
           return true;
       return false;
     }

@@ -4,7 +4,8 @@
 // and each shows its physics: the balls bounce, the block slides with
 // a = g (sin 30 - mu cos 30), the thrown block passes its momentum on with
 // the center of mass moving at constant velocity, the pressed stack's floor
-// carries the load, the pile settles.
+// carries the load, balls roll on obstacle meshes (a Gmsh polyline, an OBJ
+// surface), the pile settles.
 
 #include "../tests.h"
 #include <nlohmann/json.hpp>
@@ -92,6 +93,20 @@ main()
     check_contact(s);
     const double f = s["steps"].back()["contact"]["obstacle_force"][2];
     check("floor reaction = load (10) to 1e-6", std::abs(f - 10.) < 1e-5);
+  }
+  {
+    // Obstacle meshes: a Gmsh polyline ramp (2D), an OBJ bowl (3D).
+    const json s = run_example("transient_ipc", "ball_on_ramp_2d");
+    check_contact(s);
+    check("the ball rolls down the ramp and 4 along the floor",
+          s["steps"].back()["mean_displacement"][0].get<double>() > 4);
+    const json b = run_example("transient_ipc", "ball_in_bowl_3d");
+    check_contact(b);
+    double least_x = 0;
+    for (const auto &step : b["steps"])
+      least_x = std::min(least_x, step["mean_displacement"][0].get<double>());
+    check("the ball passes the bowl's axis (x = 1.2 -> below 0)",
+          least_x < -1.2);
   }
   {
     const json s =

@@ -26,6 +26,8 @@ namespace forma
 {
   namespace ipc
   {
+    struct ObstacleMesh;
+
     /**
      * The surface IPC sees (thesis ch. 3.7, Li et al. 2020): the boundary of
      * the finite element mesh as segments (2D) or triangles (3D) whose
@@ -59,9 +61,21 @@ namespace forma
         return rest.size();
       }
 
+      /// Append a static obstacle surface (vertices without DoFs) with
+      /// obstacle index `id`.
+      void
+      add_obstacle(const ObstacleMesh &obstacle, const unsigned int id);
+
+      /// Whether vertex v belongs to a static obstacle (no DoFs).
+      bool
+      fixed(const unsigned int v) const
+      {
+        return obstacle[v] >= 0;
+      }
+
       /// Vertex positions at rest (the current design), z = 0 in 2D.
       std::vector<Vec> rest;
-      /// Displacement DoFs of each vertex.
+      /// Displacement DoFs of each vertex (invalid for obstacles).
       std::vector<std::array<dealii::types::global_dof_index, dim>> dofs;
       /// Material id of a cell the vertex belongs to (the body, for
       /// per-pair friction).
@@ -77,15 +91,23 @@ namespace forma
       /// 3D: boundary triangles.
       std::vector<std::array<unsigned int, 3>> faces;
 
+      /// Obstacle index of each vertex (-1: a vertex of the bodies).
+      std::vector<int> obstacle;
+
       /// All DoFs of collision vertices (every rank needs their values).
       dealii::IndexSet collision_dofs;
 
-      /// Diagonal of the bounding box at rest.
+      /// Diagonal of the bodies' bounding box at rest.
       double
       diagonal() const;
       /// Shortest segment (2D) or triangle edge (3D) at rest.
       double
       shortest_edge() const;
+
+    private:
+      /// Edges of the triangles (3D) and the areas, from the primitives.
+      void
+      finalize();
     };
   } // namespace ipc
 } // namespace forma

@@ -188,8 +188,8 @@ namespace forma
       struct FrictionPair
       {
         unsigned int                n = 0;
-        std::array<unsigned int, 4> vertex;
-        std::array<double, 4>       weight; ///< slip = sum weight_i du_i
+        std::array<unsigned int, 4> vertex{};
+        std::array<double, 4>       weight{}; ///< slip = sum weight_i du_i
         std::array<Vec, dim - 1>    tangent;
         double                      mu_n     = 0;     ///< mu times normal force
         bool                        obstacle = false; ///< against a plane

@@ -25,6 +25,13 @@ namespace forma
       double friction = -1; ///< < 0: the default coefficient
     };
 
+    /// A static obstacle surface read from a file (see read_obstacle_mesh()).
+    struct MeshObstacle
+    {
+      std::string file;
+      double      friction = -1; ///< < 0: the default coefficient
+    };
+
     /**
      * The `IPC` section (incremental potential contact, thesis ch. 3.6-3.7,
      * Li et al. 2020): barrier, obstacles, friction, CCD.
@@ -37,6 +44,7 @@ namespace forma
       double                               relative_dhat = 1e-3;
       double                               kappa         = 0; ///< 0: adaptive
       std::vector<Plane>                   planes;
+      std::vector<MeshObstacle>            meshes;
       double friction = 0; ///< default coefficient
       /// Coefficients per pair of material ids (sorted pair).
       std::map<
@@ -50,9 +58,12 @@ namespace forma
 
       static void
       declare(dealii::ParameterHandler &prm);
-      /// Reads the section; `dim` for the obstacle coordinates.
+      /// Reads the section; `dim` for the obstacle coordinates, obstacle
+      /// files relative to `prm_directory`.
       void
-      parse(dealii::ParameterHandler &prm, const unsigned int dim);
+      parse(dealii::ParameterHandler &prm,
+            const unsigned int        dim,
+            const std::string        &prm_directory);
 
       bool
       has_friction() const;
