@@ -2,8 +2,12 @@
 """Write the multi-body meshes of the IPC examples and tests as Gmsh 2.2
 ASCII files: structured quads (2D) or hexahedra (3D) per body, cell tag =
 the body's material id, boundary tag = 10 * body + side (sides: 0 left,
-1 right, 2 bottom, 3 top, 4 front, 5 back). Run from the repository root:
+1 right, 2 bottom, 3 top, 4 front, 5 back), and obstacle surfaces. Run from
+the repository root:
     python3 contrib/meshes/make_ipc_meshes.py
+The benchmark contrib/benchmarks/ipc_scaling.sh writes its meshes with
+    python3 contrib/meshes/make_ipc_meshes.py --stack N FILE
+(two stacked blocks of N x N x N/2 hexahedra each).
 """
 import math
 import os
@@ -82,7 +86,8 @@ class Mesh:
 
     def write(self, name):
         cell_type, face_type = (3, 1) if self.dim == 2 else (5, 3)
-        with open(os.path.join(OUT, name), "w") as f:
+        path = name if os.path.isabs(name) else os.path.join(OUT, name)
+        with open(path, "w") as f:
             f.write("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n%d\n"
                     % len(self.nodes))
             for i, p in enumerate(self.nodes):
@@ -176,5 +181,19 @@ def main():
     m.write("stack_3d.msh")
 
 
+def stack(n, path):
+    """Two blocks of n x n x n/2 hexahedra, 1 x 1 x 0.5 each, stacked with
+    a 1e-3 gap, above the plane z = 0 (also 1e-3 below)."""
+    m = Mesh(3)
+    h = max(n // 2, 1)
+    m.block((0, 0, 1e-3), (1, 1, 0.501), (n, n, h), 0)
+    m.block((0, 0, 0.502), (1, 1, 1.002), (n, n, h), 1)
+    m.write(path)
+
+
 if __name__ == "__main__":
-    main()
+    import sys
+    if len(sys.argv) == 4 and sys.argv[1] == "--stack":
+        stack(int(sys.argv[2]), os.path.abspath(sys.argv[3]))
+    else:
+        main()

@@ -1184,7 +1184,11 @@ namespace forma
       r.point_displacements.push_back(point_value(x));
     if (ipc_contact)
       {
-        r.contact                      = last_ipc_step;
+        // Step 0 (initial state): no solve yet.
+        r.contact =
+          last_ipc_step.is_null() ?
+            nlohmann::json{{"active_pairs", 0}, {"min_distance", nullptr}} :
+            last_ipc_step;
         r.contact["inverted_elements"] = Utilities::MPI::sum(inverted, comm);
         inverted_elements =
           std::max<unsigned int>(inverted_elements,
@@ -1456,6 +1460,27 @@ namespace forma
       st.first < std::numeric_limits<double>::max() ? nlohmann::json(st.first) :
                                                       nlohmann::json();
     ccd_limited_steps = 0;
+    // Wall time of the step and its parts (this rank; machine dependent,
+    // so in summary.json only).
+    const nlohmann::json now = ipc_contact->timings();
+    nlohmann::json       seconds;
+    seconds["step"] = step_timer.wall_time();
+    for (const auto &k :
+         {"broad_phase_seconds", "ccd_seconds", "contact_assembly_seconds"})
+      seconds[std::string(k).substr(0, std::string(k).size() - 8)] =
+        double(now[k]) -
+        (last_timings.is_null() ? 0. : double(last_timings[k]));
+    seconds["assembly"]      = assembly_seconds - last_assembly_seconds;
+    seconds["linear_solver"] = solver_seconds - last_solver_seconds;
+    last_ipc_step["seconds"] = seconds;
+    last_ipc_step["ccd_share"] =
+      double(seconds["step"]) > 0 ?
+        double(seconds["ccd"]) / double(seconds["step"]) :
+        0.;
+    last_timings          = now;
+    last_assembly_seconds = assembly_seconds;
+    last_solver_seconds   = solver_seconds;
+    step_timer.restart();
     return ", contacts " + std::to_string(st.second) +
            (st.second > 0 ? ", min distance " + fmt(st.first, 3) : "");
   }
@@ -1476,6 +1501,7 @@ namespace forma
     transient                  = false;
     u                          = 0;
     const bool lagged_friction = ipc_contact && p.ipc.has_friction();
+    step_timer.restart();
     for (unsigned int k = 1; k <= p.load_steps; ++k)
       {
         const double      t = p.end_time * k / p.load_steps;
@@ -1570,6 +1596,7 @@ namespace forma
     u_history.push_front(u);
     v_history.push_front(v);
     const Vector_t u0 = u;
+    step_timer.restart();
     for (unsigned int i = 1; i <= n; ++i)
       {
         const double t   = i * dt;

@@ -4,6 +4,7 @@
 
 #include <deal.II/base/function_parser.h>
 #include <deal.II/base/quadrature.h>
+#include <deal.II/base/timer.h>
 #include <deal.II/distributed/tria_base.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_system.h>
@@ -421,6 +422,10 @@ namespace forma
     std::string
                    ipc_progress();
     nlohmann::json last_ipc_step;
+    /// Step timing for the contact statistics.
+    Timer          step_timer;
+    nlohmann::json last_timings;
+    double         last_assembly_seconds = 0, last_solver_seconds = 0;
     /// Whether the Newton line search may use the potential as merit:
     /// static problems, and transient ones without damping with IPC.
     bool

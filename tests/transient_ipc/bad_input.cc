@@ -122,6 +122,11 @@ main()
                    "subsection IPC\n set Obstacles = sphere : 0, 0 : "
                    "1\nend\n",
                  good);
+  expect_failure("ipc_missing_obstacle_file",
+                 base + ipc +
+                   "subsection IPC\n set Obstacles = mesh : "
+                   "no_such_ramp.msh\nend\n",
+                 good);
   expect_failure("ipc_gradient",
                  base + ipc +
                    "set Mode = verify gradient\n"
