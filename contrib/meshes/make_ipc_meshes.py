@@ -20,6 +20,7 @@ class Mesh:
     def __init__(self, dim):
         self.dim = dim
         self.nodes, self.cells, self.faces = [], [], []
+        self.at = {}  # (body, rounded position) -> node: blocks of a body join
 
     def block(self, lo, hi, n, body, angle=0.0):
         """A box [lo, hi] with n cells per direction, material id `body`,
@@ -39,8 +40,11 @@ class Mesh:
                         x, y = p[0] - cx, p[1] - cy
                         p[0] = cx + math.cos(angle) * x - math.sin(angle) * y
                         p[1] = cy + math.sin(angle) * x + math.cos(angle) * y
-                    idx[(i, j, k)] = len(self.nodes)
-                    self.nodes.append(p)
+                    key = (body,) + tuple(round(c, 9) for c in p)
+                    if key not in self.at:
+                        self.at[key] = len(self.nodes)
+                        self.nodes.append(p)
+                    idx[(i, j, k)] = self.at[key]
         v = lambda i, j, k=0: idx[(i, j, k)]
         if d == 2:
             for j in range(n[1]):
@@ -84,7 +88,35 @@ class Mesh:
                         v(i, j, nz), v(i + 1, j, nz), v(i + 1, j + 1, nz),
                         v(i, j + 1, nz))))
 
-    def write(self, name):
+    def union(self, body, boxes, h):
+        """A body made of axis-aligned boxes (lo, hi) meshed with cells of
+        size about h; boxes that share a side must subdivide it alike."""
+        for lo, hi in boxes:
+            n = [max(1, round((hi[d] - lo[d]) / h)) for d in range(self.dim)]
+            self.block(lo, hi, n, body)
+
+    def write(self, name, tagger=None):
+        """Write the mesh; faces shared by two blocks of a body are interior
+        and dropped. tagger(body, center) may replace a face's tag."""
+        count = {}
+        for tag, vs in self.faces:
+            key = tuple(sorted(vs))
+            count[key] = count.get(key, 0) + 1
+        owner = {}
+        for body, vs in self.cells:
+            for v in vs:
+                owner[v] = body
+        faces = []
+        for tag, vs in self.faces:
+            if count[tuple(sorted(vs))] > 1:
+                continue
+            if tagger:
+                c = [sum(self.nodes[v][d] for v in vs) / len(vs)
+                     for d in range(3)]
+                t = tagger(owner[vs[0]], c)
+                tag = tag if t is None else t
+            faces.append((tag, vs))
+        self.faces = faces
         cell_type, face_type = (3, 1) if self.dim == 2 else (5, 3)
         path = name if os.path.isabs(name) else os.path.join(OUT, name)
         with open(path, "w") as f:
@@ -116,6 +148,24 @@ def write_polyline(name, points):
         f.write("$EndNodes\n$Elements\n%d\n" % (len(points) - 1))
         for i in range(len(points) - 1):
             f.write("%d 1 2 1 1 %d %d\n" % (i + 1, i + 1, i + 2))
+        f.write("$EndElements\n")
+
+
+def write_polylines(name, lines):
+    """A 2D obstacle of several polylines as Gmsh line elements."""
+    nodes, elements = [], []
+    for line in lines:
+        base = len(nodes)
+        nodes += line
+        elements += [(base + i, base + i + 1) for i in range(len(line) - 1)]
+    with open(os.path.join(OUT, name), "w") as f:
+        f.write("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n%d\n"
+                % len(nodes))
+        for i, p in enumerate(nodes):
+            f.write("%d %.12g %.12g 0\n" % (i + 1, p[0], p[1]))
+        f.write("$EndNodes\n$Elements\n%d\n" % len(elements))
+        for k, (a, b) in enumerate(elements):
+            f.write("%d 1 2 1 1 %d %d\n" % (k + 1, a + 1, b + 1))
         f.write("$EndElements\n")
 
 
@@ -170,6 +220,42 @@ def main():
             faces.append((a, d, c))
             faces.append((a, c, b))
     write_obj("bowl_3d.obj", verts, faces)
+    # Interlocking parts (static, thesis Fig. 3.6): a holder with inward
+    # lips (body 0) and a T-shaped insert whose flange sits under the lips
+    # (body 1), 0.005 apart everywhere. Tags: 1 the holder's bottom, 2 the
+    # insert's top, 0 elsewhere.
+    g, h = 0.005, 0.1
+    m = Mesh(2)
+    m.union(0, [((0, 0), (0.5, 0.5)), ((0.5, 0), (2.5, 0.5)),
+                ((2.5, 0), (3, 0.5)), ((0, 0.5), (0.5, 1.5)),
+                ((0, 1.5), (0.5, 2)), ((0.5, 1.5), (1.2, 2)),
+                ((2.5, 0.5), (3, 1.5)), ((2.5, 1.5), (3, 2)),
+                ((1.8, 1.5), (2.5, 2))], h)
+    m.union(1, [((0.5 + g, 0.5 + g), (1.2 + g, 1.5 - g)),
+                ((1.2 + g, 0.5 + g), (1.8 - g, 1.5 - g)),
+                ((1.8 - g, 0.5 + g), (2.5 - g, 1.5 - g)),
+                ((1.2 + g, 1.5 - g), (1.8 - g, 3))], h)
+    m.write("interlock_2d.msh",
+            lambda b, c: 1 if b == 0 and c[1] < 1e-9 else
+            2 if b == 1 and c[1] > 3 - 1e-9 else 0)
+    # A plus-shaped puzzle piece, and pegs to bounce among (closed
+    # polygons of one line mesh).
+    m = Mesh(2)
+    m.union(0, [((0.2, 0), (0.4, 0.2)), ((0, 0.2), (0.2, 0.4)),
+                ((0.2, 0.2), (0.4, 0.4)), ((0.4, 0.2), (0.6, 0.4)),
+                ((0.2, 0.4), (0.4, 0.6))], 0.05)
+    m.write("puzzle_piece_2d.msh", lambda b, c: 0)
+    pegs = []
+    for cx, cy in ((2.0, 0.6), (3.2, 1.4), (4.2, 0.5)):
+        pegs.append([(cx + 0.25 * math.cos(2 * math.pi * k / 6 + 0.3),
+                      cy + 0.25 * math.sin(2 * math.pi * k / 6 + 0.3))
+                     for k in range(7)])
+    write_polylines("pegs_2d.msh", pegs)
+    # Pool scene (3D): two cubes on a table, 1e-3 above it.
+    m = Mesh(3)
+    m.block((0, 0, 1e-3), (0.2, 0.2, 0.201), (3, 3, 3), 0)
+    m.block((1.0, 0.05, 1e-3), (1.2, 0.25, 0.201), (3, 3, 3), 1)
+    m.write("pool_3d.msh")
     # A stack of three blocks 0.005 apart for a static press (3D): within
     # the barrier distance of each other, so the barrier holds them from
     # the start (a floating block alone would make the static problem

@@ -427,7 +427,7 @@ namespace forma
     nlohmann::json last_timings;
     double         last_assembly_seconds = 0, last_solver_seconds = 0;
     /// Whether the Newton line search may use the potential as merit:
-    /// static problems, and transient ones without damping with IPC.
+    /// static problems, and transient ones with IPC.
     bool
     potential_merit() const;
 

@@ -45,18 +45,34 @@ namespace forma
       void
       project_to_psd(FullMatrix<double> &H)
       {
-        const unsigned int       n = H.m();
+        const unsigned int n = H.m();
+        // Symmetrize; Gershgorin's bound: nothing to do if no eigenvalue can
+        // be negative, else it bounds the search interval of LAPACK.
+        double lowest = std::numeric_limits<double>::max();
+        for (unsigned int i = 0; i < n; ++i)
+          {
+            double radius = 0;
+            for (unsigned int j = 0; j < n; ++j)
+              {
+                H(i, j) = H(j, i) = 0.5 * (H(i, j) + H(j, i));
+                AssertThrow(std::isfinite(H(i, j)),
+                            ExcMessage("IPC: a contact Hessian is not "
+                                       "finite (degenerate pair geometry)."));
+                if (j != i)
+                  radius += std::abs(H(i, j));
+              }
+            lowest = std::min(lowest, H(i, i) - radius);
+          }
+        if (lowest >= 0)
+          return;
         LAPACKFullMatrix<double> A(n, n);
         for (unsigned int i = 0; i < n; ++i)
           for (unsigned int j = 0; j < n; ++j)
-            A(i, j) = 0.5 * (H(i, j) + H(j, i));
-        for (unsigned int i = 0; i < n; ++i)
-          for (unsigned int j = 0; j < n; ++j)
-            H(i, j) = A(i, j);
+            A(i, j) = H(i, j);
         Vector<double>     lambda;
         FullMatrix<double> V;
         A.compute_eigenvalues_symmetric(
-          -std::numeric_limits<double>::max(), 0., 0., lambda, V);
+          lowest - 1e-12 * std::abs(lowest) - 1e-300, 0., 0., lambda, V);
         for (unsigned int k = 0; k < lambda.size(); ++k)
           for (unsigned int i = 0; i < n; ++i)
             for (unsigned int j = 0; j < n; ++j)
@@ -328,7 +344,7 @@ namespace forma
                 {
                   const auto &a = m.edges[p.first], &b = m.edges[p.second];
                   if (a[0] == b[0] || a[0] == b[1] || a[1] == b[0] ||
-                      a[1] == b[1])
+                      a[1] == b[1] || (m.fixed(a[0]) && m.fixed(b[0])))
                     continue;
                   if (segments_cross_2d(x[a[0]], x[a[1]], x[b[0]], x[b[1]]))
                     {
@@ -349,7 +365,8 @@ namespace forma
                   const auto &e = m.edges[p.first];
                   const auto &f = m.faces[p.second];
                   if (std::count(f.begin(), f.end(), e[0]) ||
-                      std::count(f.begin(), f.end(), e[1]))
+                      std::count(f.begin(), f.end(), e[1]) ||
+                      (m.fixed(e[0]) && m.fixed(f[0])))
                     continue;
                   if (segment_crosses_triangle(
                         x[e[0]], x[e[1]], x[f[0]], x[f[1]], x[f[2]]))
@@ -432,11 +449,18 @@ namespace forma
       const auto contains = [](const auto &prim, const unsigned int v) {
         return std::find(prim.begin(), prim.end(), v) != prim.end();
       };
+      // Pairs within the static obstacles never change.
+      const auto still = [&](const auto &prim) {
+        for (const unsigned int v : prim)
+          if (!m.fixed(v))
+            return false;
+        return true;
+      };
       if (dim == 2)
         for (const auto &p : overlapping_pairs(vb, eb))
           {
             const auto &e = m.edges[p.second];
-            if (!contains(e, p.first))
+            if (!contains(e, p.first) && !(m.fixed(p.first) && still(e)))
               candidates.push_back(
                 {PairKind::point_edge, {{p.first, e[0], e[1], 0}}, 0});
           }
@@ -448,14 +472,15 @@ namespace forma
           for (const auto &p : overlapping_pairs(vb, fb))
             {
               const auto &f = m.faces[p.second];
-              if (!contains(f, p.first))
+              if (!contains(f, p.first) && !(m.fixed(p.first) && still(f)))
                 candidates.push_back(
                   {PairKind::point_triangle, {{p.first, f[0], f[1], f[2]}}, 0});
             }
           for (const auto &p : overlapping_pairs(eb))
             {
               const auto &a = m.edges[p.first], &b = m.edges[p.second];
-              if (!contains(b, a[0]) && !contains(b, a[1]))
+              if (!contains(b, a[0]) && !contains(b, a[1]) &&
+                  !(still(a) && still(b)))
                 candidates.push_back(
                   {PairKind::edge_edge, {{a[0], a[1], b[0], b[1]}}, 0});
             }

@@ -39,6 +39,23 @@ namespace forma
 
 
   template <int dim>
+  double
+  Damping<dim>::dissipation_potential(const Tensor<2, dim> &grad_u,
+                                      const Tensor<2, dim> &grad_u_old,
+                                      const double          dt) const
+  {
+    const Tensor<2, dim> I = unit_symmetric_tensor<dim>();
+    const Tensor<2, dim> F = I + grad_u, F_old = I + grad_u_old;
+    const Tensor<2, dim> dE =
+      0.5 * (transpose(F) * F - transpose(F_old) * F_old);
+    return (alpha * scalar_product(dE, dE) +
+            0.5 * beta * trace(dE) * trace(dE)) /
+           dt;
+  }
+
+
+
+  template <int dim>
   Tensor<4, dim>
   Damping<dim>::derivative(const Tensor<2, dim> &grad_u,
                            const Tensor<2, dim> &grad_u_old,

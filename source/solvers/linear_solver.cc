@@ -1,14 +1,9 @@
 #include <deal.II/base/exceptions.h>
-#include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/solver_cg.h>
 #include <deal.II/lac/solver_control.h>
 #include <deal.II/lac/solver_gmres.h>
-#include <deal.II/lac/sparse_direct.h>
-#include <deal.II/lac/sparse_matrix.h>
-#include <deal.II/lac/sparsity_pattern.h>
 #include <deal.II/lac/trilinos_precondition.h>
 #include <deal.II/lac/trilinos_solver.h>
-#include <deal.II/lac/vector.h>
 
 #include <forma/base/application.h>
 #include <forma/solvers/linear_solver.h>
@@ -26,8 +21,7 @@ namespace forma
     prm.declare_entry("Linear solver",
                       "direct",
                       Patterns::Selection("direct|cg-amg|gmres-amg"),
-                      "direct: sparse LU (UMFPACK on one rank, Amesos KLU on "
-                      "several), robust for small and "
+                      "direct: sparse LU (Amesos KLU), robust for small and "
                       "stiff problems. cg-amg: conjugate gradients with "
                       "algebraic multigrid (symmetric problems, large meshes). "
                       "gmres-amg: GMRES with AMG (non-symmetric tangents, e.g. "
@@ -58,44 +52,8 @@ namespace forma
   {
     SolverControl                                   control{1, 0, false, false};
     std::unique_ptr<TrilinosWrappers::SolverDirect> direct;
-    // On one rank: UMFPACK on a copy of the matrix (KLU's orderings fill
-    // in badly on 3D meshes: 30x slower at 8k DoFs).
-    SparsityPattern                      serial_pattern;
-    SparseMatrix<double>                 serial_matrix;
-    std::unique_ptr<SparseDirectUMFPACK> umfpack;
-
-    void
-    factorize_serial(const TrilinosWrappers::SparseMatrix &A)
-    {
-      const unsigned int     n = A.m();
-      DynamicSparsityPattern dsp(n, n);
-      for (unsigned int r = 0; r < n; ++r)
-        for (auto it = A.begin(r); it != A.end(r); ++it)
-          dsp.add(r, it->column());
-      serial_matrix.clear();
-      serial_pattern.copy_from(dsp);
-      serial_matrix.reinit(serial_pattern);
-      for (unsigned int r = 0; r < n; ++r)
-        for (auto it = A.begin(r); it != A.end(r); ++it)
-          serial_matrix.set(r, it->column(), it->value());
-      umfpack = std::make_unique<SparseDirectUMFPACK>();
-      umfpack->factorize(serial_matrix);
-    }
-
-    void
-    solve_serial(TrilinosWrappers::MPI::Vector       &x,
-                 const TrilinosWrappers::MPI::Vector &b) const
-    {
-      Vector<double> v(b.size());
-      for (unsigned int i = 0; i < v.size(); ++i)
-        v[i] = b[i];
-      umfpack->solve(v);
-      for (unsigned int i = 0; i < v.size(); ++i)
-        x[i] = v[i];
-      x.compress(VectorOperation::insert);
-    }
-    TrilinosWrappers::PreconditionAMG amg;
-    bool                              has_amg = false;
+    TrilinosWrappers::PreconditionAMG               amg;
+    bool                                            has_amg = false;
   };
 
 
@@ -128,26 +86,14 @@ namespace forma
       {
         try
           {
-            if (Utilities::MPI::n_mpi_processes(A.get_mpi_communicator()) == 1)
-              {
-                state->direct.reset();
-                state->factorize_serial(A);
-                state->solve_serial(x, b);
-              }
-            else
-              {
-                state->umfpack.reset();
-                state->direct =
-                  std::make_unique<TrilinosWrappers::SolverDirect>(
-                    state->control);
-                state->direct->initialize(A);
-                state->direct->solve(x, b);
-              }
+            state->direct =
+              std::make_unique<TrilinosWrappers::SolverDirect>(state->control);
+            state->direct->initialize(A);
+            state->direct->solve(x, b);
           }
         catch (const std::exception &exc)
           {
             state->direct.reset();
-            state->umfpack.reset();
             AssertThrow(false,
                         ExcMessage(
                           "the direct linear solver failed (singular "
@@ -223,7 +169,7 @@ namespace forma
       std::max(parameters.relative_tolerance, 1e-12) * b.l2_norm();
     if (parameters.type == "direct")
       {
-        if (!state->direct && !state->umfpack)
+        if (!state->direct)
           return solve(A, x, b, false);
         // Iterative refinement with the old factors: converges at the rate
         // |I - S^-1 A|, tiny after a converged Newton solve.
@@ -235,10 +181,7 @@ namespace forma
             r.sadd(-1., 1., b);
             if (r.l2_norm() <= tolerance)
               return it;
-            if (state->umfpack)
-              state->solve_serial(dx, r);
-            else
-              state->direct->solve(dx, r);
+            state->direct->solve(dx, r);
             x += dx;
           }
         return solve(A, x, b, false); // old factors too far off

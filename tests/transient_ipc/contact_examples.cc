@@ -5,7 +5,8 @@
 // a = g (sin 30 - mu cos 30), the thrown block passes its momentum on with
 // the center of mass moving at constant velocity, the pressed stack's floor
 // carries the load, balls roll on obstacle meshes (a Gmsh polyline, an OBJ
-// surface), the pile settles.
+// surface), interlocking parts carry a pull, a thrown piece bounces among
+// pegs, a thrown cube pushes another on a table, the pile settles.
 
 #include "../tests.h"
 #include <nlohmann/json.hpp>
@@ -107,6 +108,30 @@ main()
       least_x = std::min(least_x, step["mean_displacement"][0].get<double>());
     check("the ball passes the bowl's axis (x = 1.2 -> below 0)",
           least_x < -1.2);
+  }
+  {
+    const json s = run_example("transient_ipc", "interlock_static_2d");
+    check_contact(s);
+    check("the clamp carries the pull on the insert (20 x 0.59) to 1e-6",
+          std::abs(s["reactions"]["1"][1].get<double>() + 11.8) < 1e-5);
+  }
+  {
+    const json s = run_example("transient_ipc",
+                               "puzzle_bounce_2d",
+                               " --set 'Time/End time=1'");
+    check_contact(s);
+    unsigned int touching = 0;
+    for (const auto &step : s["steps"])
+      touching += step["contact"]["active_pairs"].get<int>() > 0 ? 1 : 0;
+    check("the piece meets the pegs and walls", touching > 10);
+  }
+  {
+    const json s =
+      run_example("transient_ipc", "pool_3d", " --set 'Time/End time=0.5'");
+    check_contact(s);
+    const auto &p = s["steps"].back()["point_displacements"];
+    check("the thrown cube has pushed the resting one on",
+          p[1][0].get<double>() > 0.1);
   }
   {
     const json s =

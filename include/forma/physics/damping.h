@@ -30,6 +30,18 @@ namespace forma
            const dealii::Tensor<2, dim> &grad_u_old,
            const double                  dt) const;
 
+    /**
+     * The dissipation potential (alpha |E - E_old|^2 + beta / 2
+     * tr(E - E_old)^2) / dt with the Green strains E of both steps. Its
+     * derivative in F is stress() up to O(|F - F_old|^2) terms (stress()
+     * uses dE = sym(dF^T F), this one (E - E_old) / dt): the line-search
+     * merit of damped IPC runs, where the contact potential needs one.
+     */
+    double
+    dissipation_potential(const dealii::Tensor<2, dim> &grad_u,
+                          const dealii::Tensor<2, dim> &grad_u_old,
+                          const double                  dt) const;
+
     /// Derivative of stress() with respect to grad_u (the current step).
     dealii::Tensor<4, dim>
     tangent(const dealii::Tensor<2, dim> &grad_u,

@@ -13,8 +13,7 @@ namespace forma
 {
   /**
    * The linear solvers every forma app offers, chosen in the `Linear solver`
-   * section: a sparse direct solver (UMFPACK on one rank, Amesos KLU on
-   * several) for
+   * section: a sparse direct solver (Amesos KLU, any number of ranks) for
    * small or stiff problems, and CG or GMRES preconditioned by ML algebraic
    * multigrid with the rigid-body null space for large ones.
    */
