@@ -582,6 +582,56 @@ namespace forma
 
 
     template <int dim>
+    typename IpcContact<dim>::PairGeometry
+    IpcContact<dim>::pair_geometry(const Candidate          &c,
+                                   const std::array<Vec, 4> &X) const
+    {
+      const auto  &m = *collision_mesh;
+      PairGeometry g;
+      switch (c.kind)
+        {
+          case PairKind::point_edge:
+            g.stencil = classify_point_edge(X[0], X[1], X[2]);
+            break;
+          case PairKind::point_triangle:
+            g.stencil = classify_point_triangle(X[0], X[1], X[2], X[3]);
+            break;
+          case PairKind::edge_edge:
+            g.stencil = classify_edge_edge(X[0], X[1], X[2], X[3]);
+            break;
+          case PairKind::point_plane:
+            g.stencil.type             = DistanceType::point_plane;
+            g.stencil.slot             = {{0, 1, 2, 0}};
+            g.distance                 = (X[0] - X[1]) * X[2]; // signed
+            g.stencil.distance_squared = g.distance * g.distance;
+            g.weight                   = m.vertex_area[c.vertex[0]];
+            return g;
+        }
+      g.distance = std::sqrt(g.stencil.distance_squared);
+      if (c.kind != PairKind::edge_edge)
+        {
+          g.weight = 0.5 * m.vertex_area[c.vertex[0]];
+          return g;
+        }
+      g.weight = (m.vertex_area[c.vertex[0]] + m.vertex_area[c.vertex[1]] +
+                  m.vertex_area[c.vertex[2]] + m.vertex_area[c.vertex[3]]) /
+                 8.;
+      const auto rest_length2 = [&](unsigned int i, unsigned int j) {
+        return (m.rest[c.vertex[i]] - m.rest[c.vertex[j]]).norm_square();
+      };
+      g.eps_x = 1e-3 * rest_length2(0, 1) * rest_length2(2, 3);
+      std::array<internal::V3<double>, 4> y;
+      for (unsigned int i = 0; i < 4; ++i)
+        for (unsigned int d = 0; d < 3; ++d)
+          y[i][d] = X[i][d];
+      g.mollifier =
+        edge_edge_mollifier(internal::edge_cross_squared(y.data()), g.eps_x);
+      return g;
+    }
+
+
+
+    template <int dim>
     double
     IpcContact<dim>::assemble(const Vector_t                  &u,
                               const AffineConstraints<double> &constraints,
@@ -601,6 +651,21 @@ namespace forma
       double             energy = 0;
       FullMatrix<double> H;
       Vector<double>     g;
+      // Add the local gradient g (and Hessian H) of a pair on `dofs`; the
+      // force of pairs with an obstacle on the bodies adds up its reaction.
+      const auto add = [&](const std::vector<types::global_dof_index> &dofs,
+                           const bool against_obstacle) {
+        if (against_obstacle)
+          for (unsigned int i = 0; i < dofs.size(); ++i)
+            obstacle_force[i % dim] -= g[i];
+        if (raw)
+          for (unsigned int i = 0; i < dofs.size(); ++i)
+            (*raw)(dofs[i]) += g[i];
+        if (matrix)
+          constraints.distribute_local_to_global(H, g, dofs, *matrix, residual);
+        else
+          constraints.distribute_local_to_global(g, dofs, residual);
+      };
       min_distance   = std::numeric_limits<double>::max();
       n_active       = 0;
       obstacle_force = 0;
@@ -608,32 +673,12 @@ namespace forma
         {
           if (!mine(k))
             continue;
-          const Candidate         &c = candidates[k];
-          const std::array<Vec, 4> X = pair_positions(c, x);
-          DistanceStencil          s;
-          switch (c.kind)
-            {
-              case PairKind::point_edge:
-                s = classify_point_edge(X[0], X[1], X[2]);
-                break;
-              case PairKind::point_triangle:
-                s = classify_point_triangle(X[0], X[1], X[2], X[3]);
-                break;
-              case PairKind::edge_edge:
-                s = classify_edge_edge(X[0], X[1], X[2], X[3]);
-                break;
-                case PairKind::point_plane: {
-                  s.type             = DistanceType::point_plane;
-                  s.slot             = {{0, 1, 2, 0}};
-                  const double h     = (X[0] - X[1]) * X[2];
-                  s.distance_squared = h * std::abs(h); // signed
-                  break;
-                }
-            }
-          const double d = s.distance_squared >= 0 ?
-                             std::sqrt(s.distance_squared) :
-                             -std::sqrt(-s.distance_squared);
-          min_distance   = std::min(min_distance, d);
+          const Candidate         &c  = candidates[k];
+          const std::array<Vec, 4> X  = pair_positions(c, x);
+          const PairGeometry       pg = pair_geometry(c, X);
+          const DistanceStencil   &s  = pg.stencil;
+          const double             d  = pg.distance;
+          min_distance                = std::min(min_distance, d);
           if (d <= 0)
             {
               admissible = false;
@@ -644,38 +689,9 @@ namespace forma
           ++n_active;
           if (kappa == 0)
             continue; // automatic stiffness not scaled yet
-
-          // Area weight: the vertex's share for point pairs (half: both
-          // sides of a contact are sampled), the edges' for edge pairs,
-          // the whole vertex area against a plane.
-          double     A       = 0;
-          double     eps_x   = 0;
-          bool       mollify = false;
-          const auto ea      = [&](unsigned int i, unsigned int j) {
-            return (m.rest[c.vertex[i]] - m.rest[c.vertex[j]]).norm_square();
-          };
-          switch (c.kind)
-            {
-              case PairKind::point_plane:
-                A = m.vertex_area[c.vertex[0]];
-                break;
-                case PairKind::edge_edge: {
-                  A =
-                    0.25 *
-                    (m.vertex_area[c.vertex[0]] + m.vertex_area[c.vertex[1]] +
-                     m.vertex_area[c.vertex[2]] + m.vertex_area[c.vertex[3]]) /
-                    2.;
-                  eps_x = 1e-3 * ea(0, 1) * ea(2, 3);
-                  std::array<internal::V3<double>, 4> y;
-                  for (unsigned int i = 0; i < 4; ++i)
-                    for (unsigned int dd = 0; dd < 3; ++dd)
-                      y[i][dd] = X[i][dd];
-                  mollify = internal::edge_cross_squared(y.data()) < eps_x;
-                  break;
-                }
-              default:
-                A = 0.5 * m.vertex_area[c.vertex[0]];
-            }
+          const double A       = pg.weight;
+          const double eps_x   = pg.eps_x;
+          const bool   mollify = pg.mollifier < 1;
 
           // The vertices the energy depends on, in slot order.
           std::vector<unsigned int> used;
@@ -726,12 +742,6 @@ namespace forma
           g.reinit(n);
           for (unsigned int i = 0; i < n; ++i)
             g[i] = e.dx(i).val();
-          if (against_obstacle)
-            for (unsigned int i = 0; i < n; ++i)
-              obstacle_force[i % dim] -= g[i];
-          if (raw)
-            for (unsigned int i = 0; i < n; ++i)
-              (*raw)(dofs[i]) += g[i];
           if (matrix)
             {
               H.reinit(n, n);
@@ -739,11 +749,8 @@ namespace forma
                 for (unsigned int j = 0; j < n; ++j)
                   H(i, j) = e.dx(i).dx(j);
               project_to_psd(H);
-              constraints.distribute_local_to_global(
-                H, g, dofs, *matrix, residual);
             }
-          else
-            constraints.distribute_local_to_global(g, dofs, residual);
+          add(dofs, against_obstacle);
         }
 
       // Lagged friction: mu N f_0(|T^T sum_i w_i (u_i - u_i^start)|).
@@ -781,12 +788,6 @@ namespace forma
           for (unsigned int k = 0; k < moving.size(); ++k)
             for (unsigned int dd = 0; dd < dim; ++dd)
               g[dim * k + dd] = f.weight[moving[k]] * force[dd];
-          if (f.obstacle)
-            for (unsigned int i = 0; i < n; ++i)
-              obstacle_force[i % dim] -= g[i];
-          if (raw)
-            for (unsigned int i = 0; i < n; ++i)
-              (*raw)(dofs[i]) += g[i];
           if (matrix)
             {
               // T H_tau T^T as a 3 x 3 block.
@@ -804,11 +805,8 @@ namespace forma
                     for (unsigned int q = 0; q < dim; ++q)
                       H(dim * i + p, dim * j + q) =
                         f.weight[moving[i]] * f.weight[moving[j]] * B[p][q];
-              constraints.distribute_local_to_global(
-                H, g, dofs, *matrix, residual);
             }
-          else
-            constraints.distribute_local_to_global(g, dofs, residual);
+          add(dofs, f.obstacle);
         }
       assemble_seconds += timer.wall_time();
       return energy;
@@ -838,15 +836,14 @@ namespace forma
           const std::array<Vec, 4> X = pair_positions(c, x);
           FrictionPair             f;
           Vec                      normal;
-          double                   d = 0, A = 0, mollifier = 1;
+          const PairGeometry       pg = pair_geometry(c, X);
+          const double             d  = pg.distance;
           if (c.kind == PairKind::point_plane)
             {
-              d               = (X[0] - X[1]) * X[2];
               normal          = X[2];
               f.n             = 1;
               f.vertex        = {{c.vertex[0], 0, 0, 0}};
               f.weight        = {{1., 0., 0., 0.}};
-              A               = m.vertex_area[c.vertex[0]];
               const double mu = parameters.planes[c.plane].friction >= 0 ?
                                   parameters.planes[c.plane].friction :
                                   parameters.friction;
@@ -855,14 +852,7 @@ namespace forma
             }
           else
             {
-              DistanceStencil s;
-              if (c.kind == PairKind::point_edge)
-                s = classify_point_edge(X[0], X[1], X[2]);
-              else if (c.kind == PairKind::point_triangle)
-                s = classify_point_triangle(X[0], X[1], X[2], X[3]);
-              else
-                s = classify_edge_edge(X[0], X[1], X[2], X[3]);
-              d = std::sqrt(s.distance_squared);
+              const DistanceStencil &s = pg.stencil;
               if (d >= dhat || d <= 0)
                 continue;
               // Closest points: weights of the relative displacement and
@@ -920,28 +910,6 @@ namespace forma
                   f.vertex[a] = c.vertex[s.slot[a]];
                   f.weight[a] = w[a];
                 }
-              if (c.kind == PairKind::point_edge ||
-                  c.kind == PairKind::point_triangle)
-                A = 0.5 * m.vertex_area[c.vertex[0]];
-              else
-                {
-                  A =
-                    0.25 *
-                    (m.vertex_area[c.vertex[0]] + m.vertex_area[c.vertex[1]] +
-                     m.vertex_area[c.vertex[2]] + m.vertex_area[c.vertex[3]]) /
-                    2.;
-                  std::array<internal::V3<double>, 4> y;
-                  for (unsigned int i = 0; i < 4; ++i)
-                    for (unsigned int dd = 0; dd < 3; ++dd)
-                      y[i][dd] = X[i][dd];
-                  const auto el = [&](unsigned int i, unsigned int j) {
-                    return (m.rest[c.vertex[i]] - m.rest[c.vertex[j]])
-                      .norm_square();
-                  };
-                  mollifier =
-                    edge_edge_mollifier(internal::edge_cross_squared(y.data()),
-                                        1e-3 * el(0, 1) * el(2, 3));
-                }
               f.mu_n =
                 friction_coefficient(c.vertex[s.slot[0]], f.vertex[f.n - 1]);
               for (unsigned int a = 0; a < f.n; ++a)
@@ -952,7 +920,8 @@ namespace forma
           normal /= normal.norm();
           f.tangent = tangent_basis<dim>(normal);
           // mu times the lagged normal force kappa A |b'(d)|.
-          f.mu_n *= kappa * A * mollifier * -barrier_derivative(d, dhat);
+          f.mu_n *=
+            kappa * pg.weight * pg.mollifier * -barrier_derivative(d, dhat);
           friction.push_back(f);
         }
     }

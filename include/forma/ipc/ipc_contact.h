@@ -195,6 +195,23 @@ namespace forma
         bool                        obstacle = false; ///< against a plane
       };
 
+      /// A candidate classified at positions X: distance formula, distance
+      /// (signed against a plane), area weight A_k (half the vertex area
+      /// for a point against a primitive: both sides of a contact are
+      /// sampled; the vertex area against a plane; an eighth of the four
+      /// vertex areas for an edge pair) and the edge-edge mollifier value
+      /// (1 where it does not act) with its threshold.
+      struct PairGeometry
+      {
+        DistanceStencil stencil;
+        double          distance  = 0;
+        double          weight    = 0;
+        double          mollifier = 1;
+        double          eps_x     = 0;
+      };
+      PairGeometry
+      pair_geometry(const Candidate &c, const std::array<Vec, 4> &X) const;
+
       /// Positions rest + u of every collision vertex; u imported into
       /// `values` first.
       std::vector<Vec>
