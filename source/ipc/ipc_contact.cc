@@ -48,7 +48,7 @@ namespace forma
         const unsigned int n = H.m();
         // Symmetrize; Gershgorin's bound: nothing to do if no eigenvalue can
         // be negative, else it bounds the search interval of LAPACK.
-        double lowest = std::numeric_limits<double>::max();
+        double lowest = std::numeric_limits<double>::max(), scale = 0;
         for (unsigned int i = 0; i < n; ++i)
           {
             double radius = 0;
@@ -62,6 +62,7 @@ namespace forma
                   radius += std::abs(H(i, j));
               }
             lowest = std::min(lowest, H(i, i) - radius);
+            scale  = std::max(scale, std::abs(H(i, i)) + radius);
           }
         if (lowest >= 0)
           return;
@@ -71,8 +72,9 @@ namespace forma
             A(i, j) = H(i, j);
         Vector<double>     lambda;
         FullMatrix<double> V;
+        // The interval's margin covers LAPACK's error, which scales with |H|.
         A.compute_eigenvalues_symmetric(
-          lowest - 1e-12 * std::abs(lowest) - 1e-300, 0., 0., lambda, V);
+          lowest - 1e-8 * scale - 1e-300, 0., 0., lambda, V);
         for (unsigned int k = 0; k < lambda.size(); ++k)
           for (unsigned int i = 0; i < n; ++i)
             for (unsigned int j = 0; j < n; ++j)
@@ -262,13 +264,13 @@ namespace forma
                              "nodes (no adaptive refinement)."));
       collision_mesh = std::make_unique<CollisionMesh<dim>>(
         dof_handler, mapping, parameters.boundaries, comm);
+      AssertThrow(collision_mesh->n_vertices() > 0,
+                  ExcMessage("IPC: the collision mesh is empty: no boundary "
+                             "faces with the ids of IPC/Boundaries."));
       for (unsigned int k = 0; k < parameters.meshes.size(); ++k)
         collision_mesh->add_obstacle(
           read_obstacle_mesh(parameters.meshes[k].file, dim), k);
-      const auto &m = *collision_mesh;
-      AssertThrow(m.n_vertices() > 0,
-                  ExcMessage("IPC: the collision mesh is empty: no boundary "
-                             "faces with the ids of IPC/Boundaries."));
+      const auto &m   = *collision_mesh;
       dhat            = parameters.dhat > 0 ? parameters.dhat :
                                               parameters.relative_dhat * m.diagonal();
       automatic_kappa = parameters.kappa == 0;
@@ -321,7 +323,8 @@ namespace forma
                            format_point(x[candidates[k].vertex[0]], dim));
         }
       for (unsigned int v = 0; v < x.size() && problem.empty(); ++v)
-        for (unsigned int j = 0; j < parameters.planes.size(); ++j)
+        for (unsigned int j = 0; j < parameters.planes.size() && !m.fixed(v);
+             ++j)
           if ((x[v] - parameters.planes[j].origin) *
                 parameters.planes[j].normal <=
               0)
@@ -402,11 +405,17 @@ namespace forma
     {
       if (!automatic_kappa)
         return;
-      const auto &m    = *collision_mesh;
-      double      area = 0;
-      for (const double a : m.vertex_area)
-        area += a;
-      area /= m.n_vertices();
+      // The mean vertex area of the bodies (obstacles may be coarse).
+      const auto  &m    = *collision_mesh;
+      double       area = 0;
+      unsigned int n    = 0;
+      for (unsigned int v = 0; v < m.n_vertices(); ++v)
+        if (!m.fixed(v))
+          {
+            area += m.vertex_area[v];
+            ++n;
+          }
+      area /= n;
       kappa_min =
         mean_diagonal / (area * barrier_second_derivative(dhat / 2, dhat));
       kappa_max = 1e4 * kappa_min;
@@ -489,8 +498,8 @@ namespace forma
         {
           const Plane &pl = parameters.planes[j];
           for (unsigned int v = 0; v < x0.size(); ++v)
-            if (std::min((x0[v] - pl.origin) * pl.normal,
-                         (x1[v] - pl.origin) * pl.normal) < dhat)
+            if (!m.fixed(v) && std::min((x0[v] - pl.origin) * pl.normal,
+                                        (x1[v] - pl.origin) * pl.normal) < dhat)
               candidates.push_back({PairKind::point_plane, {{v, 0, 0, 0}}, j});
         }
       broad_seconds += timer.wall_time();
@@ -608,14 +617,28 @@ namespace forma
             return g;
         }
       g.distance = std::sqrt(g.stencil.distance_squared);
+      // Areas of the bodies' side only: a coarse obstacle's vertex areas
+      // say nothing of the contact's extent.
+      const auto mean_area = [&](const unsigned int first,
+                                 const unsigned int last) {
+        double       a = 0;
+        unsigned int n = 0;
+        for (unsigned int i = first; i < last; ++i)
+          if (!m.fixed(c.vertex[i]))
+            {
+              a += m.vertex_area[c.vertex[i]];
+              ++n;
+            }
+        return n > 0 ? a / n : 0.;
+      };
       if (c.kind != PairKind::edge_edge)
         {
-          g.weight = 0.5 * m.vertex_area[c.vertex[0]];
+          g.weight =
+            0.5 * (m.fixed(c.vertex[0]) ? mean_area(1, n_vertices(c.kind)) :
+                                          m.vertex_area[c.vertex[0]]);
           return g;
         }
-      g.weight = (m.vertex_area[c.vertex[0]] + m.vertex_area[c.vertex[1]] +
-                  m.vertex_area[c.vertex[2]] + m.vertex_area[c.vertex[3]]) /
-                 8.;
+      g.weight                = 0.5 * mean_area(0, 4);
       const auto rest_length2 = [&](unsigned int i, unsigned int j) {
         return (m.rest[c.vertex[i]] - m.rest[c.vertex[j]]).norm_square();
       };

@@ -41,7 +41,7 @@ namespace forma
               {
                 std::vector<std::vector<unsigned int>> f;
                 const unsigned int                     n = e.size();
-                if (dim == 2) // triangles and quads: their edges
+                if (dim == 2 && (n == 3 || n == 4)) // their edges
                   for (unsigned int i = 0; i < n; ++i)
                     f.push_back({e[i], e[(i + 1) % n]});
                 else if (n == 4) // tetrahedra
@@ -56,6 +56,12 @@ namespace forma
                        {e[1], e[2], e[6], e[5]},
                        {e[2], e[3], e[7], e[6]},
                        {e[3], e[0], e[4], e[7]}};
+                AssertThrow(!f.empty(),
+                            ExcMessage("IPC/Obstacles: a cell with " +
+                                       std::to_string(n) +
+                                       " corners: obstacle meshes take "
+                                       "triangles and quadrilaterals in 2D, "
+                                       "tetrahedra and hexahedra in 3D."));
                 for (const auto &face : f)
                   {
                     auto key = face;
@@ -85,16 +91,21 @@ namespace forma
         std::lock_guard<std::mutex> lock(internal::gmsh_mutex());
         internal::GmshSession       session("obstacle");
         ObstacleMesh                m;
+        // Gmsh logs errors here (General.AbortOnError = 0) instead of
+        // throwing: check its log.
+        std::string last;
         try
           {
             gmsh::open(file);
+            gmsh::logger::getLastError(last);
           }
         catch (...)
           {
-            AssertThrow(false,
-                        ExcMessage(internal::gmsh_error(
-                          "IPC/Obstacles", "could not read '" + file + "'")));
+            last = "?";
           }
+        AssertThrow(last.empty(),
+                    ExcMessage(internal::gmsh_error(
+                      "IPC/Obstacles", "could not read '" + file + "'")));
         std::vector<std::size_t> tags;
         std::vector<double>      coords, parametric;
         gmsh::model::mesh::getNodes(tags, coords, parametric, -1, -1, true);
@@ -151,7 +162,7 @@ namespace forma
         while (std::getline(in, line))
           {
             ++line_no;
-            std::istringstream s(line);
+            std::istringstream s(line.substr(0, line.find('#')));
             std::string        key;
             s >> key;
             if (key == "v")
@@ -201,13 +212,15 @@ namespace forma
       AssertThrow(std::filesystem::exists(file),
                   ExcMessage("IPC/Obstacles: the file '" + file +
                              "' does not exist."));
-      const std::string ext = std::filesystem::path(file).extension().string();
-      ObstacleMesh      m;
-      if (ext == ".obj" || ext == ".OBJ")
+      std::string ext = std::filesystem::path(file).extension().string();
+      for (auto &ch : ext)
+        ch = std::tolower(ch);
+      ObstacleMesh m;
+      if (ext == ".obj")
         m = read_obj(file, dim);
       else
         {
-          AssertThrow(ext == ".msh" || ext == ".stl" || ext == ".STL",
+          AssertThrow(ext == ".msh" || ext == ".stl",
                       ExcMessage("IPC/Obstacles: '" + file +
                                  "': obstacle meshes are .msh, .stl or .obj "
                                  "files."));
@@ -231,10 +244,19 @@ namespace forma
           }
         return unsigned(used[v]);
       };
+      // Degenerate primitives (repeated or collinear corners) have no
+      // contact geometry: drop them.
+      double size = 0;
+      for (const Vec &x : m.vertices)
+        size = std::max(size, x.norm());
       for (const auto &e : m.edges)
-        r.edges.push_back({{map(e[0]), map(e[1])}});
+        if ((m.vertices[e[1]] - m.vertices[e[0]]).norm() > 1e-12 * size)
+          r.edges.push_back({{map(e[0]), map(e[1])}});
       for (const auto &f : m.faces)
-        r.faces.push_back({{map(f[0]), map(f[1]), map(f[2])}});
+        if (cross_product_3d(m.vertices[f[1]] - m.vertices[f[0]],
+                             m.vertices[f[2]] - m.vertices[f[0]])
+              .norm() > 1e-12 * size * size)
+          r.faces.push_back({{map(f[0]), map(f[1]), map(f[2])}});
       if (dim == 2)
         for (const Vec &x : r.vertices)
           AssertThrow(x[2] == 0,

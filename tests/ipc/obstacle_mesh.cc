@@ -1,8 +1,8 @@
 // Static obstacle surfaces from files: a Gmsh mesh's lines (2D) or the
 // boundary of its cells, a Wavefront OBJ (polygons split into triangles), an
 // ASCII STL (through Gmsh); the total length / area of what was read, and
-// clear errors for a missing file, an unknown format and a 2D file off
-// the plane z = 0.
+// clear errors for a missing file, a corrupt file, an unknown format and a
+// 2D file off the plane z = 0.
 
 #include <forma/ipc/obstacle_mesh.h>
 
@@ -86,7 +86,24 @@ main()
        "endsolid t\n";
   report("tet.stl, 3D", read_obstacle_mesh("tet.stl", 3));
 
+  // A comment after a face, a degenerate (repeated corner) face dropped.
+  std::ofstream("quad.obj") << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                               "f 1 2 3 4 # a square\nf 1 2 2\n";
+  report("quad.obj, 3D (degenerate face dropped)",
+         read_obstacle_mesh("quad.obj", 3));
+
   expect_error("missing file", "missing.msh", 2);
+  std::ofstream("corrupt.msh")
+    << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0\n";
+  try
+    {
+      read_obstacle_mesh("corrupt.msh", 2);
+      dealii::deallog << "corrupt.msh: no error" << std::endl;
+    }
+  catch (const dealii::ExceptionBase &)
+    {
+      dealii::deallog << "corrupt.msh: rejected" << std::endl;
+    }
   std::ofstream("data.txt") << "1 2 3\n";
   expect_error("unknown format", "data.txt", 2);
   std::ofstream("tilted.obj") << "v 0 0 0\nv 1 0 1\nl 1 2\n";
