@@ -1,8 +1,8 @@
 // forma-transient-ipc: differentiable static and transient elasticity
 // (thesis ch. 3). This version: the forward simulator with IPC contact and
 // friction, and its adjoint gradients (shape, materials, damping, loads,
-// initial conditions; without contact so far) with a Taylor test. The jobs live in the library
-// (forma/elasticity/jobs.h).
+// initial conditions; without contact so far) with a Taylor test. The jobs live
+// in the library (forma/elasticity/jobs.h).
 
 #include <forma/base/application.h>
 #include <forma/base/run_context.h>

@@ -8,6 +8,7 @@
 #include <deal.II/hp/mapping_collection.h>
 #include <deal.II/hp/q_collection.h>
 
+#include <forma/ipc/broad_phase.h>
 #include <forma/ipc/collision_mesh.h>
 #include <forma/ipc/obstacle_mesh.h>
 
@@ -356,30 +357,17 @@ namespace forma
     CollisionMesh<dim>::diagonal() const
     {
       // Of the bodies (obstacles may be large).
-      Vec  lo, hi;
-      bool any = false;
+      Box box;
       for (unsigned int v = 0; v < rest.size(); ++v)
         if (!fixed(v))
-          for (unsigned int d = 0; d < 3; ++d)
-            {
-              lo[d] = any ? std::min(lo[d], rest[v][d]) : rest[v][d];
-              hi[d] = any ? std::max(hi[d], rest[v][d]) : rest[v][d];
-              any   = any || d == 2;
-            }
-      return any ? (hi - lo).norm() : 0.;
+          box.add(rest[v]);
+      double d2 = 0;
+      for (unsigned int d = 0; d < 3; ++d)
+        d2 += std::pow(std::max(box.hi[d] - box.lo[d], 0.), 2);
+      return std::sqrt(d2);
     }
 
 
-
-    template <int dim>
-    double
-    CollisionMesh<dim>::shortest_edge() const
-    {
-      double l = std::numeric_limits<double>::max();
-      for (const auto &e : edges)
-        l = std::min(l, (rest[e[0]] - rest[e[1]]).norm());
-      return l;
-    }
 
     template struct CollisionMesh<2>;
     template struct CollisionMesh<3>;

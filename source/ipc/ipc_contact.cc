@@ -216,16 +216,17 @@ namespace forma
 
 
     template <int dim>
-    std::vector<types::global_dof_index>
-    IpcContact<dim>::local_dofs(const unsigned int *vertex,
-                                const unsigned int  n) const
+    void
+    IpcContact<dim>::local_dofs(
+      const unsigned int                   *vertex,
+      const unsigned int                    n,
+      std::vector<types::global_dof_index> &dofs) const
     {
-      std::vector<types::global_dof_index> dofs;
+      dofs.clear();
       for (unsigned int i = 0; i < n; ++i)
         if (!collision_mesh->fixed(vertex[i]))
           for (unsigned int d = 0; d < dim; ++d)
             dofs.push_back(collision_mesh->dofs[vertex[i]][d]);
-      return dofs;
     }
 
 
@@ -549,10 +550,12 @@ namespace forma
     IpcContact<dim>::add_couplings(const AffineConstraints<double> &constraints,
                                    TrilinosWrappers::SparsityPattern &sp) const
     {
+      std::vector<types::global_dof_index> dofs;
       for (const auto &c : couplings)
         {
           const unsigned int v[2] = {c.first, c.second};
-          constraints.add_entries_local_to_global(local_dofs(v, 2), sp, false);
+          local_dofs(v, 2, dofs);
+          constraints.add_entries_local_to_global(dofs, sp, false);
         }
     }
 
@@ -674,6 +677,9 @@ namespace forma
       double             energy = 0;
       FullMatrix<double> H;
       Vector<double>     g;
+      // Per-pair buffers, reused.
+      std::vector<unsigned int>            used;
+      std::vector<types::global_dof_index> dofs;
       // Add the local gradient g (and Hessian H) of a pair on `dofs`; the
       // force of pairs with an obstacle on the bodies adds up its reaction.
       const auto add = [&](const std::vector<types::global_dof_index> &dofs,
@@ -717,7 +723,7 @@ namespace forma
           const bool   mollify = pg.mollifier < 1;
 
           // The vertices the energy depends on, in slot order.
-          std::vector<unsigned int> used;
+          used.clear();
           if (mollify)
             used = {0, 1, 2, 3};
           else if (c.kind == PairKind::point_plane)
@@ -758,10 +764,10 @@ namespace forma
           e *= kappa * A;
           energy += e.val().val();
 
-          std::vector<unsigned int> vertex(used.size());
-          for (unsigned int i = 0; i < used.size(); ++i)
-            vertex[i] = c.vertex[used[i]];
-          const auto dofs = local_dofs(vertex.data(), vertex.size());
+          dofs.clear();
+          for (const unsigned int i : used)
+            for (unsigned int dd = 0; dd < dim; ++dd)
+              dofs.push_back(m.dofs[c.vertex[i]][dd]);
           g.reinit(n);
           for (unsigned int i = 0; i < n; ++i)
             g[i] = e.dx(i).val();
@@ -798,15 +804,13 @@ namespace forma
           for (unsigned int j = 0; j < dim - 1; ++j)
             force += a * tau[j] * f.tangent[j];
           // The moving vertices of the pair (obstacle vertices are fixed).
-          std::vector<unsigned int> moving;
+          used.clear();
           for (unsigned int i = 0; i < f.n; ++i)
             if (!m.fixed(f.vertex[i]))
-              moving.push_back(i);
-          std::vector<types::global_dof_index> dofs;
-          for (const unsigned int i : moving)
-            for (unsigned int dd = 0; dd < dim; ++dd)
-              dofs.push_back(m.dofs[f.vertex[i]][dd]);
-          const unsigned int n = dofs.size();
+              used.push_back(i);
+          local_dofs(f.vertex.data(), f.n, dofs);
+          const auto        &moving = used;
+          const unsigned int n      = dofs.size();
           g.reinit(n);
           for (unsigned int k = 0; k < moving.size(); ++k)
             for (unsigned int dd = 0; dd < dim; ++dd)

@@ -100,9 +100,6 @@ namespace forma
       /// Diagonal of the bodies' bounding box at rest.
       double
       diagonal() const;
-      /// Shortest segment (2D) or triangle edge (3D) at rest.
-      double
-      shortest_edge() const;
 
     private:
       /// Edges of the triangles (3D) and the areas, from the primitives.

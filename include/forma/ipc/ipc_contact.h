@@ -20,17 +20,6 @@
 #include <string>
 #include <vector>
 
-namespace dealii
-{
-  template <int dim, int spacedim>
-  class DoFHandler;
-  namespace hp
-  {
-    template <int dim, int spacedim>
-    class MappingCollection;
-  }
-} // namespace dealii
-
 namespace forma
 {
   namespace ipc
@@ -223,9 +212,11 @@ namespace forma
       collect_candidates(const Vector_t &u, const Vector_t *du);
       std::array<Vec, 4>
       pair_positions(const Candidate &c, const std::vector<Vec> &x) const;
-      /// Local DoFs of a list of vertices.
-      std::vector<dealii::types::global_dof_index>
-      local_dofs(const unsigned int *vertex, const unsigned int n) const;
+      /// The DoFs of a list of vertices (obstacle vertices have none).
+      void
+      local_dofs(const unsigned int                           *vertex,
+                 const unsigned int                            n,
+                 std::vector<dealii::types::global_dof_index> &dofs) const;
       double
       friction_coefficient(const unsigned int a, const unsigned int b) const;
       /// Pairs this rank evaluates.
