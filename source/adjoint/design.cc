@@ -14,7 +14,8 @@ namespace forma
   namespace
   {
     const char *block_names =
-      "shape|cell material|material|damping|loads|initial displacement|"
+      "shape|cell material|material|damping|friction|loads|"
+      "initial displacement|"
       "initial velocity|initial displacement field|initial velocity field";
   }
 
@@ -29,7 +30,10 @@ namespace forma
         Patterns::List(Patterns::Selection(block_names), 0),
         "What the design vector holds (comma-separated): shape (vertex "
         "positions), cell material (per-cell Lame or E/nu), material (per "
-        "material id), damping (shear and bulk per material id), loads (scale "
+        "material id), damping (shear and bulk per material id), friction "
+        "(IPC friction coefficients: IPC/Friction coefficient, then each "
+        "Friction pairs record, then each obstacle with its own mu), loads "
+        "(scale "
         "factors of tractions, body force, gravity), initial displacement, "
         "initial velocity (uniform vectors), initial displacement field, "
         "initial velocity field (one value per displacement DoF).");
@@ -67,6 +71,17 @@ namespace forma
         "vertices: every vertex is a design variable (thesis ch. 3). "
         "boundary: boundary vertices are, interior ones follow by harmonic "
         "extension, which keeps the interior mesh smooth.");
+      prm.declare_entry(
+        "Start",
+        "",
+        Patterns::Anything(),
+        "Starting values of design blocks other than shape, records 'block : "
+        "v1, v2, ...' separated by ';' (as many values as the block has, in "
+        "its order), e.g. 'friction : 0.5 ; initial velocity : 0.5, 0'. The "
+        "reference run of a target objective keeps the problem's own values "
+        "(Material/Bodies or Objective/Reference bodies, IPC friction, "
+        "initial conditions): a recovery starts here and seeks those. Empty: "
+        "start at the problem's values.");
       prm.declare_entry("Shape bound",
                         "0",
                         Patterns::Double(0),
@@ -98,6 +113,7 @@ namespace forma
       shape_perturbation  = prm.get("Shape perturbation");
       min_scaled_jacobian = prm.get_double("Min scaled Jacobian");
       shape_bound         = prm.get_double("Shape bound");
+      start               = prm.get("Start");
       boundary_shape      = prm.get("Shape parameterization") == "boundary";
     }
     prm.leave_subsection();
@@ -142,7 +158,7 @@ namespace forma
         if (b.name == "shape")
           s[i] = length;
         else if (b.name == "material" || b.name == "cell material" ||
-                 b.name == "damping")
+                 b.name == "damping" || b.name == "friction")
           s[i] = q0[i] != 0 ? std::abs(q0[i]) : 1.;
     return s;
   }
@@ -171,7 +187,7 @@ namespace forma
               lower[i]       = c - shape_bound;
               upper[i]       = c + shape_bound;
             }
-          else if (b.name == "damping")
+          else if (b.name == "damping" || b.name == "friction")
             lower[i] = 0;
           else if ((b.name == "material" || b.name == "cell material") &&
                    young_poisson && second)

@@ -23,6 +23,7 @@ namespace forma
                                                   "cell material",
                                                   "material",
                                                   "damping",
+                                                  "friction",
                                                   "loads",
                                                   "initial displacement",
                                                   "initial velocity",
@@ -73,6 +74,7 @@ namespace forma
     Vector_t                           shape; ///< on shape DoFs, condensed
     std::vector<std::array<double, 2>> lame, damping; ///< per active cell
     std::vector<double>                loads;
+    std::vector<double>                friction; ///< per IPC friction source
     Tensor<1, dim>                     initial_u, initial_v;
     Vector_t initial_u_field, initial_v_field; ///< dJ/du^0, dJ/dv^0
   };
@@ -97,6 +99,13 @@ namespace forma
           size = 2 * tria->n_global_active_cells();
         else if (name == "material" || name == "damping")
           size = 2 * all_ids.size();
+        else if (name == "friction")
+          {
+            AssertThrow(ipc_contact,
+                        ExcMessage("Design/Parameters: 'friction' needs IPC "
+                                   "contact (IPC/Enabled = true)."));
+            size = ipc_contact->friction_names().size();
+          }
         else if (name == "loads")
           size = tractions.size() + pressures.size() + (body_force ? 1 : 0) +
                  (gravity.norm() > 0 ? 1 : 0);
@@ -170,10 +179,46 @@ namespace forma
             }
         ++k;
       }
+    if (ipc_contact)
+      problem_friction = ipc_contact->friction_values();
+    if (const auto *b = layout.find("friction"))
+      std::copy(ipc_contact->friction_values().begin(),
+                ipc_contact->friction_values().end(),
+                design.begin() + b->offset);
     if (const auto *b = layout.find("loads"))
       std::fill(design.begin() + b->offset,
                 design.begin() + b->offset + b->size,
                 1.);
+
+    // Design/Start: other starting values (recoveries).
+    for (const auto &record : split_top_level(p.design.start, ';'))
+      {
+        if (record.empty())
+          continue;
+        const auto colon = record.find(':');
+        AssertThrow(colon != std::string::npos,
+                    ExcMessage("Design/Start: '" + record +
+                               "' is not 'block : values'."));
+        const std::string  name = Utilities::trim(record.substr(0, colon));
+        const DesignBlock *b    = layout.find(name);
+        AssertThrow(b && name != "shape",
+                    ExcMessage("Design/Start: '" + name +
+                               "' is not in Design/Parameters" +
+                               (name == "shape" ?
+                                  std::string(" (a shape starts at Design/"
+                                              "Shape perturbation).") :
+                                  std::string("."))));
+        const auto values =
+          parse_numbers(record.substr(colon + 1),
+                        "Design/Start (" + name + ")",
+                        -std::numeric_limits<double>::max(),
+                        std::numeric_limits<double>::max());
+        AssertThrow(values.size() == b->size,
+                    ExcMessage("Design/Start: '" + name + "' has " +
+                               std::to_string(b->size) + " entries, got " +
+                               std::to_string(values.size()) + "."));
+        std::copy(values.begin(), values.end(), design.begin() + b->offset);
+      }
   }
 
 
@@ -374,6 +419,9 @@ namespace forma
             x += X;
             shape_ghost = x;
           }
+        else if (b.name == "friction")
+          ipc_contact->set_friction_values(
+            std::vector<double>(v, v + b.size));
         else if (b.name == "cell material")
           {
             for (const auto &cell : tria->active_cell_iterators())
@@ -455,6 +503,7 @@ namespace forma
                                            " of the mesh as read" :
                                          std::string()) +
                       "."));
+        update_ipc_geometry("the design");
       }
   }
 
@@ -1230,6 +1279,8 @@ namespace forma
     g.lame.assign(tria->n_active_cells(), {{0., 0.}});
     g.damping.assign(tria->n_active_cells(), {{0., 0.}});
     g.loads.assign(tractions.size() + pressures.size() + 2, 0.);
+    g.friction.assign(ipc_contact ? ipc_contact->friction_names().size() : 0,
+                      0.);
 
     // dJ/dI of every integral at step i, scaled by the step weight.
     double value           = 0;
@@ -1264,7 +1315,17 @@ namespace forma
         // static tangents are symmetric, so it is its own transpose, unless
         // friction makes it unsymmetric.
         Vector_t lambda(owned, comm);
-        if (contact.has_friction())
+        if (ipc_contact)
+          {
+            // The exact contact Hessian (symmetric: frictionless, or
+            // friction lagged at rest).
+            ipc_adjoint_state(0);
+            exact_contact_hessian = true;
+            assemble(u, true, nullptr);
+            exact_contact_hessian = false;
+            linear_solver.solve(jacobian, lambda, rhs, fe.max_degree() > 1);
+          }
+        else if (contact.has_friction())
           {
             transpose_matrix = true;
             assemble(u, true, nullptr);
@@ -1275,6 +1336,8 @@ namespace forma
           linear_solver.solve_reusing(jacobian, lambda, rhs);
         constraints_zero.distribute(lambda);
         accumulate(J, nullptr, &lambda, nullptr, &g); // p^T d_q h
+        if (ipc_contact)
+          ipc_adjoint_products(lambda, g, nullptr);
       }
     else
       {
@@ -1292,6 +1355,8 @@ namespace forma
           return j <= c.alpha.size() ? c.alpha[j - 1] : 0.;
         };
         Vector_t z(owned, comm), products(owned, comm);
+        // (d h_{i+1} / d u^i)^T lambda_{i+1} of lagged IPC friction.
+        Vector_t ipc_lagged(owned, comm);
         for (unsigned int i = n; i >= 1; --i)
           {
             const double bi = beta_dt(i);
@@ -1313,14 +1378,20 @@ namespace forma
                                       products);
             rhs = dJ_du;
             rhs += products;
+            if (ipc_contact && i < n)
+              rhs += ipc_lagged;
             rhs *= -1.;
 
             // (M / (beta dt)^2 + K_i)^T lambda_i = rhs, at the stored state.
             set_step_state(i);
             make_constraints(time);
-            transpose_matrix = true;
+            if (ipc_contact)
+              ipc_adjoint_state(i);
+            transpose_matrix      = true;
+            exact_contact_hessian = true;
             assemble(u, true, nullptr);
-            transpose_matrix = false;
+            transpose_matrix      = false;
+            exact_contact_hessian = false;
             lambda[i].reinit(owned, comm);
             linear_solver.solve(jacobian, lambda[i], rhs, fe.max_degree() > 1);
             constraints_zero.distribute(lambda[i]);
@@ -1335,6 +1406,11 @@ namespace forma
               }
             set_step_state(i);
             accumulate(J, nullptr, &lambda[i], nullptr, &g);
+            if (ipc_contact)
+              {
+                ipc_lagged = 0;
+                ipc_adjoint_products(lambda[i], g, &ipc_lagged);
+              }
           }
 
         // Step 0: the initial conditions (eq. 3.21).
@@ -1350,6 +1426,8 @@ namespace forma
           }
         mass_and_damping_products(z, &lambda[1], 1, products);
         dJ_du += products;
+        if (ipc_contact && n > 0)
+          dJ_du += ipc_lagged;
         // dJ/dv^0 = M zv on every DoF (v^0 is not constrained).
         Vector_t dJ_dv(owned, comm);
         {
@@ -1420,6 +1498,8 @@ namespace forma
                 d[2 * slot + 1] += v[1];
               }
           }
+        else if (b.name == "friction")
+          std::copy(g.friction.begin(), g.friction.end(), d);
         else if (b.name == "loads")
           {
             unsigned int k = 0, j = surface_load_scale.size();
@@ -1451,16 +1531,90 @@ namespace forma
 
 
 
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::update_ipc_geometry(const std::string &where)
+  {
+    if (!ipc_contact)
+      return;
+    ipc_contact->setup(
+      dof_handler, mapping, owned, comm, &shape_dof_handler, where);
+    build_jacobian_pattern(); // the couplings at rest of the new shape
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::ipc_adjoint_state(const unsigned int i)
+  {
+    if (ipc_friction())
+      {
+        Vector_t lagged(owned, comm);
+        if (p.problem == "transient")
+          lagged = u_states[i - 1];
+        ipc_contact->update_friction(lagged, lagged, ipc_friction_eta());
+      }
+    if (ipc_contact->update_candidates(u, nullptr))
+      build_jacobian_pattern();
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::ipc_adjoint_products(const Vector_t &lambda,
+                                                       PhysicalGradient &g,
+                                                       Vector_t *lagged)
+  {
+    typename ipc::IpcContact<dim>::AdjointProducts out;
+    ipc_contact->adjoint_products(u, lambda, constraints_zero, lagged, out);
+    for (unsigned int k = 0; k < out.friction.size(); ++k)
+      g.friction[k] += out.friction[k];
+    if (!layout.find("shape"))
+      return;
+    // Rest positions to shape DoFs: the transpose of the upsampling M*.
+    const auto                          &m = ipc_contact->mesh();
+    std::vector<types::global_dof_index> dofs;
+    std::vector<double>                  values;
+    for (unsigned int v = 0; v < m.n_vertices(); ++v)
+      if (!m.fixed(v) && out.rest[v].norm_square() > 0)
+        for (const auto &w : m.shape_weights[v])
+          {
+            dofs.push_back(w.dof);
+            values.push_back(w.weight * out.rest[v][w.component]);
+          }
+    Vector<double> local(values.begin(), values.end());
+    shape_constraints.distribute_local_to_global(local, dofs, g.shape);
+    g.shape.compress(VectorOperation::add);
+  }
+
+
+
   // ---------------------------------------------------------------- facade
 
   template <int dim>
   void
   ElasticitySimulator<dim>::prepare(RunContext *context)
   {
-    AssertThrow(!impl->ipc_contact,
-                ExcMessage("IPC: gradients through IPC contact are not "
-                           "available yet; Mode = simulate runs with IPC, "
-                           "gradients and optimization without it."));
+    if (!impl->prepared && impl->ipc_contact)
+      {
+        const auto &p = impl->p;
+        // Static friction is lagged over load steps and friction
+        // iterations; the adjoint covers the one lagged at rest.
+        AssertThrow(p.problem == "transient" ||
+                      !(p.ipc.has_friction() || p.design.has("friction")) ||
+                      (p.load_steps == 1 && p.ipc.friction_iterations == 1),
+                    ExcMessage(
+                      "IPC: static gradients with friction need Time/Load "
+                      "steps = 1 and IPC/Friction iterations = 1 (friction "
+                      "lagged at rest); use a transient problem for "
+                      "friction that follows the motion."));
+        AssertThrow(p.adaptivity == "none",
+                    ExcMessage("IPC: gradients need Finite element/"
+                               "Adaptivity = none."));
+        impl->ipc_contact->freeze();
+      }
     if (!impl->prepared)
       {
         impl->prepared = true;
@@ -1507,6 +1661,10 @@ namespace forma
     const auto saved = impl->design;
     impl->reset_physical_parameters(J->parameters.reference_bodies);
     impl->shape_ghost = impl->material_positions;
+    if (impl->layout.find("shape"))
+      impl->update_ipc_geometry("the mesh as read");
+    if (impl->layout.find("friction"))
+      impl->ipc_contact->set_friction_values(impl->problem_friction);
     impl->solve_forward(true);
     impl->reference_states = impl->u_states;
     impl->apply_design(saved);

@@ -542,7 +542,8 @@ namespace forma
     constraint_lines = relevant;
     if (ipc_contact)
       {
-        ipc_contact->setup(dof_handler, mapping, owned, comm);
+        ipc_contact->setup(
+          dof_handler, mapping, owned, comm, &shape_dof_handler);
         constraint_lines.add_indices(ipc_contact->collision_dofs());
       }
     make_constraints(time);
@@ -901,7 +902,8 @@ namespace forma
                                         with_matrix ? &jacobian : nullptr,
                                         residual,
                                         raw,
-                                        apart);
+                                        apart,
+                                        !exact_contact_hessian);
         admissible &= apart;
       }
 
@@ -972,8 +974,9 @@ namespace forma
     Vector_t     du(owned, comm), trial(owned, comm);
     // IPC: a full Newton step shorter than this is convergence (the
     // Newton decrement of Li et al. 2020, in the max norm).
+    // Design runs (gradients) need the residual criterion alone.
     const double step_tolerance =
-      ipc_contact ? p.ipc.newton_step_tolerance *
+      ipc_contact && !prepared ? p.ipc.newton_step_tolerance *
                       ipc_contact->mesh().diagonal() * (transient ? dt : 1.) :
                     0.;
     for (unsigned int it = 0; it < p.max_newton_iterations; ++it)
@@ -1450,6 +1453,25 @@ namespace forma
 
 
   template <int dim>
+  double
+  ElasticitySimulator<dim>::Impl::ipc_friction_eta() const
+  {
+    return p.ipc.friction_velocity *
+           (p.problem == "static" ? p.end_time / p.load_steps : dt);
+  }
+
+
+
+  template <int dim>
+  bool
+  ElasticitySimulator<dim>::Impl::ipc_friction() const
+  {
+    return ipc_contact && ipc_contact->has_friction();
+  }
+
+
+
+  template <int dim>
   std::string
   ElasticitySimulator<dim>::Impl::ipc_progress()
   {
@@ -1506,7 +1528,7 @@ namespace forma
                   "rigid-body motions."));
     transient                  = false;
     u                          = 0;
-    const bool lagged_friction = ipc_contact && p.ipc.has_friction();
+    const bool lagged_friction = ipc_friction();
     step_timer.restart();
     for (unsigned int k = 1; k <= p.load_steps; ++k)
       {
@@ -1523,8 +1545,7 @@ namespace forma
              ++l)
           {
             if (lagged_friction)
-              ipc_contact->update_friction(
-                u, start, p.ipc.friction_velocity * p.end_time / p.load_steps);
+              ipc_contact->update_friction(u, start, ipc_friction_eta());
             const auto i = newton(t, where);
             its.first += i.first;
             its.second += i.second;
@@ -1625,10 +1646,10 @@ namespace forma
         if (ipc_contact)
           {
             prepare_ipc_stiffness();
-            if (p.ipc.has_friction())
+            if (ipc_friction())
               ipc_contact->update_friction(u_history[0],
                                            u_history[0],
-                                           p.ipc.friction_velocity * dt);
+                                           ipc_friction_eta());
           }
         else
           u.add(dt, v_history[0]);

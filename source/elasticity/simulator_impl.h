@@ -426,6 +426,30 @@ namespace forma
     Timer          step_timer;
     nlohmann::json last_timings;
     double         last_assembly_seconds = 0, last_solver_seconds = 0;
+    /// IPC friction coefficients of the problem (the reference run's).
+    std::vector<double> problem_friction;
+    /// Adjoint with IPC: the unprojected contact Hessian (A^c) in assemble().
+    bool exact_contact_hessian = false;
+    /// Move the collision mesh to the current shape (`where` names it in
+    /// errors).
+    void
+    update_ipc_geometry(const std::string &where);
+    /// IPC state of stored step i for the adjoint: friction lagged at step
+    /// i - 1 (static: at rest), candidates and pattern at u^i.
+    void
+    ipc_adjoint_state(const unsigned int i);
+    /// Add lambda's IPC products (shape, friction) to g and, for the
+    /// previous step, (d h / d u^{i-1})^T lambda to `lagged`.
+    void
+    ipc_adjoint_products(const Vector_t   &lambda,
+                         PhysicalGradient &g,
+                         Vector_t         *lagged);
+    /// Slip smoothing eps_v dt of IPC friction (static: per load step).
+    double
+    ipc_friction_eta() const;
+    /// Whether the IPC run has friction (coefficients or a friction design).
+    bool
+    ipc_friction() const;
     /// Whether the Newton line search may use the potential as merit:
     /// static problems, and transient ones with IPC.
     bool

@@ -110,7 +110,8 @@ namespace forma
       const DoFHandler<dim>              &dof_handler,
       const hp::MappingCollection<dim>   &mapping,
       const std::set<types::boundary_id> &boundaries,
-      const MPI_Comm                      comm)
+      const MPI_Comm                      comm,
+      const DoFHandler<dim>              *shape_dof_handler)
     {
       const auto          &fe = dof_handler.get_fe_collection();
       hp::QCollection<dim> support;
@@ -136,6 +137,10 @@ namespace forma
       /// Position of each vertex's record in v_ints.
       std::map<types::global_dof_index, unsigned int> seen;
       std::vector<types::global_dof_index>            cell_dofs, face_dofs;
+      // Upsampling records: per vertex [key, n, (shape DoF, component) x n]
+      // and the n weights.
+      std::vector<types::global_dof_index> w_ints, shape_dofs;
+      std::vector<double>                  w_reals;
       for (const auto &cell : dof_handler.active_cell_iterators())
         {
           if (!cell->is_locally_owned() || !cell->at_boundary())
@@ -193,6 +198,33 @@ namespace forma
                   v_ints.push_back(cell->material_id());
                   for (unsigned int d = 0; d < 3; ++d)
                     v_reals.push_back(d < dim ? fv.quadrature_point(i)[d] : 0.);
+                  if (shape_dof_handler)
+                    {
+                      const typename DoFHandler<dim>::active_cell_iterator
+                                  shape_cell(&cell->get_triangulation(),
+                                   cell->level(),
+                                   cell->index(),
+                                   shape_dof_handler);
+                      const auto &sfe = shape_cell->get_fe();
+                      shape_dofs.resize(sfe.n_dofs_per_cell());
+                      shape_cell->get_dof_indices(shape_dofs);
+                      const Point<dim> &xi =
+                        cfe.get_unit_support_points()[i];
+                      w_ints.push_back(key);
+                      const std::size_t count = w_ints.size();
+                      w_ints.push_back(0);
+                      for (unsigned int a = 0; a < sfe.n_dofs_per_cell(); ++a)
+                        {
+                          const double value = sfe.shape_value(a, xi);
+                          if (std::abs(value) < 1e-12)
+                            continue;
+                          ++w_ints[count];
+                          w_ints.push_back(shape_dofs[a]);
+                          w_ints.push_back(
+                            sfe.system_to_component_index(a).first);
+                          w_reals.push_back(value);
+                        }
+                    }
                 }
 
               const std::vector<Point<dim - 1>> &unit =
@@ -264,6 +296,27 @@ namespace forma
           }
         collision_dofs.compress();
       }
+
+      shape_weights.assign(rest.size(), {});
+      if (shape_dof_handler)
+        {
+          const auto all_ints  = Utilities::MPI::all_gather(comm, w_ints);
+          const auto all_reals = Utilities::MPI::all_gather(comm, w_reals);
+          for (unsigned int r = 0; r < all_ints.size(); ++r)
+            for (std::size_t k = 0, l = 0; k < all_ints[r].size();)
+              {
+                const unsigned int v = index.at(all_ints[r][k]);
+                const unsigned int n = all_ints[r][k + 1];
+                k += 2;
+                const bool first = shape_weights[v].empty();
+                for (unsigned int j = 0; j < n; ++j, k += 2, ++l)
+                  if (first)
+                    shape_weights[v].push_back(
+                      {all_ints[r][k],
+                       static_cast<unsigned int>(all_ints[r][k + 1]),
+                       all_reals[r][l]});
+              }
+        }
 
       const auto all_prims = Utilities::MPI::all_gather(comm, prims);
       obstacle.assign(rest.size(), -1);
@@ -348,6 +401,43 @@ namespace forma
               edge_area.push_back(e.second);
             }
         }
+    }
+
+
+
+    template <int dim>
+    void
+    CollisionMesh<dim>::add_area_gradient(const std::vector<double> &s,
+                                          std::vector<Vec> &gradient) const
+    {
+      if (dim == 2)
+        for (const auto &e : edges)
+          {
+            // l / 2 to each end.
+            const double c = s[e[0]] + s[e[1]];
+            if (c == 0)
+              continue;
+            const Vec t = rest[e[0]] - rest[e[1]];
+            const Vec g = 0.5 * c / t.norm() * t;
+            gradient[e[0]] += g;
+            gradient[e[1]] -= g;
+          }
+      else
+        for (const auto &t : faces)
+          {
+            // a / 3 to each vertex, a = |n| / 2, n = (x1 - x0) x (x2 - x0).
+            const double c = (s[t[0]] + s[t[1]] + s[t[2]]) / 3.;
+            if (c == 0)
+              continue;
+            const Vec n = cross_product_3d(rest[t[1]] - rest[t[0]],
+                                           rest[t[2]] - rest[t[0]]);
+            const Vec m = 0.5 * c / n.norm() * n;
+            // d|n| = n/|n| . (dx1 x e2 + e1 x dx2 - dx0 x (e2 - e1)).
+            for (unsigned int j = 0; j < 3; ++j)
+              gradient[t[j]] += cross_product_3d(rest[t[(j + 1) % 3]] -
+                                                   rest[t[(j + 2) % 3]],
+                                                 m);
+          }
     }
 
 

@@ -46,9 +46,9 @@ namespace forma
       project_to_psd(FullMatrix<double> &H)
       {
         const unsigned int n = H.m();
-        // Symmetrize; Gershgorin's bound: nothing to do if no eigenvalue can
-        // be negative, else it bounds the search interval of LAPACK.
-        double lowest = std::numeric_limits<double>::max(), scale = 0;
+        // Symmetrize; by Gershgorin's bound most pair Hessians have no
+        // negative eigenvalue: nothing to do then.
+        double lowest = std::numeric_limits<double>::max();
         for (unsigned int i = 0; i < n; ++i)
           {
             double radius = 0;
@@ -62,24 +62,29 @@ namespace forma
                   radius += std::abs(H(i, j));
               }
             lowest = std::min(lowest, H(i, i) - radius);
-            scale  = std::max(scale, std::abs(H(i, i)) + radius);
           }
         if (lowest >= 0)
           return;
+        // H+ = (H + |H|) / 2 with |H| = V S V^T from the SVD H = U S V^T:
+        // exact for symmetric H whatever the multiplicities (LAPACK's
+        // interval eigensolver fails on some contact Hessians).
         LAPACKFullMatrix<double> A(n, n);
         for (unsigned int i = 0; i < n; ++i)
           for (unsigned int j = 0; j < n; ++j)
             A(i, j) = H(i, j);
-        Vector<double>     lambda;
-        FullMatrix<double> V;
-        // The interval's margin covers LAPACK's error, which scales with |H|.
-        A.compute_eigenvalues_symmetric(
-          lowest - 1e-8 * scale - 1e-300, 0., 0., lambda, V);
-        for (unsigned int k = 0; k < lambda.size(); ++k)
-          for (unsigned int i = 0; i < n; ++i)
-            for (unsigned int j = 0; j < n; ++j)
-              H(i, j) -= lambda[k] * V(i, k) * V(j, k);
+        A.compute_svd();
+        const LAPACKFullMatrix<double> &Vt = A.get_svd_vt();
+        for (unsigned int i = 0; i < n; ++i)
+          for (unsigned int j = 0; j <= i; ++j)
+            {
+              double a = 0;
+              for (unsigned int k = 0; k < n; ++k)
+                a += Vt(k, i) * A.singular_value(k) * Vt(k, j);
+              H(i, j) = H(j, i) = 0.5 * (H(i, j) + a);
+            }
       }
+
+
 
       /// An orthonormal basis of the plane orthogonal to the unit vector n
       /// (in 2D the line, within the xy-plane).
@@ -108,6 +113,31 @@ namespace forma
             t[dim - 2] = cross_product_3d(n, t0);
           }
         return t;
+      }
+
+      /**
+       * The barrier of a classified pair at its vertex positions y (slots
+       * of the candidate), times the edge-edge mollifier where it acts:
+       * b(d) m(c, eps_x), generic in the number types for AD.
+       */
+      template <typename T, typename Eps>
+      T
+      barrier_term(const DistanceStencil                 &s,
+                   const std::array<internal::V3<T>, 4> &y,
+                   const bool                            mollify,
+                   const Eps                            &eps_x,
+                   const double                          dhat)
+      {
+        using std::sqrt;
+        std::array<internal::V3<T>, 4> args;
+        for (unsigned int a = 0; a < n_arguments(s.type); ++a)
+          args[a] = y[s.slot[a]];
+        const T d = sqrt(internal::distance_squared(s.type, args.data()));
+        T       e = barrier(d, dhat);
+        if (mollify)
+          e *= edge_edge_mollifier(internal::edge_cross_squared(y.data()),
+                                   eps_x);
+        return e;
       }
 
       bool
@@ -146,7 +176,68 @@ namespace forma
     template <int dim>
     IpcContact<dim>::IpcContact(const IpcParameters &parameters)
       : parameters(parameters)
-    {}
+    {
+      source_names.push_back("IPC/Friction coefficient");
+      source_values.push_back(parameters.friction);
+      for (const auto &[ids, mu] : parameters.pair_friction)
+        {
+          pair_source[ids] = source_values.size();
+          source_names.push_back("Friction pairs " +
+                                 std::to_string(ids.first) + "-" +
+                                 std::to_string(ids.second));
+          source_values.push_back(mu);
+        }
+      const auto own = [&](const double mu, const std::string &name) {
+        if (mu < 0)
+          return -1;
+        source_names.push_back(name);
+        source_values.push_back(mu);
+        return int(source_values.size()) - 1;
+      };
+      for (unsigned int k = 0; k < parameters.planes.size(); ++k)
+        plane_source.push_back(own(parameters.planes[k].friction,
+                                   "obstacle plane " + std::to_string(k + 1)));
+      for (unsigned int k = 0; k < parameters.meshes.size(); ++k)
+        mesh_source.push_back(own(parameters.meshes[k].friction,
+                                  "obstacle mesh " + std::to_string(k + 1)));
+    }
+
+
+
+    template <int dim>
+    void
+    IpcContact<dim>::freeze()
+    {
+      frozen = true;
+    }
+
+
+
+    template <int dim>
+    void
+    IpcContact<dim>::set_friction_values(const std::vector<double> &values)
+    {
+      AssertThrow(values.size() == source_values.size(),
+                  ExcInternalError());
+      for (unsigned int k = 0; k < values.size(); ++k)
+        AssertThrow(values[k] >= 0,
+                    ExcMessage("Design (friction): " + source_names[k] +
+                               " must be >= 0 (got " + sig(values[k]) + ")."));
+      source_values      = values;
+      keep_zero_friction = true;
+    }
+
+
+
+    template <int dim>
+    bool
+    IpcContact<dim>::has_friction() const
+    {
+      return keep_zero_friction ||
+             std::any_of(source_values.begin(),
+                         source_values.end(),
+                         [](const double mu) { return mu > 0; });
+    }
 
     template <int dim>
     IpcContact<dim>::~IpcContact() = default;
@@ -232,19 +323,53 @@ namespace forma
 
 
     template <int dim>
-    double
-    IpcContact<dim>::friction_coefficient(const unsigned int a,
-                                          const unsigned int b) const
+    unsigned int
+    IpcContact<dim>::friction_source(const Candidate       &c,
+                                     const DistanceStencil &s) const
     {
-      const auto &m = *collision_mesh;
+      if (c.kind == PairKind::point_plane)
+        return std::max(plane_source[c.plane], 0);
+      // The two sides: the first and the last argument of the formula.
+      const auto        &m = *collision_mesh;
+      const unsigned int a = c.vertex[s.slot[0]];
+      const unsigned int b = c.vertex[s.slot[n_arguments(s.type) - 1]];
       for (const unsigned int v : {a, b})
-        if (m.fixed(v) && parameters.meshes[m.obstacle[v]].friction >= 0)
-          return parameters.meshes[m.obstacle[v]].friction;
+        if (m.fixed(v) && mesh_source[m.obstacle[v]] >= 0)
+          return mesh_source[m.obstacle[v]];
       const auto ia = m.body[a], ib = m.body[b];
-      const auto it =
-        parameters.pair_friction.find({std::min(ia, ib), std::max(ia, ib)});
-      return it != parameters.pair_friction.end() ? it->second :
-                                                    parameters.friction;
+      const auto it = pair_source.find({std::min(ia, ib), std::max(ia, ib)});
+      return it != pair_source.end() ? it->second : 0;
+    }
+
+
+
+    template <int dim>
+    bool
+    IpcContact<dim>::barrier_variables(const Candidate           &c,
+                                       const PairGeometry        &pg,
+                                       std::vector<unsigned int> &used) const
+    {
+      const DistanceStencil &s = pg.stencil;
+      used.clear();
+      if (pg.mollifier < 1)
+        used = {0, 1, 2, 3};
+      else if (c.kind == PairKind::point_plane)
+        used = {0};
+      else
+        for (unsigned int a = 0; a < n_arguments(s.type); ++a)
+          if (std::find(used.begin(), used.end(), s.slot[a]) == used.end())
+            used.push_back(s.slot[a]);
+      // Obstacle vertices do not move: constants, not variables.
+      bool against_obstacle = c.kind == PairKind::point_plane;
+      for (unsigned int i = 0; i < used.size();)
+        if (collision_mesh->fixed(c.vertex[used[i]]))
+          {
+            against_obstacle = true;
+            used.erase(used.begin() + i);
+          }
+        else
+          ++i;
+      return against_obstacle;
     }
 
 
@@ -254,7 +379,9 @@ namespace forma
     IpcContact<dim>::setup(const DoFHandler<dim>            &dof_handler,
                            const hp::MappingCollection<dim> &mapping,
                            const IndexSet                   &owned,
-                           const MPI_Comm                    mpi_comm)
+                           const MPI_Comm                    mpi_comm,
+                           const DoFHandler<dim>            *shape_dof_handler,
+                           const std::string                &where)
     {
       comm    = mpi_comm;
       rank    = Utilities::MPI::this_mpi_process(comm);
@@ -264,7 +391,7 @@ namespace forma
                   ExcMessage("IPC contact in 3D needs a mesh without hanging "
                              "nodes (no adaptive refinement)."));
       collision_mesh = std::make_unique<CollisionMesh<dim>>(
-        dof_handler, mapping, parameters.boundaries, comm);
+        dof_handler, mapping, parameters.boundaries, comm, shape_dof_handler);
       AssertThrow(collision_mesh->n_vertices() > 0,
                   ExcMessage("IPC: the collision mesh is empty: no boundary "
                              "faces with the ids of IPC/Boundaries."));
@@ -272,10 +399,13 @@ namespace forma
         collision_mesh->add_obstacle(
           read_obstacle_mesh(parameters.meshes[k].file, dim), k);
       const auto &m   = *collision_mesh;
-      dhat            = parameters.dhat > 0 ? parameters.dhat :
-                                              parameters.relative_dhat * m.diagonal();
+      // Frozen: dhat and kappa stay as they are once set.
+      if (!frozen || dhat == 0)
+        dhat = parameters.dhat > 0 ? parameters.dhat :
+                                     parameters.relative_dhat * m.diagonal();
       automatic_kappa = parameters.kappa == 0;
-      kappa           = parameters.kappa;
+      if (!frozen || kappa == 0)
+        kappa = parameters.kappa;
       IndexSet ghost  = m.collision_dofs;
       ghost.add_indices(owned);
       values.reinit(owned, ghost, comm);
@@ -285,7 +415,7 @@ namespace forma
 
       Vector_t zero(owned, comm);
       update_candidates(zero, nullptr);
-      check_state(zero, "the mesh as read", true);
+      check_state(zero, where, true);
     }
 
 
@@ -404,7 +534,7 @@ namespace forma
     void
     IpcContact<dim>::set_stiffness_scale(const double mean_diagonal)
     {
-      if (!automatic_kappa)
+      if (!automatic_kappa || (frozen && kappa > 0))
         return;
       // The mean vertex area of the bodies (obstacles may be coarse).
       const auto  &m    = *collision_mesh;
@@ -517,14 +647,19 @@ namespace forma
       std::set<std::pair<unsigned int, unsigned int>> required;
       const auto                                     &mesh = *collision_mesh;
       const auto require = [&](const unsigned int *v, const unsigned int n) {
+        // With (v, v): this rank may write the rows of vertices whose
+        // cells other ranks own (a point against a plane or an obstacle).
         for (unsigned int i = 0; i < n; ++i)
-          for (unsigned int j = i + 1; j < n; ++j)
-            if (v[i] != v[j] && !mesh.fixed(v[i]) && !mesh.fixed(v[j]))
+          for (unsigned int j = i; j < n; ++j)
+            if (!mesh.fixed(v[i]) && !mesh.fixed(v[j]))
               required.emplace(std::min(v[i], v[j]), std::max(v[i], v[j]));
       };
       for (unsigned int k = 0; k < candidates.size(); ++k)
-        if (mine(k) && candidates[k].kind != PairKind::point_plane)
-          require(candidates[k].vertex.data(), n_vertices(candidates[k].kind));
+        if (mine(k))
+          require(candidates[k].vertex.data(),
+                  candidates[k].kind == PairKind::point_plane ?
+                    1 :
+                    n_vertices(candidates[k].kind));
       for (const auto &f : friction)
         require(f.vertex.data(), f.n);
       bool rebuild = false;
@@ -617,31 +752,35 @@ namespace forma
             g.distance                 = (X[0] - X[1]) * X[2]; // signed
             g.stencil.distance_squared = g.distance * g.distance;
             g.weight                   = m.vertex_area[c.vertex[0]];
+            g.weight_terms             = {{c.vertex[0], 1.}};
             return g;
         }
       g.distance = std::sqrt(g.stencil.distance_squared);
       // Areas of the bodies' side only: a coarse obstacle's vertex areas
       // say nothing of the contact's extent.
-      const auto mean_area = [&](const unsigned int first,
-                                 const unsigned int last) {
-        double       a = 0;
+      // Half the mean vertex area of the moving vertices in [first, last).
+      const auto half_mean_area = [&](const unsigned int first,
+                                      const unsigned int last) {
         unsigned int n = 0;
+        for (unsigned int i = first; i < last; ++i)
+          n += !m.fixed(c.vertex[i]);
+        g.weight = 0;
         for (unsigned int i = first; i < last; ++i)
           if (!m.fixed(c.vertex[i]))
             {
-              a += m.vertex_area[c.vertex[i]];
-              ++n;
+              g.weight_terms.emplace_back(c.vertex[i], 0.5 / n);
+              g.weight += 0.5 / n * m.vertex_area[c.vertex[i]];
             }
-        return n > 0 ? a / n : 0.;
       };
       if (c.kind != PairKind::edge_edge)
         {
-          g.weight =
-            0.5 * (m.fixed(c.vertex[0]) ? mean_area(1, n_vertices(c.kind)) :
-                                          m.vertex_area[c.vertex[0]]);
+          if (m.fixed(c.vertex[0]))
+            half_mean_area(1, n_vertices(c.kind));
+          else
+            half_mean_area(0, 1);
           return g;
         }
-      g.weight                = 0.5 * mean_area(0, 4);
+      half_mean_area(0, 4);
       const auto rest_length2 = [&](unsigned int i, unsigned int j) {
         return (m.rest[c.vertex[i]] - m.rest[c.vertex[j]]).norm_square();
       };
@@ -664,7 +803,8 @@ namespace forma
                               TrilinosWrappers::SparseMatrix  *matrix,
                               Vector_t                        &residual,
                               Vector_t                        *raw,
-                              bool                            &admissible)
+                              bool                            &admissible,
+                              const bool                       project)
     {
       Timer                  timer;
       const auto            &m = *collision_mesh;
@@ -705,7 +845,6 @@ namespace forma
           const Candidate         &c  = candidates[k];
           const std::array<Vec, 4> X  = pair_positions(c, x);
           const PairGeometry       pg = pair_geometry(c, X);
-          const DistanceStencil   &s  = pg.stencil;
           const double             d  = pg.distance;
           min_distance                = std::min(min_distance, d);
           if (d <= 0)
@@ -718,31 +857,8 @@ namespace forma
           ++n_active;
           if (kappa == 0)
             continue; // automatic stiffness not scaled yet
-          const double A       = pg.weight;
-          const double eps_x   = pg.eps_x;
-          const bool   mollify = pg.mollifier < 1;
-
-          // The vertices the energy depends on, in slot order.
-          used.clear();
-          if (mollify)
-            used = {0, 1, 2, 3};
-          else if (c.kind == PairKind::point_plane)
-            used = {0};
-          else
-            for (unsigned int a = 0; a < n_arguments(s.type); ++a)
-              if (std::find(used.begin(), used.end(), s.slot[a]) == used.end())
-                used.push_back(s.slot[a]);
-          // Obstacle vertices do not move: constants, not variables.
-          bool against_obstacle = c.kind == PairKind::point_plane;
-          for (unsigned int i = 0; i < used.size();)
-            if (m.fixed(c.vertex[used[i]]))
-              {
-                against_obstacle = true;
-                used.erase(used.begin() + i);
-              }
-            else
-              ++i;
-          const unsigned int n = dim * used.size();
+          const bool against_obstacle = barrier_variables(c, pg, used);
+          const unsigned int n        = dim * used.size();
 
           std::array<internal::V3<AD>, 4> y;
           for (unsigned int i = 0; i < 4; ++i)
@@ -752,16 +868,8 @@ namespace forma
             for (unsigned int dd = 0; dd < dim; ++dd)
               y[used[i]][dd] =
                 AD(N, dim * i + dd, Inner(N, dim * i + dd, X[used[i]][dd]));
-          std::array<internal::V3<AD>, 4> args;
-          for (unsigned int a = 0; a < n_arguments(s.type); ++a)
-            args[a] = y[s.slot[a]];
-          using std::sqrt;
-          const AD dist = sqrt(internal::distance_squared(s.type, args.data()));
-          AD       e    = barrier(dist, dhat);
-          if (mollify)
-            e *= edge_edge_mollifier(internal::edge_cross_squared(y.data()),
-                                     eps_x);
-          e *= kappa * A;
+          AD e = barrier_term(pg.stencil, y, pg.mollifier < 1, pg.eps_x, dhat);
+          e *= kappa * pg.weight;
           energy += e.val().val();
 
           dofs.clear();
@@ -777,7 +885,8 @@ namespace forma
               for (unsigned int i = 0; i < n; ++i)
                 for (unsigned int j = 0; j < n; ++j)
                   H(i, j) = e.dx(i).dx(j);
-              project_to_psd(H);
+              if (project)
+                project_to_psd(H);
             }
           add(dofs, against_obstacle);
         }
@@ -849,108 +958,272 @@ namespace forma
     {
       friction.clear();
       friction_eta = eta;
-      if (!parameters.has_friction())
+      if (!has_friction())
         return;
       friction_start = displacements(u_start);
       collect_candidates(u_lagged, nullptr);
-      const auto            &m = *collision_mesh;
-      const std::vector<Vec> x = positions(u_lagged);
+      friction_lagged = positions(u_lagged);
+      const auto &m   = *collision_mesh;
       for (unsigned int k = 0; k < candidates.size(); ++k)
         {
           if (!mine(k))
             continue;
-          const Candidate         &c = candidates[k];
-          const std::array<Vec, 4> X = pair_positions(c, x);
-          FrictionPair             f;
-          Vec                      normal;
+          const Candidate         &c  = candidates[k];
+          const std::array<Vec, 4> X  = pair_positions(c, friction_lagged);
           const PairGeometry       pg = pair_geometry(c, X);
+          const DistanceStencil   &s  = pg.stencil;
           const double             d  = pg.distance;
+          if (d <= 0 || d >= dhat)
+            continue;
+          FrictionPair f;
+          f.candidate = c;
+          f.source    = friction_source(c, s);
+          f.n         = n_arguments(s.type);
+          // Closest points (weights of the arguments) and the normal.
+          std::array<internal::V3<double>, 4> args;
+          for (unsigned int a = 0; a < f.n; ++a)
+            for (unsigned int dd = 0; dd < 3; ++dd)
+              args[a][dd] = X[s.slot[a]][dd];
+          std::array<double, 4> w;
+          internal::V3<double>  nv;
+          internal::closest_point_frame(s.type, args.data(), w, nv);
+          Vec normal;
+          for (unsigned int dd = 0; dd < 3; ++dd)
+            normal[dd] = nv[dd];
           if (c.kind == PairKind::point_plane)
+            f.n = 1; // the plane's origin and normal carry no slip
+          for (unsigned int a = 0; a < f.n; ++a)
             {
-              normal          = X[2];
-              f.n             = 1;
-              f.vertex        = {{c.vertex[0], 0, 0, 0}};
-              f.weight        = {{1., 0., 0., 0.}};
-              const double mu = parameters.planes[c.plane].friction >= 0 ?
-                                  parameters.planes[c.plane].friction :
-                                  parameters.friction;
-              f.mu_n          = mu;
-              f.obstacle      = true;
+              f.vertex[a] = c.vertex[s.slot[a]];
+              f.weight[a] = w[a];
+              f.obstacle |= m.fixed(f.vertex[a]);
             }
-          else
-            {
-              const DistanceStencil &s = pg.stencil;
-              if (d >= dhat || d <= 0)
-                continue;
-              // Closest points: weights of the relative displacement and
-              // the normal, by distance type.
-              const auto &P = [&](unsigned int a) -> const Vec & {
-                return X[s.slot[a]];
-              };
-              std::array<double, 4> w{{0, 0, 0, 0}};
-              switch (s.type)
-                {
-                  case DistanceType::point_point:
-                    w[0]   = 1;
-                    w[1]   = -1;
-                    normal = P(0) - P(1);
-                    break;
-                    case DistanceType::point_edge: {
-                      const Vec    e = P(2) - P(1);
-                      const double t = (P(0) - P(1)) * e / e.norm_square();
-                      w              = {{1., -(1. - t), -t, 0.}};
-                      normal         = P(0) - P(1) - t * e;
-                      break;
-                    }
-                    case DistanceType::point_triangle: {
-                      const Vec e1 = P(2) - P(1), e2 = P(3) - P(1);
-                      normal           = cross_product_3d(e1, e2);
-                      const Vec    r   = P(0) - P(1);
-                      const double a11 = e1 * e1, a12 = e1 * e2, a22 = e2 * e2;
-                      const double b1 = r * e1, b2 = r * e2;
-                      const double det = a11 * a22 - a12 * a12;
-                      const double l1  = (a22 * b1 - a12 * b2) / det;
-                      const double l2  = (a11 * b2 - a12 * b1) / det;
-                      w                = {{1., -(1. - l1 - l2), -l1, -l2}};
-                      break;
-                    }
-                    case DistanceType::edge_edge: {
-                      const Vec ea = P(1) - P(0), eb = P(3) - P(2),
-                                r      = P(0) - P(2);
-                      const double a11 = ea * ea, a12 = ea * eb, a22 = eb * eb;
-                      const double D = ea * r, E = eb * r;
-                      const double den = a11 * a22 - a12 * a12;
-                      const double sa  = (a12 * E - a22 * D) / den;
-                      const double tb  = (a11 * E - a12 * D) / den;
-                      w                = {{1. - sa, sa, -(1. - tb), -tb}};
-                      normal           = cross_product_3d(ea, eb);
-                      if (normal * (P(0) + sa * ea - P(2) - tb * eb) < 0)
-                        normal *= -1.;
-                      break;
-                    }
-                  default:
-                    break;
-                }
-              f.n = n_arguments(s.type);
-              for (unsigned int a = 0; a < f.n; ++a)
-                {
-                  f.vertex[a] = c.vertex[s.slot[a]];
-                  f.weight[a] = w[a];
-                }
-              f.mu_n =
-                friction_coefficient(c.vertex[s.slot[0]], f.vertex[f.n - 1]);
-              for (unsigned int a = 0; a < f.n; ++a)
-                f.obstacle |= m.fixed(f.vertex[a]);
-            }
-          if (d <= 0 || d >= dhat || f.mu_n <= 0 || normal.norm() == 0)
+          f.obstacle |= c.kind == PairKind::point_plane;
+          const double mu = source_values[f.source];
+          if ((mu <= 0 && !keep_zero_friction) || normal.norm() == 0)
             continue;
           normal /= normal.norm();
           f.tangent = tangent_basis<dim>(normal);
-          // mu times the lagged normal force kappa A |b'(d)|.
-          f.mu_n *=
-            kappa * pg.weight * pg.mollifier * -barrier_derivative(d, dhat);
+          // mu times the lagged normal force kappa A m |b'(d)|.
+          f.mu_n = mu * kappa * pg.weight * pg.mollifier *
+                   -barrier_derivative(d, dhat);
           friction.push_back(f);
         }
+    }
+
+
+
+    template <int dim>
+    void
+    IpcContact<dim>::adjoint_products(
+      const Vector_t                  &u,
+      const Vector_t                  &p,
+      const AffineConstraints<double> &constraints,
+      Vector_t                        *lagged,
+      AdjointProducts                 &out)
+    {
+      Timer                  timer;
+      const auto            &m  = *collision_mesh;
+      const std::vector<Vec> x  = positions(u);
+      const std::vector<Vec> pv = displacements(p);
+      out.rest.resize(m.n_vertices());
+      out.friction.resize(source_values.size(), 0.);
+      std::vector<double> area(m.n_vertices(), 0.);
+
+      // d eps_x / d rest of the four vertices of an edge pair, times s.
+      const auto add_threshold = [&](const Candidate &c, const double s) {
+        const Vec ea = m.rest[c.vertex[1]] - m.rest[c.vertex[0]];
+        const Vec eb = m.rest[c.vertex[3]] - m.rest[c.vertex[2]];
+        const Vec ga = 2e-3 * s * eb.norm_square() * ea;
+        const Vec gb = 2e-3 * s * ea.norm_square() * eb;
+        const std::array<Vec, 4> g{{-ga, ga, -gb, gb}};
+        for (unsigned int i = 0; i < 4; ++i)
+          if (!m.fixed(c.vertex[i]))
+            out.rest[c.vertex[i]] += g[i];
+      };
+
+      // Barrier: p^T h^c = p . grad E; its derivative along the positions
+      // x = rest + u is the Hessian times p, plus the explicit rest terms
+      // (area weight, mollifier threshold).
+      constexpr int N = 3 * dim + (dim == 3 ? 3 : 0);
+      using Inner     = Sacado::Fad::SFad<double, N>;
+      using Outer     = Sacado::Fad::SFad<Inner, N + 1>;
+      std::vector<unsigned int> used;
+      for (unsigned int k = 0; k < candidates.size(); ++k)
+        {
+          if (!mine(k))
+            continue;
+          const Candidate         &c  = candidates[k];
+          const std::array<Vec, 4> X  = pair_positions(c, x);
+          const PairGeometry       pg = pair_geometry(c, X);
+          if (pg.distance <= 0 || pg.distance >= dhat)
+            continue;
+          barrier_variables(c, pg, used);
+          const unsigned int n       = dim * used.size();
+          const bool         mollify = pg.mollifier < 1;
+          std::array<internal::V3<Outer>, 4> y;
+          for (unsigned int i = 0; i < 4; ++i)
+            for (unsigned int dd = 0; dd < 3; ++dd)
+              y[i][dd] = X[i][dd];
+          for (unsigned int i = 0; i < used.size(); ++i)
+            for (unsigned int dd = 0; dd < dim; ++dd)
+              y[used[i]][dd] = Outer(N + 1,
+                                     dim * i + dd,
+                                     Inner(N, dim * i + dd, X[used[i]][dd]));
+          Outer eps = pg.eps_x;
+          if (mollify)
+            eps = Outer(N + 1, N, Inner(pg.eps_x));
+          const Outer e = barrier_term(pg.stencil, y, mollify, eps, dhat);
+          const double scale = kappa * pg.weight;
+          std::vector<double> pl(n);
+          for (unsigned int i = 0; i < n; ++i)
+            pl[i] = pv[c.vertex[used[i / dim]]][i % dim];
+          double pF = 0;
+          for (unsigned int i = 0; i < n; ++i)
+            pF += scale * e.val().dx(i) * pl[i];
+          for (unsigned int j = 0; j < n; ++j)
+            {
+              double Hp = 0;
+              for (unsigned int i = 0; i < n; ++i)
+                Hp += e.dx(j).dx(i) * pl[i];
+              out.rest[c.vertex[used[j / dim]]][j % dim] += scale * Hp;
+            }
+          if (mollify)
+            {
+              double s = 0;
+              for (unsigned int i = 0; i < n; ++i)
+                s += e.dx(N).dx(i) * pl[i];
+              add_threshold(c, scale * s);
+            }
+          for (const auto &[v, coefficient] : pg.weight_terms)
+            area[v] += coefficient * pF / pg.weight;
+        }
+
+      // Lagged friction (eqs. 3.26-3.29): p^T h^f = M fy (p~ . P s) with
+      // M = kappa A m |b'(d)| mu, the slip s = sum_a w_a (u_a - u_a^start),
+      // P the tangent projector, fy = f_1(|P s|) / |P s| and p~ = sum_a w_a
+      // p_a; M, w and P depend on the lagged positions (forward AD), s on
+      // the start through the slip (closed form).
+      if (!friction.empty())
+        {
+          const std::vector<Vec> now = displacements(u);
+          using F                    = Sacado::Fad::SFad<double, 13>;
+          Vector<double>                       local;
+          std::vector<types::global_dof_index> dofs;
+          for (const auto &f : friction)
+            {
+              const Candidate         &c  = f.candidate;
+              const std::array<Vec, 4> XL = pair_positions(c, friction_lagged);
+              const PairGeometry       pg = pair_geometry(c, XL);
+              const DistanceStencil   &st = pg.stencil;
+              const bool               mollify = pg.mollifier < 1;
+              const bool        plane = c.kind == PairKind::point_plane;
+              const unsigned int nv   = plane ? 1 : n_vertices(c.kind);
+              std::array<internal::V3<F>, 4> y;
+              for (unsigned int i = 0; i < 4; ++i)
+                for (unsigned int dd = 0; dd < 3; ++dd)
+                  y[i][dd] = XL[i][dd];
+              for (unsigned int i = 0; i < nv; ++i)
+                if (!m.fixed(c.vertex[i]))
+                  for (unsigned int dd = 0; dd < dim; ++dd)
+                    y[i][dd] = F(13, 3 * i + dd, XL[i][dd]);
+              F eps = pg.eps_x;
+              if (mollify)
+                eps = F(13, 12, pg.eps_x);
+              std::array<internal::V3<F>, 4> args;
+              for (unsigned int a = 0; a < n_arguments(st.type); ++a)
+                args[a] = y[st.slot[a]];
+              using std::sqrt;
+              const F d =
+                plane ? internal::dot(internal::sub(args[0], args[1]),
+                                      args[2]) :
+                        sqrt(internal::distance_squared(st.type, args.data()));
+              F M = -kappa * pg.weight * barrier_derivative(d, dhat);
+              if (mollify)
+                M *= edge_edge_mollifier(internal::edge_cross_squared(y.data()),
+                                         eps);
+              std::array<F, 4>     w;
+              internal::V3<F>      normal;
+              internal::closest_point_frame(st.type, args.data(), w, normal);
+              const F nn = sqrt(internal::dot(normal, normal));
+              for (auto &v : normal)
+                v /= nn;
+              internal::V3<F> slip{{F(0.), F(0.), F(0.)}}, pt = slip;
+              for (unsigned int a = 0; a < f.n; ++a)
+                if (!m.fixed(f.vertex[a]))
+                  for (unsigned int dd = 0; dd < dim; ++dd)
+                    {
+                      slip[dd] +=
+                        w[a] * (now[f.vertex[a]][dd] -
+                                friction_start[f.vertex[a]][dd]);
+                      pt[dd] += w[a] * pv[f.vertex[a]][dd];
+                    }
+              const F         sn = internal::dot(normal, slip);
+              internal::V3<F> Ps;
+              for (unsigned int dd = 0; dd < 3; ++dd)
+                Ps[dd] = slip[dd] - sn * normal[dd];
+              const F y2 = internal::dot(Ps, Ps);
+              // At zero slip P s = 0: f_1(y)/y acts as its limit 2 / eta.
+              const F fy =
+                y2.val() > 0 ?
+                  friction_f1_over_y(F(sqrt(y2)), friction_eta) :
+                  F(2. / friction_eta);
+              const F      pF1 = M * fy * internal::dot(pt, Ps); // mu = 1
+              const double mu  = source_values[f.source];
+              out.friction[f.source] += pF1.val();
+              for (const auto &[v, coefficient] : pg.weight_terms)
+                area[v] += coefficient * mu * pF1.val() / pg.weight;
+              if (mollify)
+                add_threshold(c, mu * pF1.dx(12));
+
+              // Lagged positions x = rest + u_lagged: both gradients.
+              local.reinit(0);
+              dofs.clear();
+              std::vector<double> values;
+              for (unsigned int i = 0; i < nv; ++i)
+                if (!m.fixed(c.vertex[i]))
+                  for (unsigned int dd = 0; dd < dim; ++dd)
+                    {
+                      const double g = mu * pF1.dx(3 * i + dd);
+                      out.rest[c.vertex[i]][dd] += g;
+                      dofs.push_back(m.dofs[c.vertex[i]][dd]);
+                      values.push_back(g);
+                    }
+              // The start of the slip: -M w_b H_s p~, H_s = fy P + fy' / y
+              // (P s)(P s)^T.
+              if (lagged)
+                {
+                  const double y  = std::sqrt(y2.val());
+                  const double f2 =
+                    y > 0 ? friction_f2_term(y, friction_eta) : 0.;
+                  double Ppt[3], ps_pt = 0, n_pt = 0;
+                  for (unsigned int dd = 0; dd < 3; ++dd)
+                    {
+                      ps_pt += Ps[dd].val() * pt[dd].val();
+                      n_pt += normal[dd].val() * pt[dd].val();
+                    }
+                  for (unsigned int dd = 0; dd < 3; ++dd)
+                    Ppt[dd] = pt[dd].val() - n_pt * normal[dd].val();
+                  for (unsigned int a = 0; a < f.n; ++a)
+                    if (!m.fixed(f.vertex[a]))
+                      for (unsigned int dd = 0; dd < dim; ++dd)
+                        {
+                          dofs.push_back(m.dofs[f.vertex[a]][dd]);
+                          values.push_back(
+                            -mu * M.val() * w[a].val() *
+                            (fy.val() * Ppt[dd] + f2 * ps_pt * Ps[dd].val()));
+                        }
+                  local.reinit(values.size());
+                  for (unsigned int i = 0; i < values.size(); ++i)
+                    local[i] = values[i];
+                  constraints.distribute_local_to_global(local, dofs, *lagged);
+                }
+            }
+        }
+      m.add_area_gradient(area, out.rest);
+      if (lagged)
+        lagged->compress(VectorOperation::add);
+      assemble_seconds += timer.wall_time();
     }
 
 
@@ -959,7 +1232,7 @@ namespace forma
     bool
     IpcContact<dim>::update_stiffness()
     {
-      if (!automatic_kappa)
+      if (!automatic_kappa || frozen)
         return false;
       const double d = Utilities::MPI::min(min_distance, comm);
       bool         grow =

@@ -46,6 +46,14 @@ namespace forma
                       Patterns::Double(0),
                       "Stop when the (scaled) gradient norm fell below this "
                       "fraction of the first one.");
+    prm.declare_entry("Normalize objective",
+                      "false",
+                      Patterns::Bool(),
+                      "Let L-BFGS see J / |J(q0)|: its first steps then do "
+                      "not depend on the units of J (use it when J is far "
+                      "from 1, e.g. a small target misfit, which otherwise "
+                      "creeps for many iterations before the secant model "
+                      "takes over).");
     prm.declare_entry("Memory",
                       "10",
                       Patterns::Integer(1),
@@ -80,6 +88,7 @@ namespace forma
     decrease_window    = prm.get_integer("Decrease window");
     gradient_tolerance = prm.get_double("Gradient tolerance");
     memory             = prm.get_integer("Memory");
+    normalize          = prm.get_bool("Normalize objective");
     resume             = prm.get_bool("Resume");
     remesh_quality     = prm.get_double("Remesh quality");
     max_remeshes       = prm.get_integer("Max remeshes");
@@ -137,7 +146,7 @@ namespace forma
             const double J = run.model.value(run.design(z));
             last_z         = z;
             last_J         = J;
-            return J;
+            return J / scale_of(J);
           }
         catch (const std::exception &e)
           {
@@ -158,10 +167,11 @@ namespace forma
           *dynamic_cast<const ROL::StdVector<double> &>(x).getVector();
         auto &gz = *dynamic_cast<ROL::StdVector<double> &>(g).getVector();
         std::vector<double> dJ;
-        last_J = run.model.gradient(run.design(z), dJ);
-        last_z = z;
+        last_J             = run.model.gradient(run.design(z), dJ);
+        last_z             = z;
+        const double scale = scale_of(last_J);
         for (unsigned int i = 0; i < gz.size(); ++i)
-          gz[i] = dJ[i] * run.model.scale[i]; // chain rule through q(z)
+          gz[i] = dJ[i] * run.model.scale[i] / scale; // chain rule via q(z)
       }
 
       void
@@ -217,6 +227,18 @@ namespace forma
       Run                &run;
       std::vector<double> last_z;
       double              last_J = 0, dummy = 0;
+      /// Optimization/Normalize objective: ROL sees J / |J(q0)|.
+      double J_scale = 0;
+
+      double
+      scale_of(const double J)
+      {
+        if (J_scale == 0)
+          J_scale = run.parameters.normalize && std::abs(J) > 0 ?
+                      std::abs(J) :
+                      1.;
+        return J_scale;
+      }
     };
 
     // The stopping rule of thesis ch. 2.5 and the iteration limit.

@@ -93,7 +93,8 @@ main()
                  good);
   // IPC contact: a geometry that already intersects, a body behind an
   // obstacle, a barrier distance above the mesh size, unknown obstacles,
-  // gradients (not available with IPC yet).
+  // gradients IPC does not cover (static friction over load steps), and
+  // designs that do not fit the problem.
   std::ofstream("overlap.msh")
     << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n8\n"
        "1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n"
@@ -127,11 +128,28 @@ main()
                    "subsection IPC\n set Obstacles = mesh : "
                    "no_such_ramp.msh\nend\n",
                  good);
-  expect_failure("ipc_gradient",
-                 base + ipc +
-                   "set Mode = verify gradient\n"
-                   "subsection Design\n set Parameters = material\nend\n"
-                   "subsection Objective\n set Terms = compliance\nend\n",
+  const std::string gradient = "set Mode = verify gradient\n"
+                               "subsection Objective\n set Terms = "
+                               "compliance\nend\n";
+  expect_failure("ipc_static_friction_gradient",
+                 base + ipc + gradient +
+                   "subsection IPC\n set Friction coefficient = 0.3\nend\n"
+                   "subsection Time\n set Load steps = 2\nend\n"
+                   "subsection Design\n set Parameters = material\nend\n",
+                 good);
+  expect_failure("friction_design_without_ipc",
+                 base + gradient +
+                   "subsection Design\n set Parameters = friction\nend\n",
+                 good);
+  expect_failure("design_start_count",
+                 base + gradient +
+                   "subsection Design\n set Parameters = material\n"
+                   " set Start = material : 1e4\nend\n",
+                 good);
+  expect_failure("design_start_block",
+                 base + gradient +
+                   "subsection Design\n set Parameters = material\n"
+                   " set Start = damping : 1, 2\nend\n",
                  good);
   dealii::deallog << "failed run recorded in failed-run/summary.json: "
                   << (read_file("results/failed-run/summary.json")

@@ -134,4 +134,37 @@ main()
     check("damping 40 / 20 recovered within 1%",
           within(s["optimization"]["final_design"]["damping"], {40, 20}, 0.01));
   }
+  // Through IPC contact and friction (thesis ch. 3.10.2-3.10.4).
+  {
+    const auto s = run_example("transient_ipc", "puck_friction_recovery");
+    check("friction coefficient 0.2 recovered within 1% from 0.5",
+          within(s["optimization"]["final_design"]["friction"], {0.2}, 0.01));
+  }
+  {
+    const auto s = run_example("transient_ipc", "puzzle_velocity_recovery");
+    const auto &v = s["optimization"]["final_design"]["initial velocity"];
+    check("throw recovered within 1e-3 m/s from 1 m/s off",
+          std::hypot(v[0].get<double>(), v[1].get<double>()) < 1e-3);
+  }
+  {
+    const auto s = run_example("transient_ipc", "ball_material_recovery");
+    check("E = 2e5, nu = 0.35 recovered within 1% from a bounce",
+          within(s["optimization"]["final_design"]["material"],
+                 {2e5, 0.35},
+                 0.01));
+  }
+  {
+    const auto s = run_example("transient_ipc", "interlock_stress");
+    check("von Mises L8 norm of the interlocking parts down at least 10%",
+          ratio(s) < 0.9);
+    const double area =
+      s["optimization"]["final_state"]["volume"].get<double>();
+    check("area within 0.5% of its bound (6.558)",
+          area < 6.558 * 1.001 && area > 6.558 * 0.995);
+    check("max von Mises stress down at least 10%",
+          s["optimization"]["final_state"]["max_von_mises_stress"]
+              .get<double>() <
+            0.9 * s["optimization"]["initial_state"]["max_von_mises_stress"]
+                    .get<double>());
+  }
 }

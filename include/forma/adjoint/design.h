@@ -25,6 +25,9 @@ namespace forma
    * - `cell material`: (lambda, mu) or (E, nu) per active cell.
    * - `material`: (lambda, mu) or (E, nu) per material id.
    * - `damping`: (shear, bulk) damping coefficients per material id.
+   * - `friction`: the IPC friction coefficients (thesis ch. 3.7, one per
+   *   pair of bodies): IPC/Friction coefficient, each Friction pairs
+   *   record, each obstacle with its own coefficient.
    * - `loads`: a scale factor per traction record, then one for the body
    *   force and one for gravity (only those the problem has).
    * - `initial displacement`, `initial velocity`: a uniform vector added to
@@ -41,6 +44,7 @@ namespace forma
     std::string              shape_perturbation;
     double                   min_scaled_jacobian = 1e-3;
     double                   shape_bound         = 0;     ///< 0: free
+    std::string              start; ///< starting block values (records)
     bool                     boundary_shape      = false; ///< see below
 
     static void

@@ -34,13 +34,15 @@ namespace forma
     }
 
     /// b'(d) (<= 0: a repulsive force).
-    inline double
-    barrier_derivative(const double d, const double dhat)
+    template <typename Number>
+    Number
+    barrier_derivative(const Number &d, const double dhat)
     {
-      if (d >= dhat)
-        return 0.;
-      const double s = d - dhat;
-      return -2. * s * std::log(d / dhat) - s * s / d;
+      using std::log;
+      if (value_of(d) >= dhat)
+        return Number(0.);
+      const Number s = d - dhat;
+      return -2. * s * log(d / dhat) - s * s / d;
     }
 
     /// b''(d) (> 0 below dhat).
@@ -59,11 +61,11 @@ namespace forma
      * lengths), m(c) = (2 - c / eps_x) c / eps_x below eps_x, 1 above. It
      * makes the edge-edge potential C^1 where the edges turn parallel.
      */
-    template <typename Number>
+    template <typename Number, typename Threshold>
     Number
-    edge_edge_mollifier(const Number &c, const double eps_x)
+    edge_edge_mollifier(const Number &c, const Threshold &eps_x)
     {
-      if (value_of(c) >= eps_x)
+      if (value_of(c) >= value_of(eps_x))
         return Number(1.);
       const Number r = c / eps_x;
       return (2. - r) * r;
@@ -95,10 +97,11 @@ namespace forma
     }
 
     /// f_1(y) / y, finite at y = 0: 2 / eta - y / eta^2 below eta.
-    inline double
-    friction_f1_over_y(const double y, const double eta)
+    template <typename Number>
+    Number
+    friction_f1_over_y(const Number &y, const double eta)
     {
-      if (y >= eta)
+      if (value_of(y) >= eta)
         return 1. / y;
       return 2. / eta - y / (eta * eta);
     }

@@ -49,11 +49,15 @@ namespace forma
     {
       /// Build from the boundary faces with ids in `boundaries` (all
       /// boundary faces if empty), at the positions of the current shape
-      /// (`mapping`). Collective.
-      CollisionMesh(const dealii::DoFHandler<dim, dim>            &dof_handler,
-                    const dealii::hp::MappingCollection<dim, dim> &mapping,
-                    const std::set<dealii::types::boundary_id>    &boundaries,
-                    const MPI_Comm                                 comm);
+      /// (`mapping`). With the DoF handler of the shape field (vector
+      /// Lagrange elements defining `mapping`), also record how the rest
+      /// positions follow the shape DoFs. Collective.
+      CollisionMesh(
+        const dealii::DoFHandler<dim, dim>            &dof_handler,
+        const dealii::hp::MappingCollection<dim, dim> &mapping,
+        const std::set<dealii::types::boundary_id>    &boundaries,
+        const MPI_Comm                                 comm,
+        const dealii::DoFHandler<dim, dim> *shape_dof_handler = nullptr);
 
       unsigned int
       n_vertices() const
@@ -93,6 +97,27 @@ namespace forma
 
       /// Obstacle index of each vertex (-1: a vertex of the bodies).
       std::vector<int> obstacle;
+
+      /// One term of a rest position in the shape DoFs.
+      struct ShapeWeight
+      {
+        dealii::types::global_dof_index dof;
+        unsigned int                    component;
+        double                          weight;
+      };
+      /**
+       * The upsampling M* of thesis ch. 3.7: rest[v][component] is the sum
+       * of weight * (shape DoF value) over shape_weights[v] (the shape
+       * field's basis at the vertex, a support point of the displacement
+       * element). Empty without a shape DoF handler and for obstacles.
+       */
+      std::vector<std::vector<ShapeWeight>> shape_weights;
+
+      /// Add d/d rest of sum_v s[v] vertex_area[v] to `gradient` (per
+      /// vertex).
+      void
+      add_area_gradient(const std::vector<double> &s,
+                        std::vector<Vec>          &gradient) const;
 
       /// All DoFs of collision vertices (every rank needs their values).
       dealii::IndexSet collision_dofs;

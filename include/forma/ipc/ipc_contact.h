@@ -15,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <map>
 #include <memory>
 #include <set>
 #include <string>
@@ -58,13 +59,55 @@ namespace forma
        * Build the collision mesh at the current shape (`mapping`), fix dhat
        * and check the rest state: throws with the place if boundary
        * primitives intersect or touch, or a body starts on the wrong side
-       * of a plane. Collective.
+       * of a plane. With the shape field's DoF handler, the collision mesh
+       * also knows how its rest positions follow the shape (for shape
+       * derivatives); `where` names the geometry in error messages. The
+       * couplings are those at rest: rebuild the Jacobian's pattern.
+       * Collective.
        */
       void
       setup(const dealii::DoFHandler<dim, dim>            &dof_handler,
             const dealii::hp::MappingCollection<dim, dim> &mapping,
             const dealii::IndexSet                        &owned,
-            const MPI_Comm                                 comm);
+            const MPI_Comm                                 comm,
+            const dealii::DoFHandler<dim, dim> *shape_dof_handler = nullptr,
+            const std::string                  &where = "the mesh as read");
+
+      /**
+       * Differentiable mode (gradients and optimization, thesis ch. 3.7):
+       * dhat and kappa keep the values they have (or get at the first
+       * solve) for every later setup() and step, instead of following the
+       * shape and the adaptive stiffness rule, so that the discrete
+       * problem is one smooth function of the design.
+       */
+      void
+      freeze();
+
+      /**
+       * @name Friction coefficients as parameters (thesis ch. 3.7: one per
+       * pair of bodies)
+       * Sources, in order: IPC/Friction coefficient, each Friction pairs
+       * record, each obstacle (plane, then mesh) with its own coefficient.
+       */
+      //@{
+      const std::vector<std::string> &
+      friction_names() const
+      {
+        return source_names;
+      }
+      const std::vector<double> &
+      friction_values() const
+      {
+        return source_values;
+      }
+      /// Set them (>= 0); pairs with a zero coefficient are then kept (their
+      /// force is zero, their derivative is not).
+      void
+      set_friction_values(const std::vector<double> &values);
+      /// Whether any pair can have friction.
+      bool
+      has_friction() const;
+      //@}
 
       const CollisionMesh<dim> &
       mesh() const;
@@ -136,7 +179,33 @@ namespace forma
                dealii::TrilinosWrappers::SparseMatrix  *matrix,
                Vector_t                                &residual,
                Vector_t                                *raw,
-               bool                                    &admissible);
+               bool                                    &admissible,
+               const bool                               project = true);
+
+      /// Derivatives of p^T (h^c + h^f) with respect to parameters.
+      struct AdjointProducts
+      {
+        std::vector<Vec>    rest;     ///< per collision vertex position
+        std::vector<double> friction; ///< per friction source
+      };
+
+      /**
+       * The adjoint products of the contact and friction forces at state u
+       * (after update_candidates(u) and, with friction, update_friction()):
+       * adds to `out` the derivatives of p^T h with respect to the rest
+       * positions of the collision vertices (thesis B^c and eq. 3.27,
+       * including the area weights and the edge-edge mollifier's rest
+       * threshold) and to the friction coefficients, for this rank's
+       * pairs; adds (dh/du_lagged + dh/du_start)^T p (eq. 3.29) to
+       * `lagged` if given. The matching A^c is the unprojected Hessian of
+       * assemble(..., false). Collective.
+       */
+      void
+      adjoint_products(const Vector_t                          &u,
+                       const Vector_t                          &p,
+                       const dealii::AffineConstraints<double> &constraints,
+                       Vector_t                                *lagged,
+                       AdjointProducts                         &out);
 
       /**
        * Lagged friction: normal forces, tangent bases and closest points of
@@ -176,7 +245,9 @@ namespace forma
       };
       struct FrictionPair
       {
-        unsigned int                n = 0;
+        Candidate                   candidate; ///< classified at u_lagged
+        unsigned int                source = 0; ///< friction coefficient
+        unsigned int                n      = 0;
         std::array<unsigned int, 4> vertex{};
         std::array<double, 4>       weight{}; ///< slip = sum weight_i du_i
         std::array<Vec, dim - 1>    tangent;
@@ -197,6 +268,8 @@ namespace forma
         double          weight    = 0;
         double          mollifier = 1;
         double          eps_x     = 0;
+        /// weight = sum of coefficient * vertex_area over these terms.
+        std::vector<std::pair<unsigned int, double>> weight_terms;
       };
       PairGeometry
       pair_geometry(const Candidate &c, const std::array<Vec, 4> &X) const;
@@ -217,8 +290,15 @@ namespace forma
       local_dofs(const unsigned int                           *vertex,
                  const unsigned int                            n,
                  std::vector<dealii::types::global_dof_index> &dofs) const;
-      double
-      friction_coefficient(const unsigned int a, const unsigned int b) const;
+      /// Friction source of a pair classified as `s`.
+      unsigned int
+      friction_source(const Candidate &c, const DistanceStencil &s) const;
+      /// The moving vertices (slots) the barrier of a pair depends on;
+      /// returns whether an obstacle takes part.
+      bool
+      barrier_variables(const Candidate           &c,
+                        const PairGeometry        &pg,
+                        std::vector<unsigned int> &used) const;
       /// Pairs this rank evaluates.
       bool
       mine(const unsigned int k) const
@@ -237,7 +317,16 @@ namespace forma
       std::vector<Candidate>              candidates;
       std::set<std::pair<unsigned int, unsigned int>> couplings;
       std::vector<FrictionPair>                       friction;
-      std::vector<Vec> friction_start; ///< displacements at the step start
+      std::vector<Vec> friction_start;  ///< displacements at the step start
+      std::vector<Vec> friction_lagged; ///< positions friction is lagged at
+      std::vector<std::string> source_names;
+      std::vector<double>      source_values;
+      std::map<std::pair<dealii::types::material_id,
+                         dealii::types::material_id>,
+               unsigned int>
+                                pair_source;
+      std::vector<int>          plane_source, mesh_source; ///< -1: default
+      bool                      frozen = false, keep_zero_friction = false;
       double           friction_eta = 1;
       double           min_distance = 0, previous_min_distance = 0;
       unsigned int     n_active = 0;

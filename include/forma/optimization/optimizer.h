@@ -20,6 +20,7 @@ namespace forma
     unsigned int decrease_window    = 2;    ///< m of thesis ch. 2.5
     double       gradient_tolerance = 1e-6; ///< relative to the first one
     unsigned int memory             = 10;   ///< L-BFGS pairs
+    bool         normalize          = false; ///< ROL sees J / |J(q0)|
     bool         resume             = false;
     double       remesh_quality     = 0; ///< remesh below this; 0: never
     unsigned int max_remeshes       = 10;
