@@ -24,8 +24,9 @@ collect() { # name summary.json
 import json, sys
 s = json.load(open(sys.argv[1]))
 a = s["adjoint"]
-n = round(float(s["parameters"]["Time"]["End time"]) /
-          float(s["parameters"]["Time"]["Time step"]))
+t = s["parameters"]["Time"]
+n = round(float(t["End time"]["value"]) /
+          float(t["Time step"]["value"]))
 mb = a["stored_state_bytes"] / 1e6
 print(f'{sys.argv[2]},{a["n_dofs"]},{n},{a["seconds_per_forward_solve"]:.3f},'
       f'{a["seconds_per_gradient"]:.3f},'
