@@ -256,6 +256,12 @@ def main():
     m.block((0, 0, 1e-3), (0.2, 0.2, 0.201), (3, 3, 3), 0)
     m.block((1.0, 0.05, 1e-3), (1.2, 0.25, 0.201), (3, 3, 3), 1)
     m.write("pool_3d.msh")
+    # Pool scene (2D, thesis Fig. 3.12): a cue puck (body 0) and a target
+    # puck (body 1), 1e-3 above a table.
+    m = Mesh(2)
+    m.block((0, 1e-3), (0.2, 0.201), (4, 4), 0)
+    m.block((0.6, 1e-3), (0.8, 0.201), (4, 4), 1)
+    m.write("pool_2d.msh")
     # A stack of three blocks 0.005 apart for a static press (3D): within
     # the barrier distance of each other, so the barrier holds them from
     # the start (a floating block alone would make the static problem

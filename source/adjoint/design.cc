@@ -16,7 +16,9 @@ namespace forma
     const char *block_names =
       "shape|cell material|material|damping|friction|loads|"
       "initial displacement|"
-      "initial velocity|initial displacement field|initial velocity field";
+      "initial velocity|initial displacement per body|"
+      "initial velocity per body|initial displacement field|"
+      "initial velocity field";
   }
 
   void
@@ -35,7 +37,9 @@ namespace forma
         "Friction pairs record, then each obstacle with its own mu), loads "
         "(scale "
         "factors of tractions, body force, gravity), initial displacement, "
-        "initial velocity (uniform vectors), initial displacement field, "
+        "initial velocity (uniform vectors), initial displacement per body, "
+        "initial velocity per body (a vector per material id of "
+        "Design/Bodies), initial displacement field, "
         "initial velocity field (one value per displacement DoF).");
       prm.declare_entry("Material parameterization",
                         "E-nu",
@@ -71,6 +75,12 @@ namespace forma
         "vertices: every vertex is a design variable (thesis ch. 3). "
         "boundary: boundary vertices are, interior ones follow by harmonic "
         "extension, which keeps the interior mesh smooth.");
+      prm.declare_entry("Bodies",
+                        "",
+                        Patterns::List(Patterns::Integer(0, 255), 0),
+                        "Material ids whose 'per body' blocks are design "
+                        "variables (e.g. the thrown object of a scene, not "
+                        "its target); empty: every body.");
       prm.declare_entry(
         "Start",
         "",
@@ -114,6 +124,7 @@ namespace forma
       min_scaled_jacobian = prm.get_double("Min scaled Jacobian");
       shape_bound         = prm.get_double("Shape bound");
       start               = prm.get("Start");
+      bodies              = prm.get("Bodies");
       boundary_shape      = prm.get("Shape parameterization") == "boundary";
     }
     prm.leave_subsection();

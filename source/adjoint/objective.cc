@@ -601,8 +601,9 @@ namespace forma
         "'assembly' (eq. 2.17), "
         "'disassembly : tolerance=u_tol' (eq. 2.18), 'alignment : "
         "target=W, epsilon=0.1, beta=1' (eqs. 2.19-2.20). The stress, "
-        "compliance and volume terms take 'material=id' to integrate over "
-        "one part only (e.g. the printed connectors of an assembly).");
+        "compliance, volume, center of mass and height terms take "
+        "'material=id' to integrate over one part only (e.g. the printed "
+        "connectors of an assembly, the object a throw pushes).");
       prm.declare_entry("Time weighting",
                         "integral",
                         Patterns::Selection("integral|final"),
@@ -616,6 +617,14 @@ namespace forma
         "mesh as read, expressions in x, y[, z], t. Empty: the deformed "
         "positions of a reference run (the mesh without Design/Shape "
         "perturbation, with Reference bodies).");
+      prm.declare_entry(
+        "Target noise",
+        "0",
+        Patterns::Double(0),
+        "Standard deviation (a length) of Gaussian noise added to every "
+        "displacement value of the reference run's trajectory, the same for "
+        "every run and rank count: a synthetic noisy recording for recovery "
+        "studies. 0: exact targets.");
       prm.declare_entry(
         "Reference bodies",
         "",
@@ -637,6 +646,7 @@ namespace forma
     time_weighting   = prm.get("Time weighting");
     target           = prm.get("Target");
     reference_bodies = prm.get("Reference bodies");
+    target_noise     = prm.get_double("Target noise");
     prm.leave_subsection();
   }
 
@@ -772,7 +782,8 @@ namespace forma
             const bool volume_term =
               name == "stress" || name == "von mises" || name == "compliance" ||
               name == "volume" || name == "volume bound" ||
-              name == "stress bound" || name == "von mises bound";
+              name == "stress bound" || name == "von mises bound" ||
+              name == "center of mass" || name == "height";
             AssertThrow(volume_term,
                         ExcMessage(where + ": 'material' is not available "
                                            "for this term."));

@@ -2,6 +2,7 @@
 // vectors, objectives, static and BDF transient adjoints, and the parameter
 // derivative products p^T d_q h of every force.
 
+#include <deal.II/base/numbers.h>
 #include <deal.II/base/timer.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/mapping_fe_field.h>
@@ -13,6 +14,9 @@
 #include <forma/physics/bdf.h>
 
 #include "simulator_impl.h"
+
+#include <cmath>
+#include <random>
 
 namespace forma
 {
@@ -27,6 +31,8 @@ namespace forma
                                                   "loads",
                                                   "initial displacement",
                                                   "initial velocity",
+                                                  "initial displacement per body",
+                                                  "initial velocity per body",
                                                   "initial displacement field",
                                                   "initial velocity field"};
 
@@ -88,6 +94,17 @@ namespace forma
     layout.blocks.clear();
     unsigned int offset       = 0;
     const bool   is_transient = p.problem == "transient";
+    design_bodies.clear();
+    for (const auto &id : Utilities::split_string_list(p.design.bodies, ','))
+      {
+        const auto m = static_cast<types::material_id>(std::stoi(id));
+        AssertThrow(all_ids.count(m),
+                    ExcMessage("Design/Bodies: the mesh has no material id " +
+                               id + "."));
+        design_bodies.push_back(m);
+      }
+    if (design_bodies.empty())
+      design_bodies.assign(all_ids.begin(), all_ids.end());
     for (const auto &name : block_order)
       {
         if (!p.design.has(name))
@@ -111,6 +128,8 @@ namespace forma
                  (gravity.norm() > 0 ? 1 : 0);
         else if (name.find("field") != std::string::npos)
           size = dof_handler.n_dofs();
+        else if (name.find("per body") != std::string::npos)
+          size = dim * design_bodies.size();
         else
           size = dim;
         AssertThrow(size > 0,
@@ -467,6 +486,16 @@ namespace forma
               body_force_scale = v[k++];
             if (gravity.norm() > 0)
               gravity_scale = v[k++];
+          }
+        else if (b.name.find("per body") != std::string::npos)
+          {
+            auto &offsets = b.name == "initial displacement per body" ?
+                              body_initial_u :
+                              body_initial_v;
+            offsets.assign(design_bodies.size(), Tensor<1, dim>());
+            for (unsigned int k = 0; k < design_bodies.size(); ++k)
+              for (unsigned int d = 0; d < dim; ++d)
+                offsets[k][d] = v[dim * k + d];
           }
         else if (b.name.find("field") != std::string::npos)
           {
@@ -1510,6 +1539,16 @@ namespace forma
             if (gravity.norm() > 0)
               d[k++] = g.loads[j++];
           }
+        else if (b.name.find("per body") != std::string::npos)
+          {
+            const auto sums =
+              body_component_sums(b.name == "initial displacement per body" ?
+                                    g.initial_u_field :
+                                    g.initial_v_field);
+            for (unsigned int k = 0; k < sums.size(); ++k)
+              for (unsigned int c = 0; c < dim; ++c)
+                d[dim * k + c] = sums[k][c];
+          }
         else if (b.name.find("field") != std::string::npos)
           {
             const Vector_t &f = b.name == "initial displacement field" ?
@@ -1667,6 +1706,26 @@ namespace forma
       impl->ipc_contact->set_friction_values(impl->problem_friction);
     impl->solve_forward(true);
     impl->reference_states = impl->u_states;
+    if (J->parameters.target_noise > 0)
+      {
+        // Noise by (step, DoF): independent of the partition. Box-Muller on
+        // two uniforms of a generator seeded per entry.
+        const double sigma = J->parameters.target_noise;
+        for (unsigned int i = 0; i < impl->reference_states.size(); ++i)
+          {
+            auto &x = impl->reference_states[i];
+            for (const auto k : impl->owned)
+              {
+                std::mt19937_64 generator(0x9E3779B97F4A7C15ull * (i + 1) +
+                                          k);
+                std::uniform_real_distribution<double> uniform(0., 1.);
+                const double a = 1. - uniform(generator), b = uniform(generator);
+                x(k) += sigma * std::sqrt(-2. * std::log(a)) *
+                        std::cos(2. * numbers::PI * b);
+              }
+            x.compress(VectorOperation::insert);
+          }
+      }
     impl->apply_design(saved);
   }
 

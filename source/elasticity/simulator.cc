@@ -235,6 +235,8 @@ namespace forma
     surface_load_scale.assign(tractions.size() + pressures.size(), 1.);
     body_force_scale = gravity_scale = 1.;
     initial_displacement_offset = initial_velocity_offset = Tensor<1, dim>();
+    body_initial_u.clear();
+    body_initial_v.clear();
     initial_displacement_field.clear();
     initial_velocity_field.clear();
   }
@@ -1416,6 +1418,70 @@ namespace forma
 
 
   template <int dim>
+  std::vector<int>
+  ElasticitySimulator<dim>::Impl::owned_bodies() const
+  {
+    std::map<types::material_id, int> index;
+    for (unsigned int k = 0; k < design_bodies.size(); ++k)
+      index[design_bodies[k]] = k;
+    std::vector<int>                     body(owned.n_elements(), -2);
+    std::vector<types::global_dof_index> dofs;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (!cell->is_artificial())
+        {
+          dofs.resize(cell->get_fe().n_dofs_per_cell());
+          cell->get_dof_indices(dofs);
+          const auto it = index.find(cell->material_id());
+          for (const auto i : dofs)
+            if (owned.is_element(i) && body[owned.index_within_set(i)] == -2)
+              body[owned.index_within_set(i)] =
+                it != index.end() ? it->second : -1;
+        }
+    return body;
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::add_per_body(
+    Vector_t                          &x,
+    const std::vector<Tensor<1, dim>> &offsets)
+  {
+    if (offsets.empty())
+      return;
+    const auto component = owned_components();
+    const auto body      = owned_bodies();
+    for (const auto i : owned)
+      {
+        const unsigned int k = owned.index_within_set(i);
+        if (body[k] >= 0)
+          x(i) = x(i) + offsets[body[k]][component[k]];
+      }
+    x.compress(VectorOperation::insert);
+  }
+
+
+
+  template <int dim>
+  std::vector<Tensor<1, dim>>
+  ElasticitySimulator<dim>::Impl::body_component_sums(const Vector_t &x) const
+  {
+    std::vector<Tensor<1, dim>> sums(design_bodies.size());
+    const auto                  component = owned_components();
+    const auto                  body      = owned_bodies();
+    for (const auto i : owned)
+      {
+        const unsigned int k = owned.index_within_set(i);
+        if (body[k] >= 0)
+          sums[body[k]][component[k]] += x(i);
+      }
+    return sums;
+  }
+
+
+
+  template <int dim>
   Tensor<1, dim>
   ElasticitySimulator<dim>::Impl::component_sums(const Vector_t &x) const
   {
@@ -1597,6 +1663,8 @@ namespace forma
         v);
     add_uniform(u, initial_displacement_offset);
     add_uniform(v, initial_velocity_offset);
+    add_per_body(u, body_initial_u);
+    add_per_body(v, body_initial_v);
     if (initial_displacement_field.size() > 0)
       u += initial_displacement_field;
     if (initial_velocity_field.size() > 0)

@@ -379,6 +379,19 @@ namespace forma
     std::vector<double> surface_load_scale;
     double              body_force_scale = 1, gravity_scale = 1;
     Tensor<1, dim>      initial_displacement_offset, initial_velocity_offset;
+    /// Per-body offsets (Design/Bodies order; empty: none).
+    std::vector<types::material_id> design_bodies;
+    std::vector<Tensor<1, dim>>     body_initial_u, body_initial_v;
+    /// Per owned DoF: its index in design_bodies (-1: none), from the
+    /// first cell that has it.
+    std::vector<int>
+    owned_bodies() const;
+    /// x += offsets[body] on the DoFs of each design body.
+    void
+    add_per_body(Vector_t &x, const std::vector<Tensor<1, dim>> &offsets);
+    /// Per design body, the component sums of x over its owned DoFs.
+    std::vector<Tensor<1, dim>>
+    body_component_sums(const Vector_t &x) const;
     Vector_t initial_displacement_field, initial_velocity_field; ///< or empty
 
     // Design vector layout and the states an adjoint pass reads.

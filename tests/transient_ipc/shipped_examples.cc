@@ -154,6 +154,27 @@ main()
                  0.01));
   }
   {
+    const auto s = run_example("transient_ipc",
+                               "ball_shape_recovery",
+                               " --set 'Optimization/Max iterations=25'");
+    check("round ball's trajectory matched to 1e-4 of J0 from an egg shape",
+          ratio(s) < 1e-4);
+  }
+  {
+    const auto s = run_example("transient_ipc", "pool_throw_2d");
+    check("target puck's center of mass within 1 mm of its target",
+          s["optimization"]["final_objective"].get<double>() < 1e-6);
+  }
+  {
+    const auto s = run_example("transient_ipc", "ball_incline_fit");
+    const auto &q = s["optimization"]["final_design"];
+    check("noisy recording (1 mm): E, nu within 1%",
+          within(q["material"], {2e5, 0.35}, 0.01));
+    check("noisy recording (1 mm): shear damping within 2%, mu within 1%",
+          std::abs(q["damping"][0].get<double>() - 10.) < 0.2 &&
+            std::abs(q["friction"][0].get<double>() - 0.3) < 0.003);
+  }
+  {
     const auto s = run_example("transient_ipc", "interlock_stress");
     check("von Mises L8 norm of the interlocking parts down at least 10%",
           ratio(s) < 0.9);

@@ -31,7 +31,10 @@ namespace forma
    * - `loads`: a scale factor per traction record, then one for the body
    *   force and one for gravity (only those the problem has).
    * - `initial displacement`, `initial velocity`: a uniform vector added to
-   *   the initial condition (thesis ch. 3.5.3); `initial displacement
+   *   the initial condition (thesis ch. 3.5.3); `initial displacement per
+   *   body`, `initial velocity per body`: a vector per material id of
+   *   `Bodies` (all if empty) added on that body (a throw); `initial
+   *   displacement
    *   field`, `initial velocity field`: a value per displacement DoF added
    *   to it.
    */
@@ -44,7 +47,8 @@ namespace forma
     std::string              shape_perturbation;
     double                   min_scaled_jacobian = 1e-3;
     double                   shape_bound         = 0;     ///< 0: free
-    std::string              start; ///< starting block values (records)
+    std::string              start;  ///< starting block values (records)
+    std::string              bodies; ///< material ids of per-body blocks
     bool                     boundary_shape      = false; ///< see below
 
     static void

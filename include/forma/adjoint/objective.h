@@ -131,6 +131,9 @@ namespace forma
     std::string time_weighting = "integral"; ///< integral | final
     std::string target;                      ///< expressions or empty
     std::string reference_bodies;
+    /// Standard deviation of the Gaussian noise added to every displacement
+    /// DoF of the reference run's states (a synthetic recording).
+    double target_noise = 0;
 
     static void
     declare(dealii::ParameterHandler &prm);
