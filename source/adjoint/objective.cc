@@ -363,7 +363,10 @@ namespace forma
       std::vector<typename ObjectiveTerm<dim>::Integral>
       integrals() const override
       {
-        return std::vector<typename ObjectiveTerm<dim>::Integral>(dim + 1);
+        std::vector<typename ObjectiveTerm<dim>::Integral> i(dim + 1);
+        for (auto &integral : i)
+          integral.material_ids = this->materials; // material=id: one body
+        return i;
       }
       // k = 0: mass; k = 1..dim: first moments of the deformed positions.
       template <typename N>

@@ -16,7 +16,7 @@
 #include "simulator_impl.h"
 
 #include <cmath>
-#include <random>
+#include <cstdint>
 
 namespace forma
 {
@@ -198,7 +198,7 @@ namespace forma
             }
         ++k;
       }
-    if (ipc_contact)
+    if (ipc_contact && problem_friction.empty()) // not a remeshed design's
       problem_friction = ipc_contact->friction_values();
     if (const auto *b = layout.find("friction"))
       std::copy(ipc_contact->friction_values().begin(),
@@ -1708,18 +1708,33 @@ namespace forma
     impl->reference_states = impl->u_states;
     if (J->parameters.target_noise > 0)
       {
-        // Noise by (step, DoF): independent of the partition. Box-Muller on
-        // two uniforms of a generator seeded per entry.
+        // Noise by (step, support point, component): the same for every
+        // partition and DoF numbering. A splitmix64 hash gives two
+        // uniforms, Box-Muller a normal value.
         const double sigma = J->parameters.target_noise;
+        std::map<types::global_dof_index, Point<dim>> support;
+        DoFTools::map_dofs_to_support_points(impl->reference_mapping,
+                                             impl->dof_handler,
+                                             support);
+        const auto component = impl->owned_components();
+        const auto mix       = [](std::uint64_t z) {
+          z += 0x9E3779B97F4A7C15ull;
+          z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+          z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+          return z ^ (z >> 31);
+        };
         for (unsigned int i = 0; i < impl->reference_states.size(); ++i)
           {
             auto &x = impl->reference_states[i];
             for (const auto k : impl->owned)
               {
-                std::mt19937_64 generator(0x9E3779B97F4A7C15ull * (i + 1) +
-                                          k);
-                std::uniform_real_distribution<double> uniform(0., 1.);
-                const double a = 1. - uniform(generator), b = uniform(generator);
+                std::uint64_t h = mix(i);
+                for (unsigned int d = 0; d < dim; ++d)
+                  h = mix(h ^ static_cast<std::uint64_t>(
+                                std::llround(support.at(k)[d] * 1e9)));
+                h = mix(h ^ component[impl->owned.index_within_set(k)]);
+                const double a = 1. - (h >> 11) * 0x1.0p-53; // (0, 1]
+                const double b = (mix(h) >> 11) * 0x1.0p-53;
                 x(k) += sigma * std::sqrt(-2. * std::log(a)) *
                         std::cos(2. * numbers::PI * b);
               }

@@ -1106,7 +1106,11 @@ namespace forma
       // the start through the slip (closed form).
       if (!friction.empty())
         {
-          const std::vector<Vec> now = displacements(u);
+          // u at the vertices from x (no communication: only some ranks
+          // have friction pairs).
+          std::vector<Vec> now = x;
+          for (unsigned int v = 0; v < now.size(); ++v)
+            now[v] -= m.rest[v];
           using F                    = Sacado::Fad::SFad<double, 13>;
           Vector<double>                       local;
           std::vector<types::global_dof_index> dofs;
