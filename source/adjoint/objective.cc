@@ -238,14 +238,19 @@ namespace forma
       }
     };
 
-    // Volume, or its upper-bound penalty phi(V - V_t) (eqs. 3.40-3.41).
+    // Volume, its upper-bound penalty phi(V - V_t) (eqs. 3.40-3.41), or
+    // the two-sided (V - V_t)^2 of a target volume (eq. 2.16).
     template <int dim>
     class Volume : public AutoDiffTerm<dim, Volume<dim>>
     {
     public:
-      Volume(const std::string &name, const double weight, const double bound)
+      Volume(const std::string &name,
+             const double       weight,
+             const double       bound,
+             const bool         two_sided = false)
         : AutoDiffTerm<dim, Volume<dim>>(name, weight)
         , bound(bound)
+        , two_sided(two_sided)
       {}
       bool
       depends_on_state() const override
@@ -276,12 +281,13 @@ namespace forma
           }
         const double z = I[0] - bound;
         if (grad)
-          *grad = {z > 0 ? 2. * z : 0.};
-        return positive_part_squared(z);
+          *grad = {z > 0 || two_sided ? 2. * z : 0.};
+        return two_sided ? z * z : positive_part_squared(z);
       }
 
     private:
       const double bound; ///< NaN: the plain volume
+      const bool   two_sided;
     };
 
     // int |x + u - x_trg|^2 over the volume or the boundary (eq. 3.37).
@@ -592,7 +598,8 @@ namespace forma
         "Records 'name : key=value, ...' separated by ';', all with an "
         "optional weight (default 1): 'stress : p=2' (L^p norm of the "
         "Frobenius stress, eq. 3.36), 'von mises : p=6', 'compliance', "
-        "'volume', 'volume bound : bound=V' (eq. 3.40), 'stress bound : "
+        "'volume', 'volume bound : bound=V' (eq. 3.40), 'volume target : "
+        "target=V' ((V - target)^2, eq. 2.16), 'stress bound : "
         "bound=s' and 'von mises bound : bound=s' (eq. 3.42), 'target' and "
         "'boundary target : boundary=id' (eq. 3.37, see Target), 'center "
         "of mass : x=.., y=.., z=..' (eq. 3.38), 'height' (eq. 3.39), "
@@ -696,6 +703,9 @@ namespace forma
           t = std::make_unique<Volume<dim>>(name,
                                             w,
                                             key(kv, "bound", none, where));
+        else if (name == "volume target")
+          t = std::make_unique<Volume<dim>>(
+            name, w, key(kv, "target", none, where), true);
         else if (name == "stress bound" || name == "von mises bound")
           t = std::make_unique<StressTerm<dim>>(name,
                                                 w,
@@ -785,6 +795,7 @@ namespace forma
             const bool volume_term =
               name == "stress" || name == "von mises" || name == "compliance" ||
               name == "volume" || name == "volume bound" ||
+              name == "volume target" ||
               name == "stress bound" || name == "von mises bound" ||
               name == "center of mass" || name == "height";
             AssertThrow(volume_term,

@@ -175,6 +175,15 @@ main()
             std::abs(q["friction"][0].get<double>() - 0.3) < 0.003);
   }
   {
+    const auto s = run_example("transient_ipc", "sliding_ball_stress");
+    check("time-integrated von Mises L8 norm down at least 10%",
+          ratio(s) < 0.9);
+    const double area =
+      s["optimization"]["final_state"]["volume"].get<double>();
+    check("area within 0.1% of its start (0.19134)",
+          std::abs(area - 0.19134) < 2e-4);
+  }
+  {
     const auto s = run_example("transient_ipc", "interlock_stress");
     check("von Mises L8 norm of the interlocking parts down at least 10%",
           ratio(s) < 0.9);
