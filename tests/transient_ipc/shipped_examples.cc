@@ -184,6 +184,13 @@ main()
           std::abs(area - 0.19134) < 2e-4);
   }
   {
+    const auto s = run_example("transient_ipc",
+                               "ball_bounce_material",
+                               " --set 'Optimization/Max iterations=8'");
+    check("mean height over the bounce up at least 20% in 8 iterations",
+          ratio(s) > 1.2);
+  }
+  {
     const auto s = run_example("transient_ipc", "interlock_stress");
     check("von Mises L8 norm of the interlocking parts down at least 10%",
           ratio(s) < 0.9);
