@@ -704,8 +704,10 @@ namespace forma
                                             w,
                                             key(kv, "bound", none, where));
         else if (name == "volume target")
-          t = std::make_unique<Volume<dim>>(
-            name, w, key(kv, "target", none, where), true);
+          t = std::make_unique<Volume<dim>>(name,
+                                            w,
+                                            key(kv, "target", none, where),
+                                            true);
         else if (name == "stress bound" || name == "von mises bound")
           t = std::make_unique<StressTerm<dim>>(name,
                                                 w,
@@ -795,9 +797,9 @@ namespace forma
             const bool volume_term =
               name == "stress" || name == "von mises" || name == "compliance" ||
               name == "volume" || name == "volume bound" ||
-              name == "volume target" ||
-              name == "stress bound" || name == "von mises bound" ||
-              name == "center of mass" || name == "height";
+              name == "volume target" || name == "stress bound" ||
+              name == "von mises bound" || name == "center of mass" ||
+              name == "height";
             AssertThrow(volume_term,
                         ExcMessage(where + ": 'material' is not available "
                                            "for this term."));

@@ -23,18 +23,19 @@ namespace forma
   namespace
   {
     // Blocks in the order they appear in a design vector.
-    const std::vector<std::string> block_order = {"shape",
-                                                  "cell material",
-                                                  "material",
-                                                  "damping",
-                                                  "friction",
-                                                  "loads",
-                                                  "initial displacement",
-                                                  "initial velocity",
-                                                  "initial displacement per body",
-                                                  "initial velocity per body",
-                                                  "initial displacement field",
-                                                  "initial velocity field"};
+    const std::vector<std::string> block_order = {
+      "shape",
+      "cell material",
+      "material",
+      "damping",
+      "friction",
+      "loads",
+      "initial displacement",
+      "initial velocity",
+      "initial displacement per body",
+      "initial velocity per body",
+      "initial displacement field",
+      "initial velocity field"};
 
     // Product (A : B) of the rank-one gradient e_c (x) g with a tensor M:
     // sum_l M[c][l] g[l].
@@ -227,11 +228,10 @@ namespace forma
                                   std::string(" (a shape starts at Design/"
                                               "Shape perturbation).") :
                                   std::string("."))));
-        const auto values =
-          parse_numbers(record.substr(colon + 1),
-                        "Design/Start (" + name + ")",
-                        -std::numeric_limits<double>::max(),
-                        std::numeric_limits<double>::max());
+        const auto values = parse_numbers(record.substr(colon + 1),
+                                          "Design/Start (" + name + ")",
+                                          -std::numeric_limits<double>::max(),
+                                          std::numeric_limits<double>::max());
         AssertThrow(values.size() == b->size,
                     ExcMessage("Design/Start: '" + name + "' has " +
                                std::to_string(b->size) + " entries, got " +
@@ -439,8 +439,7 @@ namespace forma
             shape_ghost = x;
           }
         else if (b.name == "friction")
-          ipc_contact->set_friction_values(
-            std::vector<double>(v, v + b.size));
+          ipc_contact->set_friction_values(std::vector<double>(v, v + b.size));
         else if (b.name == "cell material")
           {
             for (const auto &cell : tria->active_cell_iterators())
@@ -1541,10 +1540,9 @@ namespace forma
           }
         else if (b.name.find("per body") != std::string::npos)
           {
-            const auto sums =
-              body_component_sums(b.name == "initial displacement per body" ?
-                                    g.initial_u_field :
-                                    g.initial_v_field);
+            const auto sums = body_component_sums(
+              b.name == "initial displacement per body" ? g.initial_u_field :
+                                                          g.initial_v_field);
             for (unsigned int k = 0; k < sums.size(); ++k)
               for (unsigned int c = 0; c < dim; ++c)
                 d[dim * k + c] = sums[k][c];
@@ -1602,9 +1600,9 @@ namespace forma
 
   template <int dim>
   void
-  ElasticitySimulator<dim>::Impl::ipc_adjoint_products(const Vector_t &lambda,
+  ElasticitySimulator<dim>::Impl::ipc_adjoint_products(const Vector_t   &lambda,
                                                        PhysicalGradient &g,
-                                                       Vector_t *lagged)
+                                                       Vector_t         *lagged)
   {
     typename ipc::IpcContact<dim>::AdjointProducts out;
     ipc_contact->adjoint_products(u, lambda, constraints_zero, lagged, out);

@@ -977,10 +977,11 @@ namespace forma
     // IPC: a full Newton step shorter than this is convergence (the
     // Newton decrement of Li et al. 2020, in the max norm).
     // Design runs (gradients) need the residual criterion alone.
-    const double step_tolerance =
-      ipc_contact && !prepared ? p.ipc.newton_step_tolerance *
-                      ipc_contact->mesh().diagonal() * (transient ? dt : 1.) :
-                    0.;
+    const double step_tolerance = ipc_contact && !prepared ?
+                                    p.ipc.newton_step_tolerance *
+                                      ipc_contact->mesh().diagonal() *
+                                      (transient ? dt : 1.) :
+                                    0.;
     for (unsigned int it = 0; it < p.max_newton_iterations; ++it)
       {
         if (norm <= tolerance)

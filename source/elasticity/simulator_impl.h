@@ -391,7 +391,7 @@ namespace forma
     add_per_body(Vector_t &x, const std::vector<Tensor<1, dim>> &offsets);
     /// Per design body, the component sums of x over its owned DoFs.
     std::vector<Tensor<1, dim>>
-    body_component_sums(const Vector_t &x) const;
+             body_component_sums(const Vector_t &x) const;
     Vector_t initial_displacement_field, initial_velocity_field; ///< or empty
 
     // Design vector layout and the states an adjoint pass reads.

@@ -208,8 +208,7 @@ namespace forma
                       const auto &sfe = shape_cell->get_fe();
                       shape_dofs.resize(sfe.n_dofs_per_cell());
                       shape_cell->get_dof_indices(shape_dofs);
-                      const Point<dim> &xi =
-                        cfe.get_unit_support_points()[i];
+                      const Point<dim> &xi = cfe.get_unit_support_points()[i];
                       w_ints.push_back(key);
                       const std::size_t count = w_ints.size();
                       w_ints.push_back(0);
@@ -434,9 +433,9 @@ namespace forma
             const Vec m = 0.5 * c / n.norm() * n;
             // d|n| = n/|n| . (dx1 x e2 + e1 x dx2 - dx0 x (e2 - e1)).
             for (unsigned int j = 0; j < 3; ++j)
-              gradient[t[j]] += cross_product_3d(rest[t[(j + 1) % 3]] -
-                                                   rest[t[(j + 2) % 3]],
-                                                 m);
+              gradient[t[j]] +=
+                cross_product_3d(rest[t[(j + 1) % 3]] - rest[t[(j + 2) % 3]],
+                                 m);
           }
     }
 

@@ -106,9 +106,8 @@ namespace forma
               }
               case DistanceType::point_triangle: {
                 const V3<T> e1 = sub(x[2], x[1]), e2 = sub(x[3], x[1]);
-                const V3<T> r  = sub(x[0], x[1]);
-                const T     a11 = dot(e1, e1), a12 = dot(e1, e2),
-                        a22 = dot(e2, e2);
+                const V3<T> r = sub(x[0], x[1]);
+                const T a11 = dot(e1, e1), a12 = dot(e1, e2), a22 = dot(e2, e2);
                 const T b1 = dot(r, e1), b2 = dot(r, e2);
                 const T det = a11 * a22 - a12 * a12;
                 const T l1  = (a22 * b1 - a12 * b2) / det;
@@ -121,9 +120,8 @@ namespace forma
               }
               case DistanceType::edge_edge: {
                 const V3<T> ea = sub(x[1], x[0]), eb = sub(x[3], x[2]);
-                const V3<T> r   = sub(x[0], x[2]);
-                const T     a11 = dot(ea, ea), a12 = dot(ea, eb),
-                        a22 = dot(eb, eb);
+                const V3<T> r = sub(x[0], x[2]);
+                const T a11 = dot(ea, ea), a12 = dot(ea, eb), a22 = dot(eb, eb);
                 const T D = dot(ea, r), E = dot(eb, r);
                 const T den = a11 * a22 - a12 * a12;
                 const T sa  = (a12 * E - a22 * D) / den;

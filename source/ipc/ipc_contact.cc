@@ -116,13 +116,37 @@ namespace forma
       }
 
       /**
+       * Pair positions X as nested forward-AD values: the coordinates of the
+       * moving vertices `used` are variables dim * i + d of both levels (the
+       * outer level may have more variables), the rest constants.
+       */
+      template <int dim, typename Outer, typename Inner>
+      std::array<internal::V3<Outer>, 4>
+      seeded_positions(const std::array<Vec, 4>        &X,
+                       const std::vector<unsigned int> &used,
+                       const int                        n_outer,
+                       const int                        n_inner)
+      {
+        std::array<internal::V3<Outer>, 4> y;
+        for (unsigned int i = 0; i < 4; ++i)
+          for (unsigned int d = 0; d < 3; ++d)
+            y[i][d] = X[i][d];
+        for (unsigned int i = 0; i < used.size(); ++i)
+          for (unsigned int d = 0; d < dim; ++d)
+            y[used[i]][d] = Outer(n_outer,
+                                  dim * i + d,
+                                  Inner(n_inner, dim * i + d, X[used[i]][d]));
+        return y;
+      }
+
+      /**
        * The barrier of a classified pair at its vertex positions y (slots
        * of the candidate), times the edge-edge mollifier where it acts:
        * b(d) m(c, eps_x), generic in the number types for AD.
        */
       template <typename T, typename Eps>
       T
-      barrier_term(const DistanceStencil                 &s,
+      barrier_term(const DistanceStencil                &s,
                    const std::array<internal::V3<T>, 4> &y,
                    const bool                            mollify,
                    const Eps                            &eps_x,
@@ -135,8 +159,8 @@ namespace forma
         const T d = sqrt(internal::distance_squared(s.type, args.data()));
         T       e = barrier(d, dhat);
         if (mollify)
-          e *= edge_edge_mollifier(internal::edge_cross_squared(y.data()),
-                                   eps_x);
+          e *=
+            edge_edge_mollifier(internal::edge_cross_squared(y.data()), eps_x);
         return e;
       }
 
@@ -182,9 +206,8 @@ namespace forma
       for (const auto &[ids, mu] : parameters.pair_friction)
         {
           pair_source[ids] = source_values.size();
-          source_names.push_back("Friction pairs " +
-                                 std::to_string(ids.first) + "-" +
-                                 std::to_string(ids.second));
+          source_names.push_back("Friction pairs " + std::to_string(ids.first) +
+                                 "-" + std::to_string(ids.second));
           source_values.push_back(mu);
         }
       const auto own = [&](const double mu, const std::string &name) {
@@ -217,8 +240,7 @@ namespace forma
     void
     IpcContact<dim>::set_friction_values(const std::vector<double> &values)
     {
-      AssertThrow(values.size() == source_values.size(),
-                  ExcInternalError());
+      AssertThrow(values.size() == source_values.size(), ExcInternalError());
       for (unsigned int k = 0; k < values.size(); ++k)
         AssertThrow(values[k] >= 0,
                     ExcMessage("Design (friction): " + source_names[k] +
@@ -398,7 +420,7 @@ namespace forma
       for (unsigned int k = 0; k < parameters.meshes.size(); ++k)
         collision_mesh->add_obstacle(
           read_obstacle_mesh(parameters.meshes[k].file, dim), k);
-      const auto &m   = *collision_mesh;
+      const auto &m = *collision_mesh;
       // Frozen: dhat and kappa stay as they are once set.
       if (!frozen || dhat == 0)
         dhat = parameters.dhat > 0 ? parameters.dhat :
@@ -406,7 +428,7 @@ namespace forma
       automatic_kappa = parameters.kappa == 0;
       if (!frozen || kappa == 0)
         kappa = parameters.kappa;
-      IndexSet ghost  = m.collision_dofs;
+      IndexSet ghost = m.collision_dofs;
       ghost.add_indices(owned);
       values.reinit(owned, ghost, comm);
       couplings.clear();
@@ -857,17 +879,10 @@ namespace forma
           ++n_active;
           if (kappa == 0)
             continue; // automatic stiffness not scaled yet
-          const bool against_obstacle = barrier_variables(c, pg, used);
-          const unsigned int n        = dim * used.size();
+          const bool         against_obstacle = barrier_variables(c, pg, used);
+          const unsigned int n                = dim * used.size();
 
-          std::array<internal::V3<AD>, 4> y;
-          for (unsigned int i = 0; i < 4; ++i)
-            for (unsigned int dd = 0; dd < 3; ++dd)
-              y[i][dd] = X[i][dd];
-          for (unsigned int i = 0; i < used.size(); ++i)
-            for (unsigned int dd = 0; dd < dim; ++dd)
-              y[used[i]][dd] =
-                AD(N, dim * i + dd, Inner(N, dim * i + dd, X[used[i]][dd]));
+          const auto y = seeded_positions<dim, AD, Inner>(X, used, N, N);
           AD e = barrier_term(pg.stencil, y, pg.mollifier < 1, pg.eps_x, dhat);
           e *= kappa * pg.weight;
           energy += e.val().val();
@@ -1032,10 +1047,10 @@ namespace forma
 
       // d eps_x / d rest of the four vertices of an edge pair, times s.
       const auto add_threshold = [&](const Candidate &c, const double s) {
-        const Vec ea = m.rest[c.vertex[1]] - m.rest[c.vertex[0]];
-        const Vec eb = m.rest[c.vertex[3]] - m.rest[c.vertex[2]];
-        const Vec ga = 2e-3 * s * eb.norm_square() * ea;
-        const Vec gb = 2e-3 * s * ea.norm_square() * eb;
+        const Vec                ea = m.rest[c.vertex[1]] - m.rest[c.vertex[0]];
+        const Vec                eb = m.rest[c.vertex[3]] - m.rest[c.vertex[2]];
+        const Vec                ga = 2e-3 * s * eb.norm_square() * ea;
+        const Vec                gb = 2e-3 * s * ea.norm_square() * eb;
         const std::array<Vec, 4> g{{-ga, ga, -gb, gb}};
         for (unsigned int i = 0; i < 4; ++i)
           if (!m.fixed(c.vertex[i]))
@@ -1061,19 +1076,11 @@ namespace forma
           barrier_variables(c, pg, used);
           const unsigned int n       = dim * used.size();
           const bool         mollify = pg.mollifier < 1;
-          std::array<internal::V3<Outer>, 4> y;
-          for (unsigned int i = 0; i < 4; ++i)
-            for (unsigned int dd = 0; dd < 3; ++dd)
-              y[i][dd] = X[i][dd];
-          for (unsigned int i = 0; i < used.size(); ++i)
-            for (unsigned int dd = 0; dd < dim; ++dd)
-              y[used[i]][dd] = Outer(N + 1,
-                                     dim * i + dd,
-                                     Inner(N, dim * i + dd, X[used[i]][dd]));
-          Outer eps = pg.eps_x;
+          const auto y = seeded_positions<dim, Outer, Inner>(X, used, N + 1, N);
+          Outer      eps = pg.eps_x;
           if (mollify)
             eps = Outer(N + 1, N, Inner(pg.eps_x));
-          const Outer e = barrier_term(pg.stencil, y, mollify, eps, dhat);
+          const Outer  e     = barrier_term(pg.stencil, y, mollify, eps, dhat);
           const double scale = kappa * pg.weight;
           std::vector<double> pl(n);
           for (unsigned int i = 0; i < n; ++i)
@@ -1111,7 +1118,7 @@ namespace forma
           std::vector<Vec> now = x;
           for (unsigned int v = 0; v < now.size(); ++v)
             now[v] -= m.rest[v];
-          using F                    = Sacado::Fad::SFad<double, 13>;
+          using F = Sacado::Fad::SFad<double, 13>;
           Vector<double>                       local;
           std::vector<types::global_dof_index> dofs;
           for (const auto &f : friction)
@@ -1121,8 +1128,8 @@ namespace forma
               const PairGeometry       pg = pair_geometry(c, XL);
               const DistanceStencil   &st = pg.stencil;
               const bool               mollify = pg.mollifier < 1;
-              const bool        plane = c.kind == PairKind::point_plane;
-              const unsigned int nv   = plane ? 1 : n_vertices(c.kind);
+              const bool               plane = c.kind == PairKind::point_plane;
+              const unsigned int       nv    = plane ? 1 : n_vertices(c.kind);
               std::array<internal::V3<F>, 4> y;
               for (unsigned int i = 0; i < 4; ++i)
                 for (unsigned int dd = 0; dd < 3; ++dd)
@@ -1139,15 +1146,15 @@ namespace forma
                 args[a] = y[st.slot[a]];
               using std::sqrt;
               const F d =
-                plane ? internal::dot(internal::sub(args[0], args[1]),
-                                      args[2]) :
-                        sqrt(internal::distance_squared(st.type, args.data()));
+                plane ?
+                  internal::dot(internal::sub(args[0], args[1]), args[2]) :
+                  sqrt(internal::distance_squared(st.type, args.data()));
               F M = -kappa * pg.weight * barrier_derivative(d, dhat);
               if (mollify)
                 M *= edge_edge_mollifier(internal::edge_cross_squared(y.data()),
                                          eps);
-              std::array<F, 4>     w;
-              internal::V3<F>      normal;
+              std::array<F, 4> w;
+              internal::V3<F>  normal;
               internal::closest_point_frame(st.type, args.data(), w, normal);
               const F nn = sqrt(internal::dot(normal, normal));
               for (auto &v : normal)
@@ -1157,9 +1164,8 @@ namespace forma
                 if (!m.fixed(f.vertex[a]))
                   for (unsigned int dd = 0; dd < dim; ++dd)
                     {
-                      slip[dd] +=
-                        w[a] * (now[f.vertex[a]][dd] -
-                                friction_start[f.vertex[a]][dd]);
+                      slip[dd] += w[a] * (now[f.vertex[a]][dd] -
+                                          friction_start[f.vertex[a]][dd]);
                       pt[dd] += w[a] * pv[f.vertex[a]][dd];
                     }
               const F         sn = internal::dot(normal, slip);
@@ -1168,10 +1174,9 @@ namespace forma
                 Ps[dd] = slip[dd] - sn * normal[dd];
               const F y2 = internal::dot(Ps, Ps);
               // At zero slip P s = 0: f_1(y)/y acts as its limit 2 / eta.
-              const F fy =
-                y2.val() > 0 ?
-                  friction_f1_over_y(F(sqrt(y2)), friction_eta) :
-                  F(2. / friction_eta);
+              const F      fy  = y2.val() > 0 ?
+                                   friction_f1_over_y(F(sqrt(y2)), friction_eta) :
+                                   F(2. / friction_eta);
               const F      pF1 = M * fy * internal::dot(pt, Ps); // mu = 1
               const double mu  = source_values[f.source];
               out.friction[f.source] += pF1.val();
@@ -1197,7 +1202,7 @@ namespace forma
               // (P s)(P s)^T.
               if (lagged)
                 {
-                  const double y  = std::sqrt(y2.val());
+                  const double y = std::sqrt(y2.val());
                   const double f2 =
                     y > 0 ? friction_f2_term(y, friction_eta) : 0.;
                   double Ppt[3], ps_pt = 0, n_pt = 0;

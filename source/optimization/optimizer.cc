@@ -234,9 +234,8 @@ namespace forma
       scale_of(const double J)
       {
         if (J_scale == 0)
-          J_scale = run.parameters.normalize && std::abs(J) > 0 ?
-                      std::abs(J) :
-                      1.;
+          J_scale =
+            run.parameters.normalize && std::abs(J) > 0 ? std::abs(J) : 1.;
         return J_scale;
       }
     };

@@ -141,7 +141,7 @@ main()
           within(s["optimization"]["final_design"]["friction"], {0.2}, 0.01));
   }
   {
-    const auto s = run_example("transient_ipc", "puzzle_velocity_recovery");
+    const auto  s = run_example("transient_ipc", "puzzle_velocity_recovery");
     const auto &v = s["optimization"]["final_design"]["initial velocity"];
     check("throw recovered within 1e-3 m/s from 1 m/s off",
           std::hypot(v[0].get<double>(), v[1].get<double>()) < 1e-3);
@@ -166,7 +166,7 @@ main()
           s["optimization"]["final_objective"].get<double>() < 1e-6);
   }
   {
-    const auto s = run_example("transient_ipc", "ball_incline_fit");
+    const auto  s = run_example("transient_ipc", "ball_incline_fit");
     const auto &q = s["optimization"]["final_design"];
     check("noisy recording (1 mm): E, nu within 1%",
           within(q["material"], {2e5, 0.35}, 0.01));
@@ -198,10 +198,10 @@ main()
       s["optimization"]["final_state"]["volume"].get<double>();
     check("area within 0.5% of its bound (6.558)",
           area < 6.558 * 1.001 && area > 6.558 * 0.995);
-    check("max von Mises stress down at least 10%",
-          s["optimization"]["final_state"]["max_von_mises_stress"]
-              .get<double>() <
-            0.9 * s["optimization"]["initial_state"]["max_von_mises_stress"]
-                    .get<double>());
+    check(
+      "max von Mises stress down at least 10%",
+      s["optimization"]["final_state"]["max_von_mises_stress"].get<double>() <
+        0.9 * s["optimization"]["initial_state"]["max_von_mises_stress"]
+                .get<double>());
   }
 }

@@ -46,10 +46,10 @@ namespace forma
     std::string              symmetry_planes;
     std::string              shape_perturbation;
     double                   min_scaled_jacobian = 1e-3;
-    double                   shape_bound         = 0;     ///< 0: free
+    double                   shape_bound         = 0; ///< 0: free
     std::string              start;  ///< starting block values (records)
     std::string              bodies; ///< material ids of per-body blocks
-    bool                     boundary_shape      = false; ///< see below
+    bool                     boundary_shape = false; ///< see below
 
     static void
     declare(dealii::ParameterHandler &prm);

@@ -245,7 +245,7 @@ namespace forma
       };
       struct FrictionPair
       {
-        Candidate                   candidate; ///< classified at u_lagged
+        Candidate                   candidate;  ///< classified at u_lagged
         unsigned int                source = 0; ///< friction coefficient
         unsigned int                n      = 0;
         std::array<unsigned int, 4> vertex{};
@@ -321,12 +321,12 @@ namespace forma
       std::vector<Vec> friction_lagged; ///< positions friction is lagged at
       std::vector<std::string> source_names;
       std::vector<double>      source_values;
-      std::map<std::pair<dealii::types::material_id,
-                         dealii::types::material_id>,
-               unsigned int>
-                                pair_source;
-      std::vector<int>          plane_source, mesh_source; ///< -1: default
-      bool                      frozen = false, keep_zero_friction = false;
+      std::map<
+        std::pair<dealii::types::material_id, dealii::types::material_id>,
+        unsigned int>
+                       pair_source;
+      std::vector<int> plane_source, mesh_source; ///< -1: default
+      bool             frozen = false, keep_zero_friction = false;
       double           friction_eta = 1;
       double           min_distance = 0, previous_min_distance = 0;
       unsigned int     n_active = 0;

@@ -16,10 +16,10 @@ namespace forma
   struct OptimizationParameters
   {
     unsigned int max_iterations     = 50;
-    double       relative_decrease  = 1e-3; ///< epsilon_r of thesis ch. 2.5
-    unsigned int decrease_window    = 2;    ///< m of thesis ch. 2.5
-    double       gradient_tolerance = 1e-6; ///< relative to the first one
-    unsigned int memory             = 10;   ///< L-BFGS pairs
+    double       relative_decrease  = 1e-3;  ///< epsilon_r of thesis ch. 2.5
+    unsigned int decrease_window    = 2;     ///< m of thesis ch. 2.5
+    double       gradient_tolerance = 1e-6;  ///< relative to the first one
+    unsigned int memory             = 10;    ///< L-BFGS pairs
     bool         normalize          = false; ///< ROL sees J / |J(q0)|
     bool         resume             = false;
     double       remesh_quality     = 0; ///< remesh below this; 0: never
