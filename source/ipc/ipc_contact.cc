@@ -1063,7 +1063,10 @@ namespace forma
       constexpr int N = 3 * dim + (dim == 3 ? 3 : 0);
       using Inner     = Sacado::Fad::SFad<double, N>;
       using Outer     = Sacado::Fad::SFad<Inner, N + 1>;
-      std::vector<unsigned int> used;
+      // Per-pair buffers, reused.
+      std::vector<unsigned int>            used;
+      std::vector<double>                  pl, values;
+      std::vector<types::global_dof_index> dofs;
       for (unsigned int k = 0; k < candidates.size(); ++k)
         {
           if (!mine(k))
@@ -1082,7 +1085,7 @@ namespace forma
             eps = Outer(N + 1, N, Inner(pg.eps_x));
           const Outer  e     = barrier_term(pg.stencil, y, mollify, eps, dhat);
           const double scale = kappa * pg.weight;
-          std::vector<double> pl(n);
+          pl.resize(n);
           for (unsigned int i = 0; i < n; ++i)
             pl[i] = pv[c.vertex[used[i / dim]]][i % dim];
           double pF = 0;
@@ -1119,8 +1122,6 @@ namespace forma
           for (unsigned int v = 0; v < now.size(); ++v)
             now[v] -= m.rest[v];
           using F = Sacado::Fad::SFad<double, 13>;
-          Vector<double>                       local;
-          std::vector<types::global_dof_index> dofs;
           for (const auto &f : friction)
             {
               const Candidate         &c  = f.candidate;
@@ -1186,17 +1187,19 @@ namespace forma
                 add_threshold(c, mu * pF1.dx(12));
 
               // Lagged positions x = rest + u_lagged: both gradients.
-              local.reinit(0);
               dofs.clear();
-              std::vector<double> values;
+              values.clear();
               for (unsigned int i = 0; i < nv; ++i)
                 if (!m.fixed(c.vertex[i]))
                   for (unsigned int dd = 0; dd < dim; ++dd)
                     {
                       const double g = mu * pF1.dx(3 * i + dd);
                       out.rest[c.vertex[i]][dd] += g;
-                      dofs.push_back(m.dofs[c.vertex[i]][dd]);
-                      values.push_back(g);
+                      if (lagged)
+                        {
+                          dofs.push_back(m.dofs[c.vertex[i]][dd]);
+                          values.push_back(g);
+                        }
                     }
               // The start of the slip: -M w_b H_s p~, H_s = fy P + fy' / y
               // (P s)(P s)^T.
@@ -1222,9 +1225,7 @@ namespace forma
                             -mu * M.val() * w[a].val() *
                             (fy.val() * Ppt[dd] + f2 * ps_pt * Ps[dd].val()));
                         }
-                  local.reinit(values.size());
-                  for (unsigned int i = 0; i < values.size(); ++i)
-                    local[i] = values[i];
+                  const Vector<double> local(values.begin(), values.end());
                   constraints.distribute_local_to_global(local, dofs, *lagged);
                 }
             }
