@@ -21,8 +21,10 @@ namespace
     AssertThrow(prm.get_integer("Dimension") == 2,
                 ExcMessage(
                   "forma-rhombic homogenizes 2D cells: set Dimension = 2"));
-    const Setup       setup = parse_setup(prm, context);
-    const std::string mode  = prm.get("Mode");
+    const std::string mode = prm.get("Mode");
+    if (mode == "rhombic mesh")
+      return rhombic_mesh_mode(prm, prm_directory, context);
+    const Setup setup = parse_setup(prm, context);
     if (mode == "homogenize")
       homogenize_mode(prm, setup, context);
     else if (mode == "sweep")
@@ -46,7 +48,8 @@ main(int argc, char **argv)
   app.description = "Homogenization of the rhombic microstructure family on "
                     "parallelogram cells (thesis ch. 4).";
   app.modes       = {
-          "homogenize", "sweep", "inverse", "verify gradient", "build map", "query"};
+          "homogenize", "sweep", "inverse", "verify gradient", "build map", "query",
+    "rhombic mesh"};
   app.declare_parameters = declare_parameters;
   app.run                = run;
   return forma::run_application(argc, argv, app);

@@ -4,7 +4,6 @@
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/hp/mapping_collection.h>
 #include <deal.II/lac/full_matrix.h>
-#include <deal.II/lac/lapack_full_matrix.h>
 #include <deal.II/lac/vector.h>
 
 #include <forma/base/records.h>
@@ -12,6 +11,7 @@
 #include <forma/ipc/broad_phase.h>
 #include <forma/ipc/ipc_contact.h>
 #include <forma/ipc/obstacle_mesh.h>
+#include <forma/solvers/psd_projection.h>
 
 #include "formulas.h"
 #include <Sacado.hpp>
@@ -39,52 +39,6 @@ namespace forma
           s << (d ? ", " : "") << x[d];
         return s.str() + ")";
       }
-
-      /// Remove the negative part of a symmetric matrix (IPC's projected
-      /// Newton): H - sum_{lambda_i < 0} lambda_i v_i v_i^T.
-      void
-      project_to_psd(FullMatrix<double> &H)
-      {
-        const unsigned int n = H.m();
-        // Symmetrize; by Gershgorin's bound most pair Hessians have no
-        // negative eigenvalue: nothing to do then.
-        double lowest = std::numeric_limits<double>::max();
-        for (unsigned int i = 0; i < n; ++i)
-          {
-            double radius = 0;
-            for (unsigned int j = 0; j < n; ++j)
-              {
-                H(i, j) = H(j, i) = 0.5 * (H(i, j) + H(j, i));
-                AssertThrow(std::isfinite(H(i, j)),
-                            ExcMessage("IPC: a contact Hessian is not "
-                                       "finite (degenerate pair geometry)."));
-                if (j != i)
-                  radius += std::abs(H(i, j));
-              }
-            lowest = std::min(lowest, H(i, i) - radius);
-          }
-        if (lowest >= 0)
-          return;
-        // H+ = (H + |H|) / 2 with |H| = V S V^T from the SVD H = U S V^T:
-        // exact for symmetric H whatever the multiplicities (LAPACK's
-        // interval eigensolver fails on some contact Hessians).
-        LAPACKFullMatrix<double> A(n, n);
-        for (unsigned int i = 0; i < n; ++i)
-          for (unsigned int j = 0; j < n; ++j)
-            A(i, j) = H(i, j);
-        A.compute_svd();
-        const LAPACKFullMatrix<double> &Vt = A.get_svd_vt();
-        for (unsigned int i = 0; i < n; ++i)
-          for (unsigned int j = 0; j <= i; ++j)
-            {
-              double a = 0;
-              for (unsigned int k = 0; k < n; ++k)
-                a += Vt(k, i) * A.singular_value(k) * Vt(k, j);
-              H(i, j) = H(j, i) = 0.5 * (H(i, j) + a);
-            }
-      }
-
-
 
       /// An orthonormal basis of the plane orthogonal to the unit vector n
       /// (in 2D the line, within the xy-plane).
@@ -901,7 +855,7 @@ namespace forma
                 for (unsigned int j = 0; j < n; ++j)
                   H(i, j) = e.dx(i).dx(j);
               if (project)
-                project_to_psd(H);
+                project_to_psd(H, "IPC contact (degenerate pair geometry)");
             }
           add(dofs, against_obstacle);
         }

@@ -9,6 +9,7 @@
 #include <forma/base/run_context.h>
 #include <forma/homogenization/bounds.h>
 #include <forma/homogenization/parallelogram_cell.h>
+#include <forma/rhombic/quad_mesh_optimization.h>
 #include <forma/rhombic/study.h>
 
 #include <algorithm>
@@ -357,6 +358,28 @@ namespace forma
                         "90",
                         Patterns::Double(),
                         "Cell angle in degrees.");
+      prm.leave_subsection();
+
+      prm.enter_subsection("Quad mesh");
+      prm.declare_entry("File",
+                        "",
+                        Patterns::Anything(),
+                        "The object's quad mesh (thesis ch. 4.7): a Gmsh .msh "
+                        "file of quadrilaterals, or a 2D Gmsh .geo geometry "
+                        "meshed into quads (Physical Curves give boundary ids, "
+                        "Physical Surfaces material ids); relative to the "
+                        "parameter file.");
+      prm.declare_entry("Element size",
+                        "0.1",
+                        Patterns::Double(0),
+                        "Quad edge length when the file is a .geo geometry "
+                        "(the size of the microstructure cells).");
+      prm.declare_entry("Refinement",
+                        "0",
+                        Patterns::Integer(0, 6),
+                        "Split every quad into 4 this many times before the "
+                        "optimization.");
+      QuadMeshOptimizationParameters::declare(prm);
       prm.leave_subsection();
 
       prm.enter_subsection("Output");

@@ -44,6 +44,21 @@ namespace forma
                 const std::array<double, 2>   &x_range,
                 const std::array<double, 2>   &y_range);
 
+  /**
+   * A picture of polygons (mesh cells, in any units) filled by a value each
+   * (blue at `range[0]` through green and yellow to red at `range[1]`),
+   * outlined in gray, `width` pixels wide, with `title` on top and a color
+   * bar with the range at the right.
+   */
+  void
+  write_polygon_field_png(
+    const std::string                                     &file_name,
+    const std::vector<std::vector<std::array<double, 2>>> &polygons,
+    const std::vector<double>                             &values,
+    const std::array<double, 2>                           &range,
+    const std::string                                     &title,
+    const int                                              width = 800);
+
   /// Write an RGB image (rows from the top, 3 bytes per pixel) as PNG.
   void
   write_image_png(const std::string                &file_name,

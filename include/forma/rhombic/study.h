@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -19,7 +20,9 @@
 namespace dealii
 {
   class ParameterHandler;
-}
+  template <int dim, int spacedim>
+  class Triangulation;
+} // namespace dealii
 
 namespace forma
 {
@@ -133,6 +136,31 @@ namespace forma
                const std::string        &prm_directory,
                const Setup              &setup,
                RunContext               &context);
+
+    /// A quad mesh (Quad mesh section) -> nearly rhombic quads (thesis ch.
+    /// 4.7): rhombic_mesh.msh, VTU and PNG of the cells' angles.
+    void
+    rhombic_mesh_mode(dealii::ParameterHandler &prm,
+                      const std::string        &prm_directory,
+                      RunContext               &context);
+
+    /// The Quad mesh section's mesh (a .msh file or a meshed .geo), refined
+    /// as asked and flattened to one level.
+    void
+    read_quad_mesh(dealii::ParameterHandler    &prm,
+                   const std::string           &prm_directory,
+                   dealii::Triangulation<2, 2> &tria);
+
+    /// A picture of a 2D mesh with one value per active cell (blue at
+    /// `range[0]` to red at `range[1]`) and the cell edges, `pixels` wide,
+    /// with a color bar labelled `label`.
+    void
+    write_cell_field_png(const std::string                 &file_name,
+                         const dealii::Triangulation<2, 2> &tria,
+                         const std::vector<double>         &values,
+                         const std::array<double, 2>       &range,
+                         const std::string                 &label,
+                         const unsigned int                 pixels = 800);
 
     /// A parameter grid -> samples.csv, coverage.png (resumable).
     void
