@@ -1854,6 +1854,24 @@ namespace forma
   }
 
   template <int dim>
+  std::vector<Point<dim>>
+  ElasticitySimulator<dim>::cell_centers() const
+  {
+    const auto         &tria = *impl->tria;
+    std::vector<double> flat(dim * tria.n_global_active_cells(), 0.);
+    for (const auto &cell : tria.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (unsigned int d = 0; d < dim; ++d)
+          flat[dim * cell->global_active_cell_index() + d] = cell->center()[d];
+    Utilities::MPI::sum(flat, impl->comm, flat);
+    std::vector<Point<dim>> centers(tria.n_global_active_cells());
+    for (unsigned int c = 0; c < centers.size(); ++c)
+      for (unsigned int d = 0; d < dim; ++d)
+        centers[c][d] = flat[dim * c + d];
+    return centers;
+  }
+
+  template <int dim>
   nlohmann::json
   ElasticitySimulator<dim>::adjoint_statistics() const
   {
@@ -1922,6 +1940,10 @@ namespace forma
   ElasticitySimulator<3>::max_shape_offset() const;
   template double
   ElasticitySimulator<2>::cell_size() const;
+  template std::vector<Point<2>>
+  ElasticitySimulator<2>::cell_centers() const;
+  template std::vector<Point<3>>
+  ElasticitySimulator<3>::cell_centers() const;
   template double
   ElasticitySimulator<3>::cell_size() const;
   template nlohmann::json

@@ -164,10 +164,11 @@ namespace
   }
 
   template <int dim>
-  void
+  std::vector<double>
   optimize_job(const forma::ElasticityParameters   &parameters,
                const forma::OptimizationParameters &settings,
-               forma::RunContext                   &context)
+               forma::RunContext                   &context,
+               const forma::DesignConstraint       *constraint)
   {
     forma::LoadCases<dim> simulator(parameters, context.communicator());
     simulator.prepare(&context);
@@ -210,15 +211,36 @@ namespace
                       "Optimization/Remesh quality: the design block '" +
                       b.name + "' lives on the mesh and cannot be remeshed."));
 
+    // The constraint's penalty in units of the starting objective.
+    double penalty_scale = 0;
+    if (constraint && constraint->penalty)
+      {
+        ensure(simulator.design());
+        penalty_scale = std::max(std::abs(simulator.objective()), 1e-300);
+      }
     forma::DesignModel model;
     model.value = [&](const std::vector<double> &q) {
       ensure(q);
-      return simulator.objective();
+      double J = simulator.objective();
+      if (penalty_scale > 0)
+        {
+          std::vector<double> dP(q.size(), 0.);
+          J += penalty_scale * constraint->penalty(q, dP);
+        }
+      return J;
     };
     model.gradient = [&](const std::vector<double> &q,
                          std::vector<double>       &dJ) {
       ensure(q);
-      return simulator.gradient(dJ);
+      double J = simulator.gradient(dJ);
+      if (penalty_scale > 0)
+        {
+          std::vector<double> dP(q.size(), 0.);
+          J += penalty_scale * constraint->penalty(q, dP);
+          for (unsigned int i = 0; i < q.size(); ++i)
+            dJ[i] += penalty_scale * dP[i];
+        }
+      return J;
     };
     nlohmann::json history = nlohmann::json::array();
     model.accepted =
@@ -287,6 +309,14 @@ namespace
                              simulator.material_offsets(),
                              model.lower,
                              model.upper);
+        if (constraint && constraint->setup)
+          {
+            if constexpr (dim == 2)
+              constraint->setup(layout,
+                                simulator[0].cell_centers(),
+                                model.lower,
+                                model.upper);
+          }
         model.mesh = mesh;
         result =
           forma::optimize(model, stage_settings, context, history_so_far);
@@ -373,6 +403,7 @@ namespace
                                   "objective history",
                                   "iteration");
       }
+    return result.design;
   }
 } // namespace
 
@@ -387,29 +418,31 @@ namespace forma
 
 
 
-  void
+  std::vector<double>
   run_elasticity_job(const std::string          &mode,
                      const ElasticityParameters &parameters,
                      dealii::ParameterHandler   &prm,
-                     RunContext                 &context)
+                     RunContext                 &context,
+                     const DesignConstraint     *constraint)
   {
+    AssertThrow(!constraint || (mode == "optimize" && parameters.dim == 2),
+                dealii::ExcMessage("design constraints are for 2D "
+                                   "optimizations only"));
     if (mode == "simulate")
       {
         if (parameters.dim == 2)
           simulate_job<2>(parameters, context);
         else
           simulate_job<3>(parameters, context);
-        return;
+        return {};
       }
     if (mode == "optimize")
       {
         OptimizationParameters settings;
         settings.parse(prm);
         if (parameters.dim == 2)
-          optimize_job<2>(parameters, settings, context);
-        else
-          optimize_job<3>(parameters, settings, context);
-        return;
+          return optimize_job<2>(parameters, settings, context, constraint);
+        return optimize_job<3>(parameters, settings, context, nullptr);
       }
     AssertThrow(mode == "verify gradient",
                 dealii::ExcMessage("unknown Mode '" + mode + "'."));
@@ -419,5 +452,6 @@ namespace forma
       verify_gradient_job<2>(parameters, check, context);
     else
       verify_gradient_job<3>(parameters, check, context);
+    return {};
   }
 } // namespace forma

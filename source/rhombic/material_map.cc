@@ -173,14 +173,13 @@ namespace forma
 
     namespace
     {
-      // Is x inside the convex hull of the points (with a margin)?
-      bool
-      in_hull(std::vector<std::array<double, 2>> p,
-              const std::array<double, 2>       &x,
-              const std::array<double, 2>       &scale)
+      // The convex hull of the points, counterclockwise (Andrew's monotone
+      // chain); fewer than 3 points: empty.
+      std::vector<std::array<double, 2>>
+      convex_hull(std::vector<std::array<double, 2>> p)
       {
         if (p.size() < 3)
-          return false;
+          return {};
         std::sort(p.begin(), p.end());
         const auto cross = [](const std::array<double, 2> &o,
                               const std::array<double, 2> &a,
@@ -203,35 +202,21 @@ namespace forma
           }
         hull.resize(k - 1);
         if (hull.size() < 3)
-          return false;
-        for (std::size_t i = 0; i < hull.size(); ++i)
-          {
-            const auto  &a = hull[i], &b = hull[(i + 1) % hull.size()];
-            const double e0 = (b[0] - a[0]) / scale[0],
-                         e1 = (b[1] - a[1]) / scale[1];
-            const double c =
-              e0 * (x[1] - a[1]) / scale[1] - e1 * (x[0] - a[0]) / scale[0];
-            if (c < -1e-9 * std::hypot(e0, e1))
-              return false;
-          }
-        return true;
+          return {};
+        return hull;
       }
     } // namespace
 
 
 
-    RhombicStructure
-    MaterialMap::query(const double E,
-                       const double nu,
-                       const double alpha_degrees,
-                       const double base_nu,
-                       bool        &inside) const
+    std::vector<MaterialMap::HalfPlane>
+    MaterialMap::coverage(const double alpha_degrees, const double base_nu) const
     {
-      AssertThrow(!angles.empty(), ExcMessage("the material map is empty"));
-      // The map is for a base with nu = 0: eq. 4.11 backwards.
-      const double nu_map = nu - base_nu * E;
-      // Covered region at the nearest angles (above and below).
-      inside = false;
+      const double lo = *std::min_element(angles.begin(), angles.end()),
+                   hi = *std::max_element(angles.begin(), angles.end());
+      if (alpha_degrees < lo - 1e-9 || alpha_degrees > hi + 1e-9)
+        return {};
+      // The covered nodes at the nearest angles (above and below).
       std::vector<unsigned int> near;
       {
         unsigned int best = 0;
@@ -253,27 +238,51 @@ namespace forma
                 near[1] = a;
             }
       }
-      const double lo = *std::min_element(angles.begin(), angles.end()),
-                   hi = *std::max_element(angles.begin(), angles.end());
-      if (alpha_degrees >= lo - 1e-9 && alpha_degrees <= hi + 1e-9)
+      std::vector<HalfPlane> region;
+      for (const unsigned int a : near)
         {
-          inside                            = true;
-          const std::array<double, 2> scale = {
-            {std::max(1e-12,
-                      this->nu.size() > 1 ? this->nu.back() - this->nu.front() :
-                                            1.),
-             std::max(1e-12,
-                      this->E.size() > 1 ? this->E.back() - this->E.front() :
-                                           1.)}};
-          for (const unsigned int a : near)
+          std::vector<std::array<double, 2>> points; // (nu, E) of the map
+          for (unsigned int i = 0; i < this->E.size(); ++i)
+            for (unsigned int j = 0; j < this->nu.size(); ++j)
+              if (covered[a][i * this->nu.size() + j])
+                points.push_back({{this->nu[j], this->E[i]}});
+          const auto hull = convex_hull(points);
+          if (hull.empty())
+            return {};
+          // Edge e = b - a of the counterclockwise hull in (nu_map, E) with
+          // nu_map = nu - base_nu E: inside where e x (x - a) >= 0.
+          for (std::size_t k = 0; k < hull.size(); ++k)
             {
-              std::vector<std::array<double, 2>> points;
-              for (unsigned int i = 0; i < this->E.size(); ++i)
-                for (unsigned int j = 0; j < this->nu.size(); ++j)
-                  if (covered[a][i * this->nu.size() + j])
-                    points.push_back({{this->nu[j], this->E[i]}});
-              inside = inside && in_hull(points, {{nu_map, E}}, scale);
+              const auto  &p = hull[k], &q = hull[(k + 1) % hull.size()];
+              const double e0 = q[0] - p[0], e1 = q[1] - p[1];
+              // -(e0 + e1 base_nu) E + e1 nu <= e1 nu_a - e0 E_a
+              HalfPlane    h{-(e0 + e1 * base_nu), e1, e1 * p[0] - e0 * p[1]};
+              const double n = std::hypot(h.c_E, h.c_nu);
+              region.push_back({h.c_E / n, h.c_nu / n, h.d / n});
             }
+        }
+      return region;
+    }
+
+
+
+    RhombicStructure
+    MaterialMap::query(const double E,
+                       const double nu,
+                       const double alpha_degrees,
+                       const double base_nu,
+                       bool        &inside) const
+    {
+      AssertThrow(!angles.empty(), ExcMessage("the material map is empty"));
+      // The map is for a base with nu = 0: eq. 4.11 backwards.
+      const double nu_map = nu - base_nu * E;
+      inside = false;
+      const auto region = coverage(alpha_degrees, base_nu);
+      if (!region.empty())
+        {
+          inside = true;
+          for (const HalfPlane &h : region)
+            inside = inside && h.c_E * E + h.c_nu * nu <= h.d + 1e-9;
         }
       RhombicStructure s;
       s.alpha    = alpha_degrees * M_PI / 180;

@@ -118,6 +118,17 @@ namespace forma
                       RunContext        &context)
     {
       Triangulation<2, 2> tria;
+      make_rhombic_mesh(prm, prm_directory, context, tria);
+    }
+
+
+
+    QuadMeshShape
+    make_rhombic_mesh(ParameterHandler    &prm,
+                      const std::string   &prm_directory,
+                      RunContext          &context,
+                      Triangulation<2, 2> &tria)
+    {
       read_quad_mesh(prm, prm_directory, tria);
       QuadMeshOptimizationParameters parameters;
       prm.enter_subsection("Quad mesh");
@@ -175,7 +186,9 @@ namespace forma
       if (context.is_root())
         {
           std::ofstream msh(context.path("rhombic_mesh.msh"));
-          GridOut().write_msh(tria, msh);
+          GridOut out;
+          out.set_flags(GridOutFlags::Msh(/*write_faces=*/true));
+          out.write_msh(tria, msh);
           write_shape_vtu(context.path("quad_mesh.vtu"), input, r.before);
           write_shape_vtu(context.path("rhombic_mesh.vtu"), tria, r.after);
           std::vector<double> alpha;
@@ -187,6 +200,7 @@ namespace forma
                                {{parameters.min_angle * degrees, 90}},
                                "rhombus angle alpha (degrees)");
         }
+      return r.after;
     }
   } // namespace rhombic
 } // namespace forma

@@ -360,6 +360,28 @@ namespace forma
                         "Cell angle in degrees.");
       prm.leave_subsection();
 
+      prm.enter_subsection("Two-scale");
+      prm.declare_entry(
+        "Macro problem",
+        "",
+        Patterns::Anything(),
+        "two-scale design: a forma-transient-ipc parameter file (relative to "
+        "this one) with the object's supports, loads, objective (e.g. a "
+        "'boundary target'), Design/Parameters = cell material and the "
+        "Optimization section; its Mesh is replaced by the rhombic mesh, "
+        "whose boundary ids come from the Quad mesh file. Materials are "
+        "absolute: the base has Base material/Young's modulus.");
+      prm.declare_entry("Coverage weight",
+                        "10",
+                        Patterns::Double(0),
+                        "Weight of the soft constraint that keeps each "
+                        "cell's (E/E_b, nu) inside the map's coverage "
+                        "D(alpha) of its angle: sum over cells and violated "
+                        "edges of (distance / 0.01)^2 / cells, in units of "
+                        "the starting objective. Cells still outside at the "
+                        "end are projected into D(alpha).");
+      prm.leave_subsection();
+
       prm.enter_subsection("Quad mesh");
       prm.declare_entry("File",
                         "",

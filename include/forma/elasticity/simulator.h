@@ -173,6 +173,11 @@ namespace forma
     double
     cell_size() const;
 
+    /// Centers of the active cells of the current design by global active
+    /// cell index (the order of the `cell material` block), on every rank.
+    std::vector<dealii::Point<dim>>
+    cell_centers() const;
+
     /**
      * @name Remeshing
      *

@@ -96,6 +96,23 @@ namespace forma
             const double base_nu,
             bool        &inside) const;
 
+      /// c_E E + c_nu nu <= d on (E relative to the base, nu); (c_E, c_nu)
+      /// is a unit vector, so c . x - d is a distance.
+      struct HalfPlane
+      {
+        double c_E, c_nu, d;
+      };
+
+      /**
+       * The covered region D(alpha) for a base of Poisson's ratio `base_nu`
+       * (thesis ch. 4.6.3): the intersection of the convex hulls of the
+       * covered nodes at the nearest angles above and below, as half-planes
+       * (empty outside the map's angles or without coverage). query()'s
+       * `inside` is membership in this region.
+       */
+      std::vector<HalfPlane>
+      coverage(const double alpha_degrees, const double base_nu) const;
+
       void
       write(const std::string &file_name) const;
 

@@ -9,6 +9,7 @@
 #include <forma/homogenization/periodic_homogenization.h>
 #include <forma/mesh/level_set_mesh.h>
 #include <forma/microstructure/rhombic_structure.h>
+#include <forma/rhombic/quad_mesh_optimization.h>
 
 #include <nlohmann/json.hpp>
 
@@ -143,6 +144,29 @@ namespace forma
     rhombic_mesh_mode(dealii::ParameterHandler &prm,
                       const std::string        &prm_directory,
                       RunContext               &context);
+
+    /// What rhombic_mesh_mode() does, for the pipeline: `tria` becomes the
+    /// optimized mesh (also written); returns its cells' shapes.
+    QuadMeshShape
+    make_rhombic_mesh(dealii::ParameterHandler    &prm,
+                      const std::string           &prm_directory,
+                      RunContext                  &context,
+                      dealii::Triangulation<2, 2> &tria);
+
+    /**
+     * The two-scale pipeline (thesis ch. 4.7-4.8): the Quad mesh section's
+     * mesh made rhombic; per-cell (E, nu) optimized for the Two-scale/Macro
+     * problem (a forma-transient-ipc parameter file: loads, supports,
+     * objective, `cell material` design, Optimization section) with each
+     * cell's material kept inside the map's coverage D(alpha) of its angle;
+     * each cell's structure from the Map section's material-to-geometry
+     * map; pictures of the materials and of the tiled geometry.
+     */
+    void
+    two_scale_design_mode(dealii::ParameterHandler &prm,
+                          const std::string        &prm_directory,
+                          const Setup              &setup,
+                          RunContext               &context);
 
     /// The Quad mesh section's mesh (a .msh file or a meshed .geo), refined
     /// as asked and flattened to one level.

@@ -1,0 +1,412 @@
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/grid/tria.h>
+#include <deal.II/lac/vector.h>
+#include <deal.II/numerics/data_out.h>
+
+#include <forma/adjoint/design.h>
+#include <forma/base/application.h>
+#include <forma/base/plot.h>
+#include <forma/base/records.h>
+#include <forma/base/run_context.h>
+#include <forma/elasticity/jobs.h>
+#include <forma/elasticity/parameters.h>
+#include <forma/ipc/ipc_parameters.h>
+#include <forma/rhombic/material_map.h>
+#include <forma/rhombic/study.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+
+namespace forma
+{
+  namespace rhombic
+  {
+    using namespace dealii;
+
+    namespace
+    {
+      constexpr double degrees = 180 / M_PI;
+
+      /// A cell's vertices reordered so that the rhombus's acute angle is
+      /// at local vertex 0 (where the family's cell has alpha).
+      std::array<Point<2>, 4>
+      acute_first(const Triangulation<2, 2>::active_cell_iterator &cell)
+      {
+        std::array<Point<2>, 4> v;
+        for (unsigned int k = 0; k < 4; ++k)
+          v[k] = cell->vertex(k);
+        if (fit_rhombus(v).angle <= M_PI / 2)
+          return v;
+        // Start at vertex 1, keeping the orientation: 1, 3, 0, 2.
+        return {{v[1], v[3], v[0], v[2]}};
+      }
+
+      /// xi in [0, 1]^2 with x = bilinear map of `v` (Newton), if x lies in
+      /// the quad.
+      bool
+      reference_point(const std::array<Point<2>, 4> &v,
+                      const Point<2>                &x,
+                      Point<2>                      &xi)
+      {
+        xi = Point<2>(0.5, 0.5);
+        for (unsigned int it = 0; it < 12; ++it)
+          {
+            const double   s = xi[0], t = xi[1];
+            const Point<2> f = Point<2>((1 - s) * (1 - t) * v[0] +
+                                        s * (1 - t) * v[1] + (1 - s) * t * v[2] +
+                                        s * t * v[3]);
+            const Tensor<1, 2> ds =
+              (1 - t) * (v[1] - v[0]) + t * (v[3] - v[2]);
+            const Tensor<1, 2> dt =
+              (1 - s) * (v[2] - v[0]) + s * (v[3] - v[1]);
+            const double det = ds[0] * dt[1] - ds[1] * dt[0];
+            if (!(std::abs(det) > 0))
+              return false;
+            const Tensor<1, 2> r = x - f;
+            xi[0] += (r[0] * dt[1] - r[1] * dt[0]) / det;
+            xi[1] += (ds[0] * r[1] - ds[1] * r[0]) / det;
+          }
+        return xi[0] >= -1e-9 && xi[0] <= 1 + 1e-9 && xi[1] >= -1e-9 &&
+               xi[1] <= 1 + 1e-9;
+      }
+
+      /// The tiled geometry: every cell's structure mapped onto its quad
+      /// (material dark), the quads outlined.
+      void
+      write_geometry_png(const std::string                   &file_name,
+                         const Triangulation<2, 2>           &tria,
+                         const std::vector<RhombicStructure> &structures,
+                         const int                            width = 1200)
+      {
+        double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+        for (const auto &cell : tria.active_cell_iterators())
+          for (unsigned int k = 0; k < 4; ++k)
+            for (unsigned int d = 0; d < 2; ++d)
+              {
+                lo[d] = std::min(lo[d], cell->vertex(k)[d]);
+                hi[d] = std::max(hi[d], cell->vertex(k)[d]);
+              }
+        const int    margin = 10;
+        const double scale  = (width - 2 * margin) / (hi[0] - lo[0]);
+        const int    height =
+          2 * margin + static_cast<int>(std::ceil((hi[1] - lo[1]) * scale));
+        std::vector<unsigned char> rgb(3 * width * height, 255);
+        unsigned int               c = 0;
+        for (const auto &cell : tria.active_cell_iterators())
+          {
+            const auto v   = acute_first(cell);
+            const auto phi = structures[c++].level_set();
+            double     b_lo[2] = {1e300, 1e300}, b_hi[2] = {-1e300, -1e300};
+            for (const Point<2> &p : v)
+              for (unsigned int d = 0; d < 2; ++d)
+                {
+                  b_lo[d] = std::min(b_lo[d], p[d]);
+                  b_hi[d] = std::max(b_hi[d], p[d]);
+                }
+            const int x0 = std::max(0, int((b_lo[0] - lo[0]) * scale) + margin - 1),
+                      x1 = std::min(width - 1,
+                                    int((b_hi[0] - lo[0]) * scale) + margin + 1),
+                      y0 = std::max(0, int((hi[1] - b_hi[1]) * scale) + margin - 1),
+                      y1 = std::min(height - 1,
+                                    int((hi[1] - b_lo[1]) * scale) + margin + 1);
+            for (int y = y0; y <= y1; ++y)
+              for (int x = x0; x <= x1; ++x)
+                {
+                  const Point<2> X(lo[0] + (x + 0.5 - margin) / scale,
+                                   hi[1] - (y + 0.5 - margin) / scale);
+                  Point<2>       xi;
+                  if (reference_point(v, X, xi) &&
+                      phi(Point<2>(RhombicStructure::side * xi)) < 0)
+                    for (unsigned int k = 0; k < 3; ++k)
+                      rgb[3 * (y * width + x) + k] = 40;
+                }
+          }
+        write_image_png(file_name, width, height, rgb);
+      }
+
+      /// The macro problem's parameters: a forma-transient-ipc file.
+      ElasticityParameters
+      read_macro_problem(const std::string &file,
+                         ParameterHandler  &macro)
+      {
+        macro.declare_entry("Dimension", "2", Patterns::Integer(2, 3));
+        macro.declare_entry("Output directory", "", Patterns::Anything());
+        macro.declare_entry("Mode", "", Patterns::Anything());
+        ElasticityParameters::declare(macro);
+        ipc::IpcParameters::declare(macro);
+        declare_elasticity_job_parameters(macro);
+        AssertThrow(std::filesystem::exists(file),
+                    ExcMessage("Two-scale/Macro problem: the file '" + file +
+                               "' does not exist."));
+        try
+          {
+            macro.parse_input(file, "", false, true);
+          }
+        catch (const std::exception &e)
+          {
+            AssertThrow(false,
+                        ExcMessage("Two-scale/Macro problem '" + file +
+                                   "': " + error_message(e)));
+          }
+        ElasticityParameters p;
+        p.parse(macro,
+                std::filesystem::path(file).parent_path().string(),
+                false,
+                true);
+        return p;
+      }
+
+      /// Closest point of the convex region to m (alternating projections
+      /// onto the violated half-planes).
+      std::array<double, 2>
+      project(std::array<double, 2>                        m,
+              const std::vector<MaterialMap::HalfPlane> &region)
+      {
+        for (unsigned int it = 0; it < 200; ++it)
+          {
+            bool moved = false;
+            for (const auto &h : region)
+              {
+                const double v = h.c_E * m[0] + h.c_nu * m[1] - h.d;
+                if (v > 1e-12)
+                  {
+                    m[0] -= v * h.c_E;
+                    m[1] -= v * h.c_nu;
+                    moved = true;
+                  }
+              }
+            if (!moved)
+              break;
+          }
+        return m;
+      }
+
+      double
+      violation(const std::array<double, 2>                 &m,
+                const std::vector<MaterialMap::HalfPlane> &region)
+      {
+        double v = 0;
+        for (const auto &h : region)
+          v = std::max(v, h.c_E * m[0] + h.c_nu * m[1] - h.d);
+        return v;
+      }
+    } // namespace
+
+
+
+    void
+    two_scale_design_mode(ParameterHandler  &prm,
+                          const std::string &prm_directory,
+                          const Setup       &setup,
+                          RunContext        &context)
+    {
+      prm.enter_subsection("Two-scale");
+      std::string  macro_file      = prm.get("Macro problem");
+      const double coverage_weight = prm.get_double("Coverage weight");
+      prm.leave_subsection();
+      prm.enter_subsection("Map");
+      std::string map_file = prm.get("Map file");
+      prm.leave_subsection();
+      for (std::string *f : {&macro_file, &map_file})
+        if (!f->empty() && (*f)[0] != '/')
+          *f = prm_directory + "/" + *f;
+      const MaterialMap map = MaterialMap::read(map_file);
+      // The angles where the map has a covered region.
+      double angle_lo = 1e300, angle_hi = -1e300;
+      for (unsigned int a = 0; a < map.angles.size(); ++a)
+        if (std::count(map.covered[a].begin(), map.covered[a].end(), true) >= 3)
+          {
+            angle_lo = std::min(angle_lo, map.angles[a]);
+            angle_hi = std::max(angle_hi, map.angles[a]);
+          }
+      AssertThrow(angle_lo <= angle_hi,
+                  ExcMessage("Map/Map file '" + map_file +
+                             "': the map covers no angle."));
+
+      // 1. The rhombic quad mesh (ch. 4.7).
+      Triangulation<2, 2> tria;
+      const QuadMeshShape shape =
+        make_rhombic_mesh(prm, prm_directory, context, tria);
+      const std::string mesh_file = context.path("rhombic_mesh.msh");
+      MPI_Barrier(context.communicator()); // the root wrote it
+
+      // Each quad's angle, clamped to the map's range, and its region D.
+      const unsigned int n_cells = tria.n_active_cells();
+      std::vector<double> alpha(n_cells);
+      std::vector<std::vector<MaterialMap::HalfPlane>> region(n_cells);
+      std::vector<Point<2>> centers;
+      unsigned int          clamped = 0;
+      for (const auto &cell : tria.active_cell_iterators())
+        {
+          const unsigned int c = cell->active_cell_index();
+          const double       a = shape.alpha[c] * degrees;
+          alpha[c]             = std::clamp(a, angle_lo, angle_hi);
+          clamped += (alpha[c] != a);
+          region[c] = map.coverage(alpha[c], setup.base.nu);
+          AssertThrow(!region[c].empty(),
+                      ExcMessage("the map has no coverage at " +
+                                 sig(alpha[c]) + " degrees (cell " +
+                                 std::to_string(c) + ")."));
+          centers.push_back(cell->center());
+        }
+      context.print("map: angles " + sig(angle_lo) + "-" + sig(angle_hi) +
+                    " degrees; " + std::to_string(clamped) +
+                    " quads sharper than the map's range use its smallest "
+                    "angle");
+
+      // 2. Per-cell materials for the macro problem (ch. 4.8).
+      ParameterHandler     macro;
+      ElasticityParameters parameters = read_macro_problem(macro_file, macro);
+      AssertThrow(parameters.dim == 2 && parameters.plane_stress,
+                  ExcMessage("Two-scale/Macro problem: the homogenized "
+                             "moduli are 2D; set Dimension = 2 and "
+                             "Material/Plane = stress."));
+      AssertThrow(parameters.design.blocks ==
+                      std::vector<std::string>{"cell material"} &&
+                    parameters.design.young_poisson,
+                  ExcMessage("Two-scale/Macro problem: the design must be "
+                             "'cell material' alone, in Young's modulus and "
+                             "Poisson's ratio."));
+      parameters.mesh.source        = "file";
+      parameters.mesh.file          = mesh_file;
+      parameters.mesh.file_as_given = "rhombic_mesh.msh";
+      parameters.mesh.initial_refinement = 0;
+
+      // The simulator numbers cells its own way: match them by center.
+      std::vector<unsigned int> quad_of;
+      const double              E_b = setup.base.E;
+      const double E_lo = E_b * map.E.front(), E_hi = E_b * map.E.back();
+      const double nu_lo = map.nu.front() + setup.base.nu * map.E.front(),
+                   nu_hi = map.nu.back() + setup.base.nu * map.E.back();
+      constexpr double tau = 0.01; // violation scale in (E/E_b, nu)
+      unsigned int     offset = 0; // of the cell material block
+      DesignConstraint constraint;
+      constraint.setup = [&](const DesignLayout          &layout,
+                             const std::vector<Point<2>> &simulator_centers,
+                             std::vector<double>         &lower,
+                             std::vector<double>         &upper) {
+        const DesignBlock *b = layout.find("cell material");
+        offset               = b->offset;
+        quad_of.assign(simulator_centers.size(), 0);
+        for (unsigned int g = 0; g < simulator_centers.size(); ++g)
+          {
+            double best = 1e300;
+            for (unsigned int c = 0; c < n_cells; ++c)
+              if (centers[c].distance_square(simulator_centers[g]) < best)
+                {
+                  best       = centers[c].distance_square(simulator_centers[g]);
+                  quad_of[g] = c;
+                }
+            lower[b->offset + 2 * g]     = std::max(lower[b->offset + 2 * g], E_lo);
+            upper[b->offset + 2 * g]     = std::min(upper[b->offset + 2 * g], E_hi);
+            lower[b->offset + 2 * g + 1] = std::max(lower[b->offset + 2 * g + 1], nu_lo);
+            upper[b->offset + 2 * g + 1] = std::min(upper[b->offset + 2 * g + 1], nu_hi);
+          }
+      };
+      constraint.penalty  = [&](const std::vector<double> &q,
+                               std::vector<double>       &dP) {
+        double P = 0;
+        for (unsigned int g = 0; g < quad_of.size(); ++g)
+          {
+            const double E = q[offset + 2 * g] / E_b, nu = q[offset + 2 * g + 1];
+            for (const auto &h : region[quad_of[g]])
+              {
+                const double v = h.c_E * E + h.c_nu * nu - h.d;
+                if (v <= 0)
+                  continue;
+                const double w = coverage_weight / quad_of.size();
+                P += w * v * v / (tau * tau);
+                dP[offset + 2 * g] += w * 2 * v / (tau * tau) * h.c_E / E_b;
+                dP[offset + 2 * g + 1] += w * 2 * v / (tau * tau) * h.c_nu;
+              }
+          }
+        return P;
+      };
+      context.print("material optimization on the rhombic mesh (" +
+                    std::to_string(n_cells) + " cells)");
+      const std::vector<double> q =
+        run_elasticity_job("optimize", parameters, macro, context, &constraint);
+
+      // 3. Each cell's structure from the map (ch. 4.6), inside D(alpha).
+      std::vector<RhombicStructure> structures(n_cells);
+      std::vector<double>           E(n_cells), nu(n_cells);
+      double                        worst = 0;
+      unsigned int                  outside = 0;
+      for (unsigned int g = 0; g < quad_of.size(); ++g)
+        {
+          const unsigned int          c = quad_of[g];
+          const std::array<double, 2> m = {{q[offset + 2 * g] / E_b,
+                                            q[offset + 2 * g + 1]}};
+          const double                v = violation(m, region[c]);
+          worst                         = std::max(worst, v);
+          outside += v > 1e-6;
+          const auto p = project(m, region[c]);
+          E[c]         = p[0];
+          nu[c]        = p[1];
+          bool inside  = false;
+          structures[c] =
+            map.query(E[c], nu[c], alpha[c], setup.base.nu, inside);
+        }
+      context.print("materials: E/E_b " +
+                    sig(*std::min_element(E.begin(), E.end()), 3) + "-" +
+                    sig(*std::max_element(E.begin(), E.end()), 3) + ", nu " +
+                    sig(*std::min_element(nu.begin(), nu.end()), 3) + "-" +
+                    sig(*std::max_element(nu.begin(), nu.end()), 3) + "; " +
+                    std::to_string(outside) +
+                    " cells projected into the coverage (largest distance " +
+                    sig(worst, 2) + ")");
+
+      nlohmann::json cells = nlohmann::json::array();
+      for (unsigned int c = 0; c < n_cells; ++c)
+        {
+          std::vector<double> p(structures[c].p.begin(), structures[c].p.end());
+          cells.push_back({{"center", {centers[c][0], centers[c][1]}},
+                           {"alpha", alpha[c]},
+                           {"E_relative", E[c]},
+                           {"nu", nu[c]},
+                           {"parameters", p}});
+        }
+      context.summary["cells"] = cells;
+      context.summary["two_scale"] = {{"cells", n_cells},
+                                      {"clamped_angles", clamped},
+                                      {"projected_cells", outside},
+                                      {"largest_coverage_violation", worst}};
+      if (context.is_root())
+        {
+          write_cell_field_png(context.path("material_E.png"),
+                               tria,
+                               E,
+                               {{map.E.front(), map.E.back()}},
+                               "E / E_base (cell materials)");
+          write_cell_field_png(context.path("material_nu.png"),
+                               tria,
+                               nu,
+                               {{nu_lo, nu_hi}},
+                               "Poisson ratio nu (cell materials)");
+          write_geometry_png(context.path("geometry.png"), tria, structures);
+          Vector<double> vE(E.begin(), E.end()), vnu(nu.begin(), nu.end()),
+            va(alpha.begin(), alpha.end());
+          DataOut<2> out;
+          out.attach_triangulation(tria);
+          out.add_data_vector(vE, "E_relative", DataOut<2>::type_cell_data);
+          out.add_data_vector(vnu, "nu", DataOut<2>::type_cell_data);
+          out.add_data_vector(va, "alpha", DataOut<2>::type_cell_data);
+          std::vector<Vector<double>> pv(RhombicStructure::n_parameters,
+                                         Vector<double>(n_cells));
+          for (unsigned int i = 0; i < RhombicStructure::n_parameters; ++i)
+            {
+              for (unsigned int c = 0; c < n_cells; ++c)
+                pv[i][c] = structures[c].p[i];
+              out.add_data_vector(pv[i],
+                                  "p" + std::to_string(i + 1),
+                                  DataOut<2>::type_cell_data);
+            }
+          out.build_patches();
+          std::ofstream f(context.path("design.vtu"));
+          out.write_vtu(f);
+        }
+    }
+  } // namespace rhombic
+} // namespace forma
