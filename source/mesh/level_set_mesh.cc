@@ -1,6 +1,7 @@
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
 #include <deal.II/grid/grid_in.h>
+#include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/tria.h>
 
 #include <forma/base/application.h>
@@ -575,14 +576,20 @@ namespace forma
 
 
 
-  void
-  periodic_level_set_mesh(const std::function<double(const Point<2> &)> &phi,
-                          const Point<2>                                &box,
-                          const LevelSetMeshParameters &parameters,
-                          Triangulation<2>             &tria,
-                          const MPI_Comm                comm,
-                          LevelSetMeshInfo             *info,
-                          const std::string            &context)
+  namespace
+  {
+    // Both meshers: with `periodic`, material loops must reach the box's
+    // sides; without, the material must stay inside the box and every
+    // loop with positive area is a piece of it.
+    void
+    mesh_level_set(const std::function<double(const Point<2> &)> &phi,
+                   const Point<2>                                &box,
+                   const bool                                     periodic,
+                   const LevelSetMeshParameters                  &parameters,
+                   Triangulation<2>                              &tria,
+                   const MPI_Comm                                 comm,
+                   LevelSetMeshInfo                              *info,
+                   const std::string                             &context)
   {
     AssertThrow(box[0] > 0 && box[1] > 0,
                 ExcMessage(context + ": the box must have positive sides"));
@@ -616,7 +623,10 @@ namespace forma
               std::vector<Point<2>> polygon =
                 resample(loop, phi, box, parameters.boundary_size, spacing);
               const double a = signed_area(polygon);
-              if (touches)
+              AssertThrow(periodic || !touches,
+                          ExcMessage(context + ": the material reaches the "
+                                               "sides of its box"));
+              if (touches || (!periodic && a > 0))
                 outer.push_back(std::move(polygon));
               else if (a > 0)
                 ++local_info.dropped_islands;
@@ -626,10 +636,12 @@ namespace forma
                 holes.push_back(std::move(polygon));
             }
           AssertThrow(!outer.empty(),
-                      ExcMessage(context + ": the material does not reach "
-                                           "the sides of the cell, so it "
-                                           "cannot form a periodic "
-                                           "structure"));
+                      ExcMessage(context +
+                                 (periodic ?
+                                    ": the material does not reach the sides "
+                                    "of the cell, so it cannot form a "
+                                    "periodic structure" :
+                                    ": there is no material to mesh")));
           // Resampled contours of features near the boundary element size
           // may touch: a small hole that does is filled, anything else is
           // an error that names the cause.
@@ -729,5 +741,44 @@ namespace forma
         *info      = Utilities::MPI::broadcast(comm, local_info);
         info->area = area;
       }
+  }
+  } // namespace
+
+
+
+  void
+  periodic_level_set_mesh(const std::function<double(const Point<2> &)> &phi,
+                          const Point<2>                                &box,
+                          const LevelSetMeshParameters &parameters,
+                          Triangulation<2>             &tria,
+                          const MPI_Comm                comm,
+                          LevelSetMeshInfo             *info,
+                          const std::string            &context)
+  {
+    mesh_level_set(phi, box, true, parameters, tria, comm, info, context);
+  }
+
+
+
+  void
+  level_set_mesh(const std::function<double(const Point<2> &)> &phi,
+                 const Point<2>                                &lower,
+                 const Point<2>                                &upper,
+                 const LevelSetMeshParameters                  &parameters,
+                 Triangulation<2>                              &tria,
+                 const MPI_Comm                                 comm,
+                 LevelSetMeshInfo                              *info,
+                 const std::string                             &context)
+  {
+    const Tensor<1, 2> shift = lower;
+    mesh_level_set([&](const Point<2> &x) { return phi(x + shift); },
+                   Point<2>(upper - lower),
+                   false,
+                   parameters,
+                   tria,
+                   comm,
+                   info,
+                   context);
+    GridTools::shift(shift, tria);
   }
 } // namespace forma

@@ -1,5 +1,6 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
+#include <deal.II/grid/grid_out.h>
 #include <deal.II/grid/tria.h>
 #include <deal.II/lac/vector.h>
 #include <deal.II/numerics/data_out.h>
@@ -10,6 +11,9 @@
 #include <forma/base/records.h>
 #include <forma/base/run_context.h>
 #include <forma/elasticity/jobs.h>
+#include <forma/elasticity/load_cases.h>
+#include <forma/elasticity/simulator.h>
+#include <forma/mesh/level_set_mesh.h>
 #include <forma/elasticity/parameters.h>
 #include <forma/ipc/ipc_parameters.h>
 #include <forma/rhombic/material_map.h>
@@ -18,6 +22,10 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
+#include <map>
+#include <memory>
+#include <tuple>
 
 namespace forma
 {
@@ -126,6 +134,121 @@ namespace forma
         write_image_png(file_name, width, height, rgb);
       }
 
+
+      /**
+       * The tiled object as one level set, negative in the material: the
+       * union over the quads of each quad's structure (mapped by the
+       * bilinear map, acute angle first) clipped to the quad,
+       *   phi(x) = min_c max(l_c phi_c(xi_c(x)), s_c(x)),
+       * with s_c the signed distance to quad c (the largest over its edges)
+       * and l_c its half size (phi_c lives on the reference cell of side 2).
+       * Neighbouring structures need not match at a shared side; this form
+       * stays continuous there, which the contour tracing needs. Cells are
+       * found through a bucket grid of their (padded) bounding boxes.
+       */
+      class TiledObject
+      {
+      public:
+        TiledObject(const Triangulation<2, 2>           &tria,
+                    const std::vector<RhombicStructure> &structures)
+        {
+          double h = 0;
+          for (const auto &cell : tria.active_cell_iterators())
+            {
+              quads.push_back(acute_first(cell));
+              phi.push_back(structures[cell->active_cell_index()].level_set());
+              half_size.push_back(0.5 * std::sqrt(cell->measure()));
+              h += std::sqrt(cell->measure()) / tria.n_active_cells();
+            }
+          pad = 0.05 * h;
+          lo = hi = quads[0][0];
+          for (const auto &q : quads)
+            for (const Point<2> &p : q)
+              for (unsigned int d = 0; d < 2; ++d)
+                {
+                  lo[d] = std::min(lo[d], p[d]);
+                  hi[d] = std::max(hi[d], p[d]);
+                }
+          const unsigned int n = std::max<unsigned int>(
+            1, static_cast<unsigned int>(std::sqrt(double(quads.size()))));
+          nb = {{n, n}};
+          buckets.resize(n * n);
+          for (unsigned int c = 0; c < quads.size(); ++c)
+            {
+              std::array<unsigned int, 2> b0, b1;
+              for (unsigned int d = 0; d < 2; ++d)
+                {
+                  double a = 1e300, b = -1e300;
+                  for (const Point<2> &p : quads[c])
+                    {
+                      a = std::min(a, p[d]);
+                      b = std::max(b, p[d]);
+                    }
+                  b0[d] = bucket(d, a - pad);
+                  b1[d] = bucket(d, b + pad);
+                }
+              for (unsigned int i = b0[0]; i <= b1[0]; ++i)
+                for (unsigned int j = b0[1]; j <= b1[1]; ++j)
+                  buckets[i * nb[1] + j].push_back(c);
+            }
+        }
+
+        double
+        operator()(const Point<2> &x) const
+        {
+          double value = pad;
+          if (x[0] < lo[0] - pad || x[0] > hi[0] + pad || x[1] < lo[1] - pad ||
+              x[1] > hi[1] + pad)
+            return value;
+          for (const unsigned int c :
+               buckets[bucket(0, x[0]) * nb[1] + bucket(1, x[1])])
+            {
+              const auto &v = quads[c];
+              // Signed distance to the quad (cyclic order 0, 1, 3, 2).
+              double     s  = -1e300;
+              for (const auto &[i, j] : {std::pair<unsigned int, unsigned int>{0, 1},
+                                         {1, 3},
+                                         {3, 2},
+                                         {2, 0}})
+                {
+                  const Tensor<1, 2> e = v[j] - v[i];
+                  s = std::max(s,
+                               (e[1] * (x[0] - v[i][0]) - e[0] * (x[1] - v[i][1])) /
+                                 e.norm());
+                }
+              if (s >= value)
+                continue;
+              Point<2> xi;
+              reference_point(v, x, xi);
+              value = std::min(
+                value,
+                std::max(half_size[c] *
+                           phi[c](Point<2>(RhombicStructure::side * xi)),
+                         s));
+            }
+          return value;
+        }
+
+        Point<2> lo, hi;
+
+      private:
+        unsigned int
+        bucket(const unsigned int d, const double v) const
+        {
+          const double t = (v - lo[d]) / std::max(hi[d] - lo[d], 1e-300);
+          return std::min<unsigned int>(
+            nb[d] - 1,
+            static_cast<unsigned int>(std::max(0., t) * nb[d]));
+        }
+
+        std::vector<std::array<Point<2>, 4>>                   quads;
+        std::vector<std::function<double(const Point<2> &)>> phi;
+        std::vector<double>                                   half_size;
+        double                                                pad = 0;
+        std::array<unsigned int, 2>                           nb;
+        std::vector<std::vector<unsigned int>>                buckets;
+      };
+
       /// The macro problem's parameters: a forma-transient-ipc file.
       ElasticityParameters
       read_macro_problem(const std::string &file,
@@ -205,6 +328,11 @@ namespace forma
       prm.enter_subsection("Two-scale");
       std::string  macro_file      = prm.get("Macro problem");
       const double coverage_weight = prm.get_double("Coverage weight");
+      const bool   fine_check      = prm.get_bool("Fine-scale check");
+      const double fine_size       = prm.get_double("Fine element size");
+      const double fine_boundary_size =
+        prm.get_double("Fine boundary element size");
+      const int compared_boundary = prm.get_integer("Compared boundary");
       prm.leave_subsection();
       prm.enter_subsection("Map");
       std::string map_file = prm.get("Map file");
@@ -357,6 +485,156 @@ namespace forma
                     std::to_string(outside) +
                     " cells projected into the coverage (largest distance " +
                     sig(worst, 2) + ")");
+
+      // 4. Fine-scale check (ch. 4.8): the tiled geometry meshed and
+      // simulated in the base material with the same supports and loads,
+      // against the homogenized solution (per-cell materials) on the
+      // compared boundary.
+      // The family against the baseline of ch. 4.8 (Fig. 4.22): structures
+      // made for squares (the map at 90 degrees) mapped onto the quads.
+      std::unique_ptr<LoadCases<2>> homogenized;
+      const auto fine_scale = [&](const std::vector<RhombicStructure> &tiles,
+                                  const std::string                   &name) {
+          if (!homogenized)
+            {
+              homogenized = std::make_unique<LoadCases<2>>(
+                parameters, context.communicator());
+              homogenized->prepare(nullptr);
+              homogenized->set_objective(parameters.objective);
+              homogenized->set_design(q);
+              homogenized->solve_design();
+            }
+          double h = 0;
+          for (const auto &cell : tria.active_cell_iterators())
+            h += std::sqrt(cell->measure()) / n_cells;
+          const TiledObject      object(tria, tiles);
+          LevelSetMeshParameters fine;
+          fine.size               = fine_size * h;
+          fine.boundary_size      = fine_boundary_size * h;
+          const Tensor<1, 2> pad  = Tensor<1, 2>({0.25 * h, 0.25 * h});
+          const Point<2>     lower = object.lo - pad, upper = object.hi + pad;
+          fine.grid = std::min<unsigned int>(
+            8192,
+            static_cast<unsigned int>(
+              std::ceil(std::max(upper[0] - lower[0], upper[1] - lower[1]) /
+                        (0.02 * h))));
+          Triangulation<2> fine_tria;
+          LevelSetMeshInfo info;
+          level_set_mesh(object,
+                         lower,
+                         upper,
+                         fine,
+                         fine_tria,
+                         context.communicator(),
+                         &info,
+                         "fine-scale geometry (" + name + ")");
+          // Boundary ids from the quad mesh's boundary; holes: free.
+          std::vector<std::tuple<Point<2>, Point<2>, types::boundary_id>> ids;
+          for (const auto &cell : tria.active_cell_iterators())
+            for (const unsigned int f : cell->face_indices())
+              if (cell->face(f)->at_boundary())
+                ids.emplace_back(cell->face(f)->vertex(0),
+                                 cell->face(f)->vertex(1),
+                                 cell->face(f)->boundary_id());
+          constexpr types::boundary_id free_id = 99;
+          std::map<unsigned int, Point<2>> compared_points;
+          for (const auto &cell : fine_tria.active_cell_iterators())
+            for (const unsigned int f : cell->face_indices())
+              if (cell->face(f)->at_boundary())
+                {
+                  const Point<2>     c    = cell->face(f)->center();
+                  types::boundary_id id   = free_id;
+                  double             best = 1e-3 * h;
+                  for (const auto &[a, b, i] : ids)
+                    {
+                      const Tensor<1, 2> e = b - a;
+                      const double       t =
+                        std::clamp((c - a) * e / (e * e), 0., 1.);
+                      const double d = c.distance(a + t * e);
+                      if (d < best)
+                        {
+                          best = d;
+                          id   = i;
+                        }
+                    }
+                  cell->face(f)->set_boundary_id(id);
+                  // Vertices of the compared boundary, nudged into their
+                  // cell: on the boundary up to round-off, they could fall
+                  // just outside the other mesh.
+                  if (static_cast<int>(id) == compared_boundary)
+                    for (unsigned int v = 0; v < 2; ++v)
+                      {
+                        const Point<2> x = cell->face(f)->vertex(v);
+                        compared_points[cell->face(f)->vertex_index(v)] =
+                          x + 1e-6 * (cell->center() - x);
+                      }
+                }
+          AssertThrow(!compared_points.empty(),
+                      ExcMessage("Two-scale/Compared boundary: no part of "
+                                 "the fine-scale geometry lies on boundary " +
+                                 std::to_string(compared_boundary) + "."));
+          const std::string fine_file =
+            context.path("fine_mesh_" + name + ".msh");
+          if (context.is_root())
+            {
+              std::ofstream msh(fine_file);
+              msh << std::setprecision(17); // read back by the simulator
+              GridOut       out;
+              out.set_flags(GridOutFlags::Msh(/*write_faces=*/true));
+              out.write_msh(fine_tria, msh);
+            }
+          MPI_Barrier(context.communicator());
+
+          ElasticityParameters fp = parameters;
+          fp.mesh.file            = fine_file;
+          fp.mesh.file_as_given   = "fine_mesh_" + name + ".msh";
+          fp.bodies = "* : E = " + Utilities::to_string(setup.base.E, 17) +
+                      ", nu = " + Utilities::to_string(setup.base.nu, 17);
+          fp.design.blocks.clear();
+          fp.objective.terms = "";
+          fp.write_vtu       = false;
+          fp.points          = "";
+          ElasticitySimulator<2> fine_simulator(fp, context.communicator());
+          fine_simulator.run(nullptr);
+
+          double mean = 0, worst_error = 0, largest = 0;
+          for (const auto &[v, x] : compared_points)
+            {
+              const Tensor<1, 2> uf = fine_simulator.point_displacement(x);
+              const Tensor<1, 2> uh = (*homogenized)[0].point_displacement(x);
+              mean += (uf - uh).norm() / compared_points.size();
+              worst_error = std::max(worst_error, (uf - uh).norm());
+              largest     = std::max(largest, uh.norm());
+            }
+          context.print("fine scale, " + name + ": " +
+                        std::to_string(fine_tria.n_active_cells()) +
+                        " triangles, " + std::to_string(fine_simulator.n_dofs()) +
+                        " dofs; on boundary " +
+                        std::to_string(compared_boundary) +
+                        " |u_fine - u_homogenized| / max |u_homogenized|: mean " +
+                        sig(mean / largest, 3) + ", max " +
+                        sig(worst_error / largest, 3));
+          context.summary["fine_scale"][name] = {
+            {"triangles", fine_tria.n_active_cells()},
+            {"dofs", fine_simulator.n_dofs()},
+            {"dropped_islands", info.dropped_islands},
+            {"compared_boundary", compared_boundary},
+            {"compared_points", compared_points.size()},
+            {"max_homogenized_displacement", largest},
+            {"mean_relative_error", mean / largest},
+            {"max_relative_error", worst_error / largest}};
+        };
+      if (fine_check)
+        {
+          fine_scale(structures, "family");
+          std::vector<RhombicStructure> squares(n_cells);
+          for (unsigned int c = 0; c < n_cells; ++c)
+            {
+              bool inside = false;
+              squares[c]  = map.query(E[c], nu[c], 90, setup.base.nu, inside);
+            }
+          fine_scale(squares, "remapped_square");
+        }
 
       nlohmann::json cells = nlohmann::json::array();
       for (unsigned int c = 0; c < n_cells; ++c)

@@ -14,6 +14,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 
 namespace forma
 {
@@ -186,6 +187,7 @@ namespace forma
       if (context.is_root())
         {
           std::ofstream msh(context.path("rhombic_mesh.msh"));
+          msh << std::setprecision(17); // the macro problem reads it
           GridOut out;
           out.set_flags(GridOutFlags::Msh(/*write_faces=*/true));
           out.write_msh(tria, msh);

@@ -380,6 +380,28 @@ namespace forma
                         "edges of (distance / 0.01)^2 / cells, in units of "
                         "the starting objective. Cells still outside at the "
                         "end are projected into D(alpha).");
+      prm.declare_entry("Fine-scale check",
+                        "true",
+                        Patterns::Bool(),
+                        "Mesh the tiled geometry, simulate it in the base "
+                        "material with the macro problem's supports and "
+                        "loads, and compare with the homogenized solution.");
+      prm.declare_entry("Compared boundary",
+                        "3",
+                        Patterns::Integer(0),
+                        "Boundary id (of the Quad mesh file) where the "
+                        "fine-scale and homogenized displacements are "
+                        "compared (e.g. the objective's target boundary).");
+      prm.declare_entry("Fine element size",
+                        "0.1",
+                        Patterns::Double(0),
+                        "Element size of the fine-scale mesh, relative to the "
+                        "quads' mean size.");
+      prm.declare_entry("Fine boundary element size",
+                        "0.02",
+                        Patterns::Double(0),
+                        "Element size along the fine-scale geometry's "
+                        "boundary, relative to the quads' mean size.");
       prm.leave_subsection();
 
       prm.enter_subsection("Quad mesh");

@@ -63,6 +63,23 @@ namespace forma
     const MPI_Comm                                         comm = MPI_COMM_SELF,
     LevelSetMeshInfo                                      *info = nullptr,
     const std::string                                     &context = "cell");
+
+  /**
+   * The same for a level set that is not periodic: a conforming triangle
+   * mesh of {phi < 0}, which must lie inside the box [lower, upper] (phi > 0
+   * on its sides), e.g. a whole object of tiled microstructure cells. Every
+   * contour with positive area bounds a piece of material; holes smaller
+   * than an element are dropped and counted.
+   */
+  void
+  level_set_mesh(const std::function<double(const dealii::Point<2> &)> &phi,
+                 const dealii::Point<2>                                &lower,
+                 const dealii::Point<2>                                &upper,
+                 const LevelSetMeshParameters &parameters,
+                 dealii::Triangulation<2, 2>  &tria,
+                 const MPI_Comm                comm    = MPI_COMM_SELF,
+                 LevelSetMeshInfo             *info    = nullptr,
+                 const std::string            &context = "object");
 } // namespace forma
 
 #endif
