@@ -91,6 +91,10 @@ namespace forma
         std::filesystem::path(file).is_absolute() ?
           file :
           (std::filesystem::path(prm_directory) / file).string();
+      AssertThrow(std::filesystem::exists(path),
+                  ExcMessage("Quad mesh/File: cannot open '" + file +
+                             "' (looked relative to the parameter file's "
+                             "directory)."));
       Triangulation<2, 2> coarse;
       if (std::filesystem::path(file).extension() == ".geo")
         gmsh_quad_mesh(path, size, coarse);

@@ -51,4 +51,36 @@ main()
                         " set p3 = 0.1:0.5\nend\n",
                  good);
   expect_failure("unknown_mode", base + "set Mode = optimize\n", good);
+
+  // Quad meshes and the two-scale pipeline.
+  std::ofstream("no_physicals.geo")
+    << "Point(1) = {0, 0, 0};\nPoint(2) = {1, 0, 0};\nPoint(3) = {1, 1, 0};\n"
+       "Point(4) = {0, 1, 0};\nLine(1) = {1, 2};\nLine(2) = {2, 3};\n"
+       "Line(3) = {3, 4};\nLine(4) = {4, 1};\nCurve Loop(1) = {1, 2, 3, 4};\n"
+       "Plane Surface(1) = {1};\n";
+  expect_failure("quad_mesh_without_physicals",
+                 base + "set Mode = rhombic mesh\nsubsection Quad mesh\n"
+                        " set File = no_physicals.geo\nend\n",
+                 good);
+  expect_failure("quad_mesh_missing",
+                 base + "set Mode = rhombic mesh\nsubsection Quad mesh\n"
+                        " set File = missing.msh\nend\n",
+                 good);
+  const std::string two_scale =
+    base + "set Mode = two-scale design\nsubsection Quad mesh\n set File = " +
+    std::string(FORMA_SOURCE_DIR) +
+    "/parameter_files/rhombic/meshes/bar.geo\n set Element size = 0.5\nend\n"
+    "subsection Map\n set Map file = " + std::string(FORMA_SOURCE_DIR) +
+    "/contrib/rhombic/map.json\nend\n";
+  expect_failure("macro_problem_missing",
+                 two_scale + "subsection Two-scale\n set Macro problem = "
+                             "missing.prm\nend\n",
+                 good);
+  std::ofstream("macro_per_body.prm")
+    << "set Mode = optimize\nsubsection Material\n set Plane = stress\nend\n"
+       "subsection Design\n set Parameters = material\nend\n";
+  expect_failure("macro_problem_not_per_cell",
+                 two_scale + "subsection Two-scale\n set Macro problem = "
+                             "macro_per_body.prm\nend\n",
+                 good);
 }
