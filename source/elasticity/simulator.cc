@@ -1928,6 +1928,62 @@ namespace forma
   }
 
   template <int dim>
+  std::vector<std::vector<std::pair<Point<dim>, Tensor<1, dim>>>>
+  ElasticitySimulator<dim>::cell_vertex_displacements() const
+  {
+    auto &m   = *impl;
+    m.u_ghost = m.u;
+    // Per cell 2^dim slots of (x, u) (simplices use fewer), summed over the
+    // ranks; the vertex count is sent along.
+    constexpr unsigned int slots = GeometryInfo<dim>::vertices_per_cell;
+    constexpr unsigned int width = 1 + slots * 2 * dim;
+    std::vector<double>    flat(width * m.tria->n_global_active_cells(), 0.);
+    for (const auto &cell : m.dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const unsigned int n = cell->n_vertices();
+          // Around the cell in 2D: quads are numbered lexicographically.
+          std::vector<unsigned int> order(n);
+          for (unsigned int v = 0; v < n; ++v)
+            order[v] = v;
+          if (dim == 2 && n == 4)
+            order = {0, 1, 3, 2};
+          double *row = flat.data() + width * cell->global_active_cell_index();
+          row[0]      = n;
+          for (unsigned int k = 0; k < n; ++k)
+            {
+              const unsigned int v = order[k];
+              const Point<dim>   x = cell->vertex(v);
+              for (unsigned int d = 0; d < dim; ++d)
+                {
+                  row[1 + 2 * dim * k + d] = x[d];
+                  row[1 + 2 * dim * k + dim + d] =
+                    m.u_ghost[cell->vertex_dof_index(v, d, cell->active_fe_index())];
+                }
+            }
+        }
+    Utilities::MPI::sum(flat, m.comm, flat);
+    std::vector<std::vector<std::pair<Point<dim>, Tensor<1, dim>>>> cells(
+      m.tria->n_global_active_cells());
+    for (unsigned int c = 0; c < cells.size(); ++c)
+      {
+        const double *row = flat.data() + width * c;
+        for (unsigned int k = 0; k < static_cast<unsigned int>(row[0]); ++k)
+          {
+            Point<dim>     x;
+            Tensor<1, dim> u;
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                x[d] = row[1 + 2 * dim * k + d];
+                u[d] = row[1 + 2 * dim * k + dim + d];
+              }
+            cells[c].emplace_back(x, u);
+          }
+      }
+    return cells;
+  }
+
+  template <int dim>
   Tensor<1, dim>
   ElasticitySimulator<dim>::reaction(const unsigned int id) const
   {

@@ -249,6 +249,134 @@ namespace forma
         std::vector<std::vector<unsigned int>>                buckets;
       };
 
+      using DeformedCells =
+        std::vector<std::vector<std::pair<Point<2>, Tensor<1, 2>>>>;
+
+      /// The deformed fine-scale object (gray) with the deformed quads of
+      /// the homogenized solution (red) over it.
+      void
+      write_deformation_png(const std::string   &file_name,
+                            const DeformedCells &fine,
+                            const DeformedCells &homogenized,
+                            const int            width = 1200)
+      {
+        double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+        for (const DeformedCells *cells : {&fine, &homogenized})
+          for (const auto &c : *cells)
+            for (const auto &[x, u] : c)
+              for (unsigned int d = 0; d < 2; ++d)
+                {
+                  lo[d] = std::min(lo[d], x[d] + u[d]);
+                  hi[d] = std::max(hi[d], x[d] + u[d]);
+                }
+        const int    margin = 10;
+        const double scale  = (width - 2 * margin) / (hi[0] - lo[0]);
+        const int    height =
+          2 * margin + static_cast<int>(std::ceil((hi[1] - lo[1]) * scale));
+        std::vector<unsigned char> rgb(3 * width * height, 255);
+        const auto px = [&](const Point<2> &x, const Tensor<1, 2> &u) {
+          return std::array<double, 2>{{margin + (x[0] + u[0] - lo[0]) * scale,
+                                        margin + (hi[1] - x[1] - u[1]) * scale}};
+        };
+        const auto set = [&](const int x, const int y, const unsigned char r,
+                             const unsigned char g, const unsigned char b) {
+          if (x >= 0 && y >= 0 && x < width && y < height)
+            {
+              rgb[3 * (y * width + x)]     = r;
+              rgb[3 * (y * width + x) + 1] = g;
+              rgb[3 * (y * width + x) + 2] = b;
+            }
+        };
+        for (const auto &c : fine)
+          {
+            std::vector<std::array<double, 2>> q;
+            for (const auto &[x, u] : c)
+              q.push_back(px(x, u));
+            double y0 = 1e300, y1 = -1e300;
+            for (const auto &v : q)
+              {
+                y0 = std::min(y0, v[1]);
+                y1 = std::max(y1, v[1]);
+              }
+            for (int y = int(std::floor(y0)); y <= int(std::ceil(y1)); ++y)
+              {
+                const double        yc = y + 0.5;
+                std::vector<double> xs;
+                for (unsigned int i = 0; i < q.size(); ++i)
+                  {
+                    const auto &a = q[i], &b = q[(i + 1) % q.size()];
+                    if ((a[1] <= yc) != (b[1] <= yc))
+                      xs.push_back(a[0] +
+                                   (yc - a[1]) / (b[1] - a[1]) * (b[0] - a[0]));
+                  }
+                std::sort(xs.begin(), xs.end());
+                for (unsigned int i = 0; i + 1 < xs.size(); i += 2)
+                  for (int x = int(std::ceil(xs[i] - 0.5)); x + 0.5 <= xs[i + 1];
+                       ++x)
+                    set(x, y, 110, 110, 110);
+              }
+          }
+        for (const auto &c : homogenized)
+          for (unsigned int i = 0; i < c.size(); ++i)
+            {
+              const auto a = px(c[i].first, c[i].second),
+                         b = px(c[(i + 1) % c.size()].first,
+                                c[(i + 1) % c.size()].second);
+              const int n =
+                1 + int(std::max(std::abs(b[0] - a[0]), std::abs(b[1] - a[1])));
+              for (int k = 0; k <= n; ++k)
+                set(int(std::lround(a[0] + (b[0] - a[0]) * k / n)),
+                    int(std::lround(a[1] + (b[1] - a[1]) * k / n)),
+                    210,
+                    30,
+                    30);
+            }
+        write_image_png(file_name, width, height, rgb);
+      }
+
+      /**
+       * Boundary load records ('<id> : <expressions>' separated by ';')
+       * with every expression of boundary `id` multiplied by factor[id]:
+       * the fine-scale object touches a loaded side only where its
+       * material does, so its traction is raised by (side length) /
+       * (length of material on it) to carry the same force.
+       */
+      std::string
+      scale_boundary_records(const std::string                          &records,
+                             const std::map<types::boundary_id, double> &factor)
+      {
+        std::string result;
+        for (const std::string &record :
+             Utilities::split_string_list(records, ';'))
+          {
+            const auto colon = record.find(':');
+            AssertThrow(colon != std::string::npos,
+                        ExcMessage("boundary load record '" + record +
+                                   "' has no ':'"));
+            const auto id = static_cast<types::boundary_id>(
+              Utilities::string_to_int(Utilities::trim(record.substr(0, colon))));
+            const double k = factor.count(id) ? factor.at(id) : 1.;
+            // Expressions separated by the commas outside parentheses.
+            std::vector<std::string> expressions(1);
+            int                      depth = 0;
+            for (const char ch : record.substr(colon + 1))
+              {
+                depth += (ch == '(') - (ch == ')');
+                if (ch == ',' && depth == 0)
+                  expressions.emplace_back();
+                else
+                  expressions.back() += ch;
+              }
+            std::string scaled = Utilities::trim(record.substr(0, colon)) + " :";
+            for (unsigned int i = 0; i < expressions.size(); ++i)
+              scaled += std::string(i ? "," : "") + " (" +
+                        Utilities::trim(expressions[i]) + ")*" +
+                        Utilities::to_string(k, 17);
+            result += (result.empty() ? "" : " ; ") + scaled;
+          }
+        return result;
+      }
+
       /// The macro problem's parameters: a forma-transient-ipc file.
       ElasticityParameters
       read_macro_problem(const std::string &file,
@@ -333,6 +461,8 @@ namespace forma
       const double fine_boundary_size =
         prm.get_double("Fine boundary element size");
       const int compared_boundary = prm.get_integer("Compared boundary");
+      const std::string constant_material = prm.get("Constant material");
+      const bool        check_moduli      = prm.get_bool("Check cell moduli");
       prm.leave_subsection();
       prm.enter_subsection("Map");
       std::string map_file = prm.get("Map file");
@@ -452,10 +582,37 @@ namespace forma
           }
         return P;
       };
-      context.print("material optimization on the rhombic mesh (" +
-                    std::to_string(n_cells) + " cells)");
-      const std::vector<double> q =
-        run_elasticity_job("optimize", parameters, macro, context, &constraint);
+      std::vector<double> q;
+      if (constant_material.empty())
+        {
+          context.print("material optimization on the rhombic mesh (" +
+                        std::to_string(n_cells) + " cells)");
+          q = run_elasticity_job(
+            "optimize", parameters, macro, context, &constraint);
+        }
+      else
+        {
+          // One material everywhere (e.g. mesh independence, Fig. 4.25).
+          const auto m = Utilities::split_string_list(constant_material);
+          AssertThrow(m.size() == 2,
+                      ExcMessage("Two-scale/Constant material: give "
+                                 "'E/E_b, nu', e.g. '0.05, 0.3'."));
+          LoadCases<2> probe(parameters, context.communicator());
+          probe.prepare(nullptr);
+          q = probe.design();
+          std::vector<double> lower(q.size()), upper(q.size());
+          constraint.setup(probe.design_layout(),
+                           probe[0].cell_centers(),
+                           lower,
+                           upper);
+          for (unsigned int g = 0; g < quad_of.size(); ++g)
+            {
+              q[offset + 2 * g]     = E_b * Utilities::string_to_double(m[0]);
+              q[offset + 2 * g + 1] = Utilities::string_to_double(m[1]);
+            }
+          context.print("constant material E/E_b = " + m[0] + ", nu = " + m[1] +
+                        " in all " + std::to_string(n_cells) + " cells");
+        }
 
       // 3. Each cell's structure from the map (ch. 4.6), inside D(alpha).
       std::vector<RhombicStructure> structures(n_cells);
@@ -486,6 +643,44 @@ namespace forma
                     " cells projected into the coverage (largest distance " +
                     sig(worst, 2) + ")");
 
+      // The cells' structures homogenized: how far the map's structures are
+      // from their targets (identical structures are homogenized once).
+      if (check_moduli)
+        {
+          std::map<std::vector<double>, Sample> done;
+          double mean_E = 0, max_E = 0, mean_nu = 0, max_nu = 0, mean_a = 0;
+          for (unsigned int c = 0; c < n_cells; ++c)
+            {
+              // Rounded: the same structure from round-off-different fits.
+              std::vector<double> key;
+              for (const double v : structures[c].p)
+                key.push_back(std::round(v * 1e9));
+              key.push_back(std::round(structures[c].alpha * 1e9));
+              if (!done.count(key))
+                done[key] = evaluate(structures[c], setup, context.communicator());
+              const Sample &r  = done.at(key);
+              const double  eE = std::abs(r.fit.E / setup.base.E / E[c] - 1);
+              const double  en = std::abs(r.fit.nu - nu[c]);
+              mean_E += eE / n_cells;
+              mean_nu += en / n_cells;
+              max_E  = std::max(max_E, eE);
+              max_nu = std::max(max_nu, en);
+              mean_a += std::max(r.anisotropy.a1, r.anisotropy.a2) / n_cells;
+            }
+          context.print("cell structures homogenized (" +
+                        std::to_string(done.size()) +
+                        " distinct): |E/E* - 1| mean " + sig(mean_E, 3) +
+                        ", max " + sig(max_E, 3) + "; |nu - nu*| mean " +
+                        sig(mean_nu, 3) + ", max " + sig(max_nu, 3) +
+                        "; anisotropy max(a1, a2) mean " + sig(mean_a, 3));
+          context.summary["cell_moduli"] = {{"distinct_structures", done.size()},
+                                            {"mean_relative_E_error", mean_E},
+                                            {"max_relative_E_error", max_E},
+                                            {"mean_nu_error", mean_nu},
+                                            {"max_nu_error", max_nu},
+                                            {"mean_anisotropy", mean_a}};
+        }
+
       // 4. Fine-scale check (ch. 4.8): the tiled geometry meshed and
       // simulated in the base material with the same supports and loads,
       // against the homogenized solution (per-cell materials) on the
@@ -500,7 +695,8 @@ namespace forma
               homogenized = std::make_unique<LoadCases<2>>(
                 parameters, context.communicator());
               homogenized->prepare(nullptr);
-              homogenized->set_objective(parameters.objective);
+              if (!parameters.objective.terms.empty())
+                homogenized->set_objective(parameters.objective);
               homogenized->set_design(q);
               homogenized->solve_design();
             }
@@ -590,12 +786,47 @@ namespace forma
           fp.mesh.file_as_given   = "fine_mesh_" + name + ".msh";
           fp.bodies = "* : E = " + Utilities::to_string(setup.base.E, 17) +
                       ", nu = " + Utilities::to_string(setup.base.nu, 17);
+          {
+            std::map<types::boundary_id, double> macro_length, fine_length;
+            for (const auto &cell : tria.active_cell_iterators())
+              for (const unsigned int f : cell->face_indices())
+                if (cell->face(f)->at_boundary())
+                  macro_length[cell->face(f)->boundary_id()] +=
+                    cell->face(f)->measure();
+            for (const auto &cell : fine_tria.active_cell_iterators())
+              for (const unsigned int f : cell->face_indices())
+                if (cell->face(f)->at_boundary())
+                  fine_length[cell->face(f)->boundary_id()] +=
+                    cell->face(f)->measure();
+            std::map<types::boundary_id, double> factor;
+            for (const auto &[id, l] : fine_length)
+              if (macro_length.count(id))
+                factor[id] = macro_length[id] / l;
+            fp.traction = scale_boundary_records(fp.traction, factor);
+            fp.pressure = scale_boundary_records(fp.pressure, factor);
+            fp.load_cases.clear(); // the check uses the first load case
+          }
           fp.design.blocks.clear();
           fp.objective.terms = "";
-          fp.write_vtu       = false;
+          fp.write_vtu       = true;
           fp.points          = "";
           ElasticitySimulator<2> fine_simulator(fp, context.communicator());
-          fine_simulator.run(nullptr);
+          {
+            // Its VTU, PVD and summary in a subdirectory of the results.
+            RunContext fine_context(context.communicator(),
+                                    context.path("fine_scale_" + name));
+            fine_simulator.run(&fine_context);
+            fine_context.commit();
+          }
+          // Collective: every rank gathers, the root draws.
+          const DeformedCells fine_cells =
+            fine_simulator.cell_vertex_displacements();
+          const DeformedCells homogenized_cells =
+            (*homogenized)[0].cell_vertex_displacements();
+          if (context.is_root())
+            write_deformation_png(context.path("fine_scale_" + name + ".png"),
+                                  fine_cells,
+                                  homogenized_cells);
 
           double mean = 0, worst_error = 0, largest = 0;
           for (const auto &[v, x] : compared_points)

@@ -36,6 +36,13 @@ namespace forma
                 {"max_rhombic_error", s.max_error}};
       }
 
+      // Round-off of exact rhombi prints as 0 (machine-independent output).
+      std::string
+      small(const double x)
+      {
+        return x < 1e-9 ? std::string("0") : sig(x, 3);
+      }
+
       std::string
       shape_line(const QuadMeshShape &s)
       {
@@ -43,8 +50,8 @@ namespace forma
                sig(s.mean_alpha * degrees, 4) +
                " degrees; smallest corner " +
                sig(s.min_interior_angle * degrees, 4) +
-               " degrees; rhombic error mean " + sig(s.mean_error, 3) +
-               ", max " + sig(s.max_error, 3);
+               " degrees; rhombic error mean " + small(s.mean_error) +
+               ", max " + small(s.max_error);
       }
 
       void

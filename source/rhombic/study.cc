@@ -380,6 +380,20 @@ namespace forma
                         "edges of (distance / 0.01)^2 / cells, in units of "
                         "the starting objective. Cells still outside at the "
                         "end are projected into D(alpha).");
+      prm.declare_entry("Constant material",
+                        "",
+                        Patterns::Anything(),
+                        "Empty: optimize the cells' materials for the macro "
+                        "problem. 'E/E_b, nu': give every cell this material "
+                        "instead (no optimization), e.g. to check that the "
+                        "fine-scale behaviour does not depend on the mesh.");
+      prm.declare_entry("Check cell moduli",
+                        "false",
+                        Patterns::Bool(),
+                        "Homogenize every cell's structure (on its rhombus, "
+                        "with the Mesh section's cell mesh) and report how far "
+                        "its moduli are from the cell's target: the map's "
+                        "share of the fine-scale error.");
       prm.declare_entry("Fine-scale check",
                         "true",
                         Patterns::Bool(),

@@ -80,6 +80,15 @@ namespace forma
     dealii::Tensor<1, dim>
     point_displacement(const dealii::Point<dim> &p) const;
 
+    /**
+     * Every active cell with the displacement of the last solved state at
+     * its vertices, by global active cell index, on every rank: (vertex of
+     * the mesh, without shape-design offsets; displacement) pairs, around
+     * the cell in 2D. For pictures of deformed meshes.
+     */
+    std::vector<std::vector<std::pair<dealii::Point<dim>, dealii::Tensor<1, dim>>>>
+    cell_vertex_displacements() const;
+
     /// Force exerted by the supports on the body through boundary `id`.
     dealii::Tensor<1, dim>
     reaction(const unsigned int boundary_id) const;
