@@ -2,6 +2,7 @@
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/tensor.h>
 #include <deal.II/grid/tria.h>
+#include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/sparse_direct.h>
@@ -185,13 +186,18 @@ namespace forma
         Point<2> a, b;
       };
 
+      /// The closest point to p on the segments `which` of `segs`.
       Point<2>
-      closest_on_segments(const Point<2> &p, const std::vector<Segment> &segs)
+      closest_on_segments(const Point<2>                  &p,
+                          const std::vector<Segment>      &segs,
+                          const std::vector<unsigned int> &which,
+                          unsigned int                    *segment = nullptr)
       {
         Point<2> best;
         double   best_d = std::numeric_limits<double>::max();
-        for (const Segment &s : segs)
+        for (const unsigned int k : which)
           {
+            const Segment &s = segs[k];
             const Tensor<1, 2> d  = s.b - s.a;
             const double       t  = std::clamp((p - s.a) * d / (d * d), 0., 1.);
             const Point<2>     c  = s.a + t * d;
@@ -200,6 +206,8 @@ namespace forma
               {
                 best_d = dc;
                 best   = c;
+                if (segment)
+                  *segment = k;
               }
           }
         return best;
@@ -333,7 +341,8 @@ namespace forma
       std::vector<Segment>                     boundary;
       std::vector<bool>                        on_boundary(n_vertices, false);
       // Boundary neighbours of each boundary vertex, to find corners.
-      std::map<unsigned int, std::vector<unsigned int>> neighbours;
+      std::map<unsigned int, std::vector<unsigned int>> neighbours,
+        segments_at;
       for (const auto &cell : tria.active_cell_iterators())
         {
           std::array<unsigned int, 4> q;
@@ -350,6 +359,8 @@ namespace forma
                 {
                   const unsigned int a = index[face->vertex_index(0)],
                                      b = index[face->vertex_index(1)];
+                  segments_at[a].push_back(boundary.size());
+                  segments_at[b].push_back(boundary.size());
                   boundary.push_back({x[a], x[b]});
                   on_boundary[a] = on_boundary[b] = true;
                   neighbours[a].push_back(b);
@@ -373,6 +384,33 @@ namespace forma
         else
           corner[v] = true; // a vertex where the boundary touches itself
       const std::vector<Point<2>> x_input = x;
+
+      // A boundary vertex slides along the boundary near where it started
+      // (the segments up to 4 vertices away along the boundary): the
+      // closest point of the whole boundary may lie across a narrow slot.
+      std::vector<std::vector<unsigned int>> slide(n_vertices);
+      for (const auto &[v, ignored] : neighbours)
+        {
+          std::vector<unsigned int> front = {v}, reached = {v};
+          for (unsigned int depth = 0; depth < 4; ++depth)
+            {
+              std::vector<unsigned int> next;
+              for (const unsigned int a : front)
+                for (const unsigned int b : neighbours[a])
+                  if (std::find(reached.begin(), reached.end(), b) ==
+                      reached.end())
+                    {
+                      reached.push_back(b);
+                      next.push_back(b);
+                    }
+              front.swap(next);
+            }
+          for (const unsigned int a : reached)
+            for (const unsigned int k : segments_at[a])
+              if (std::find(slide[v].begin(), slide[v].end(), k) ==
+                  slide[v].end())
+                slide[v].push_back(k);
+        }
 
       DynamicSparsityPattern dsp(2 * n_vertices);
       for (const auto &q : quads)
@@ -438,10 +476,33 @@ namespace forma
                 W_inverse[c] = invert(rhombus_edges(angle, r.area, 1));
                 weight[c]    = r.area / area;
               }
+            // Boundary vertices move along the boundary only: corners not
+            // at all, the others along the segment they are on (one
+            // coordinate follows the other), so that strong distortion
+            // (large s) cannot pull them off.
+            AffineConstraints<double> sliding;
             for (unsigned int v = 0; v < n_vertices; ++v)
               if (on_boundary[v])
-                y[v] = corner[v] ? x_input[v] :
-                                   closest_on_segments(x[v], boundary);
+                {
+                  unsigned int k = 0;
+                  y[v]           = corner[v] ?
+                                     x_input[v] :
+                                     closest_on_segments(x[v], boundary, slide[v], &k);
+                  if (corner[v])
+                    for (unsigned int d = 0; d < 2; ++d)
+                      sliding.add_line(2 * v + d);
+                  else
+                    {
+                      const Tensor<1, 2> t = boundary[k].b - boundary[k].a;
+                      // n . dx = 0 with n = (-t1, t0): eliminate the
+                      // coordinate with the larger normal component.
+                      const unsigned int a = std::abs(t[1]) >= std::abs(t[0]) ? 0 : 1;
+                      const unsigned int b = 1 - a;
+                      sliding.add_line(2 * v + a);
+                      sliding.add_entry(2 * v + a, 2 * v + b, t[a] / t[b]);
+                    }
+                }
+            sliding.close();
 
             // Global step: one projected Newton step on E(x; W, y).
             H = 0;
@@ -480,7 +541,7 @@ namespace forma
                       H.add(2 * v + d, 2 * v + d, 2 * boundary_scale);
                     }
                   deviation = std::max(
-                    deviation, closest_on_segments(x[v], boundary).distance(x[v]));
+                    deviation, closest_on_segments(x[v], boundary, slide[v]).distance(x[v]));
                 }
             // A tiny shift keeps the system definite where the projected
             // Hessian of a free mesh is only semidefinite.
@@ -489,11 +550,13 @@ namespace forma
               diagonal = std::max(diagonal, H.diag_element(i));
             for (unsigned int i = 0; i < 2 * n_vertices; ++i)
               H.add(i, i, 1e-10 * diagonal);
+            dx = g;
+            dx *= -1;
+            sliding.condense(H, dx);
             SparseDirectUMFPACK solver;
             solver.initialize(H);
-            dx = g;
             solver.solve(dx);
-            dx *= -1;
+            sliding.distribute(dx);
 
             double       distortion = 0;
             const double E0         = total_energy(x, s, distortion);
@@ -526,7 +589,7 @@ namespace forma
                   if (on_boundary[v])
                     projected[v] = corner[v] ?
                                      x_input[v] :
-                                     closest_on_segments(trial[v], boundary);
+                                     closest_on_segments(trial[v], boundary, slide[v]);
                 double d_projected = 0;
                 if (std::isfinite(total_energy(projected, s, d_projected)))
                   trial.swap(projected);
@@ -547,7 +610,7 @@ namespace forma
         if (on_boundary[v])
           result.boundary_deviation =
             std::max(result.boundary_deviation,
-                     closest_on_segments(x[v], boundary).distance(x[v]) / h);
+                     closest_on_segments(x[v], boundary, slide[v]).distance(x[v]) / h);
       for (const auto &cell : tria.active_cell_iterators())
         for (unsigned int v = 0; v < 4; ++v)
           cell->vertex(v) = x[index[cell->vertex_index(v)]];
