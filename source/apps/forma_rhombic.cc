@@ -33,6 +33,8 @@ namespace
       inverse_mode(prm, setup, context);
     else if (mode == "build map")
       build_map_mode(prm, setup, context);
+    else if (mode == "compound cell")
+      compound_cell_mode(prm, prm_directory, setup, context);
     else if (mode == "two-scale design")
       two_scale_design_mode(prm, prm_directory, setup, context);
     else if (mode == "query")
@@ -51,7 +53,7 @@ main(int argc, char **argv)
                     "parallelogram cells (thesis ch. 4).";
   app.modes       = {
           "homogenize", "sweep", "inverse", "verify gradient", "build map", "query",
-    "rhombic mesh", "two-scale design"};
+    "rhombic mesh", "two-scale design", "compound cell"};
   app.declare_parameters = declare_parameters;
   app.run                = run;
   return forma::run_application(argc, argv, app);

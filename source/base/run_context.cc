@@ -68,7 +68,8 @@ namespace forma
   {
     if (is_root())
       {
-        std::cout << line << std::endl;
+        if (!quiet)
+          std::cout << line << std::endl;
         if (log_file)
           *log_file << line << std::endl;
       }

@@ -1,5 +1,6 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/timer.h>
 #include <deal.II/grid/grid_out.h>
 #include <deal.II/grid/tria.h>
 #include <deal.II/lac/vector.h>
@@ -18,6 +19,7 @@
 #include <forma/ipc/ipc_parameters.h>
 #include <forma/rhombic/material_map.h>
 #include <forma/rhombic/study.h>
+#include <forma/rhombic/tiling.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -36,49 +38,6 @@ namespace forma
     namespace
     {
       constexpr double degrees = 180 / M_PI;
-
-      /// A cell's vertices reordered so that the rhombus's acute angle is
-      /// at local vertex 0 (where the family's cell has alpha).
-      std::array<Point<2>, 4>
-      acute_first(const Triangulation<2, 2>::active_cell_iterator &cell)
-      {
-        std::array<Point<2>, 4> v;
-        for (unsigned int k = 0; k < 4; ++k)
-          v[k] = cell->vertex(k);
-        if (fit_rhombus(v).angle <= M_PI / 2)
-          return v;
-        // Start at vertex 1, keeping the orientation: 1, 3, 0, 2.
-        return {{v[1], v[3], v[0], v[2]}};
-      }
-
-      /// xi in [0, 1]^2 with x = bilinear map of `v` (Newton), if x lies in
-      /// the quad.
-      bool
-      reference_point(const std::array<Point<2>, 4> &v,
-                      const Point<2>                &x,
-                      Point<2>                      &xi)
-      {
-        xi = Point<2>(0.5, 0.5);
-        for (unsigned int it = 0; it < 12; ++it)
-          {
-            const double   s = xi[0], t = xi[1];
-            const Point<2> f = Point<2>((1 - s) * (1 - t) * v[0] +
-                                        s * (1 - t) * v[1] + (1 - s) * t * v[2] +
-                                        s * t * v[3]);
-            const Tensor<1, 2> ds =
-              (1 - t) * (v[1] - v[0]) + t * (v[3] - v[2]);
-            const Tensor<1, 2> dt =
-              (1 - s) * (v[2] - v[0]) + s * (v[3] - v[1]);
-            const double det = ds[0] * dt[1] - ds[1] * dt[0];
-            if (!(std::abs(det) > 0))
-              return false;
-            const Tensor<1, 2> r = x - f;
-            xi[0] += (r[0] * dt[1] - r[1] * dt[0]) / det;
-            xi[1] += (ds[0] * r[1] - ds[1] * r[0]) / det;
-          }
-        return xi[0] >= -1e-9 && xi[0] <= 1 + 1e-9 && xi[1] >= -1e-9 &&
-               xi[1] <= 1 + 1e-9;
-      }
 
       /// The tiled geometry: every cell's structure mapped onto its quad
       /// (material dark), the quads outlined.
@@ -104,7 +63,7 @@ namespace forma
         unsigned int               c = 0;
         for (const auto &cell : tria.active_cell_iterators())
           {
-            const auto v   = acute_first(cell);
+            const auto v   = acute_first(quad_of_cell(cell));
             const auto phi = structures[c++].level_set();
             double     b_lo[2] = {1e300, 1e300}, b_hi[2] = {-1e300, -1e300};
             for (const Point<2> &p : v)
@@ -134,120 +93,6 @@ namespace forma
         write_image_png(file_name, width, height, rgb);
       }
 
-
-      /**
-       * The tiled object as one level set, negative in the material: the
-       * union over the quads of each quad's structure (mapped by the
-       * bilinear map, acute angle first) clipped to the quad,
-       *   phi(x) = min_c max(l_c phi_c(xi_c(x)), s_c(x)),
-       * with s_c the signed distance to quad c (the largest over its edges)
-       * and l_c its half size (phi_c lives on the reference cell of side 2).
-       * Neighbouring structures need not match at a shared side; this form
-       * stays continuous there, which the contour tracing needs. Cells are
-       * found through a bucket grid of their (padded) bounding boxes.
-       */
-      class TiledObject
-      {
-      public:
-        TiledObject(const Triangulation<2, 2>           &tria,
-                    const std::vector<RhombicStructure> &structures)
-        {
-          double h = 0;
-          for (const auto &cell : tria.active_cell_iterators())
-            {
-              quads.push_back(acute_first(cell));
-              phi.push_back(structures[cell->active_cell_index()].level_set());
-              half_size.push_back(0.5 * std::sqrt(cell->measure()));
-              h += std::sqrt(cell->measure()) / tria.n_active_cells();
-            }
-          pad = 0.05 * h;
-          lo = hi = quads[0][0];
-          for (const auto &q : quads)
-            for (const Point<2> &p : q)
-              for (unsigned int d = 0; d < 2; ++d)
-                {
-                  lo[d] = std::min(lo[d], p[d]);
-                  hi[d] = std::max(hi[d], p[d]);
-                }
-          const unsigned int n = std::max<unsigned int>(
-            1, static_cast<unsigned int>(std::sqrt(double(quads.size()))));
-          nb = {{n, n}};
-          buckets.resize(n * n);
-          for (unsigned int c = 0; c < quads.size(); ++c)
-            {
-              std::array<unsigned int, 2> b0, b1;
-              for (unsigned int d = 0; d < 2; ++d)
-                {
-                  double a = 1e300, b = -1e300;
-                  for (const Point<2> &p : quads[c])
-                    {
-                      a = std::min(a, p[d]);
-                      b = std::max(b, p[d]);
-                    }
-                  b0[d] = bucket(d, a - pad);
-                  b1[d] = bucket(d, b + pad);
-                }
-              for (unsigned int i = b0[0]; i <= b1[0]; ++i)
-                for (unsigned int j = b0[1]; j <= b1[1]; ++j)
-                  buckets[i * nb[1] + j].push_back(c);
-            }
-        }
-
-        double
-        operator()(const Point<2> &x) const
-        {
-          double value = pad;
-          if (x[0] < lo[0] - pad || x[0] > hi[0] + pad || x[1] < lo[1] - pad ||
-              x[1] > hi[1] + pad)
-            return value;
-          for (const unsigned int c :
-               buckets[bucket(0, x[0]) * nb[1] + bucket(1, x[1])])
-            {
-              const auto &v = quads[c];
-              // Signed distance to the quad (cyclic order 0, 1, 3, 2).
-              double     s  = -1e300;
-              for (const auto &[i, j] : {std::pair<unsigned int, unsigned int>{0, 1},
-                                         {1, 3},
-                                         {3, 2},
-                                         {2, 0}})
-                {
-                  const Tensor<1, 2> e = v[j] - v[i];
-                  s = std::max(s,
-                               (e[1] * (x[0] - v[i][0]) - e[0] * (x[1] - v[i][1])) /
-                                 e.norm());
-                }
-              if (s >= value)
-                continue;
-              Point<2> xi;
-              reference_point(v, x, xi);
-              value = std::min(
-                value,
-                std::max(half_size[c] *
-                           phi[c](Point<2>(RhombicStructure::side * xi)),
-                         s));
-            }
-          return value;
-        }
-
-        Point<2> lo, hi;
-
-      private:
-        unsigned int
-        bucket(const unsigned int d, const double v) const
-        {
-          const double t = (v - lo[d]) / std::max(hi[d] - lo[d], 1e-300);
-          return std::min<unsigned int>(
-            nb[d] - 1,
-            static_cast<unsigned int>(std::max(0., t) * nb[d]));
-        }
-
-        std::vector<std::array<Point<2>, 4>>                   quads;
-        std::vector<std::function<double(const Point<2> &)>> phi;
-        std::vector<double>                                   half_size;
-        double                                                pad = 0;
-        std::array<unsigned int, 2>                           nb;
-        std::vector<std::vector<unsigned int>>                buckets;
-      };
 
       using DeformedCells =
         std::vector<std::vector<std::pair<Point<2>, Tensor<1, 2>>>>;
@@ -463,6 +308,7 @@ namespace forma
       const int compared_boundary = prm.get_integer("Compared boundary");
       const std::string constant_material = prm.get("Constant material");
       const bool        check_moduli      = prm.get_bool("Check cell moduli");
+      const bool fine_simulation = prm.get_bool("Fine-scale simulation");
       prm.leave_subsection();
       prm.enter_subsection("Map");
       std::string map_file = prm.get("Map file");
@@ -482,6 +328,15 @@ namespace forma
       AssertThrow(angle_lo <= angle_hi,
                   ExcMessage("Map/Map file '" + map_file +
                              "': the map covers no angle."));
+
+      // Wall seconds per stage (log and summary only: not deterministic).
+      nlohmann::json seconds;
+      Timer          timer;
+      const auto     lap = [&](const std::string &stage) {
+        seconds[stage] = timer.wall_time();
+        context.log("seconds, " + stage + ": " + sig(timer.wall_time(), 3));
+        timer.restart();
+      };
 
       // 1. The rhombic quad mesh (ch. 4.7).
       Triangulation<2, 2> tria;
@@ -513,6 +368,8 @@ namespace forma
                     " degrees; " + std::to_string(clamped) +
                     " quads sharper than the map's range use its smallest "
                     "angle");
+
+      lap("rhombic mesh");
 
       // 2. Per-cell materials for the macro problem (ch. 4.8).
       ParameterHandler     macro;
@@ -614,6 +471,8 @@ namespace forma
                         " in all " + std::to_string(n_cells) + " cells");
         }
 
+      lap("materials");
+
       // 3. Each cell's structure from the map (ch. 4.6), inside D(alpha).
       std::vector<RhombicStructure> structures(n_cells);
       std::vector<double>           E(n_cells), nu(n_cells);
@@ -642,6 +501,8 @@ namespace forma
                     std::to_string(outside) +
                     " cells projected into the coverage (largest distance " +
                     sig(worst, 2) + ")");
+
+      lap("map");
 
       // The cells' structures homogenized: how far the map's structures are
       // from their targets (identical structures are homogenized once).
@@ -673,6 +534,7 @@ namespace forma
                         ", max " + sig(max_E, 3) + "; |nu - nu*| mean " +
                         sig(mean_nu, 3) + ", max " + sig(max_nu, 3) +
                         "; anisotropy max(a1, a2) mean " + sig(mean_a, 3));
+          lap("cell moduli");
           context.summary["cell_moduli"] = {{"distinct_structures", done.size()},
                                             {"mean_relative_E_error", mean_E},
                                             {"max_relative_E_error", max_E},
@@ -703,7 +565,7 @@ namespace forma
           double h = 0;
           for (const auto &cell : tria.active_cell_iterators())
             h += std::sqrt(cell->measure()) / n_cells;
-          const TiledObject      object(tria, tiles);
+          const TiledObject      object(quads_of(tria), tiles);
           LevelSetMeshParameters fine;
           fine.size               = fine_size * h;
           fine.boundary_size      = fine_boundary_size * h;
@@ -780,6 +642,17 @@ namespace forma
               out.write_msh(fine_tria, msh);
             }
           MPI_Barrier(context.communicator());
+          lap("fine mesh, " + name);
+          context.summary["fine_scale"][name] = {
+            {"triangles", fine_tria.n_active_cells()},
+            {"dropped_islands", info.dropped_islands}};
+          if (!fine_simulation)
+            {
+              context.log("fine scale, " + name + ": " +
+                          std::to_string(fine_tria.n_active_cells()) +
+                          " triangles (not simulated)");
+              return;
+            }
 
           ElasticityParameters fp = parameters;
           fp.mesh.file            = fine_file;
@@ -815,6 +688,7 @@ namespace forma
             // Its VTU, PVD and summary in a subdirectory of the results.
             RunContext fine_context(context.communicator(),
                                     context.path("fine_scale_" + name));
+            fine_context.quiet = true;
             fine_simulator.run(&fine_context);
             fine_context.commit();
           }
@@ -837,14 +711,19 @@ namespace forma
               worst_error = std::max(worst_error, (uf - uh).norm());
               largest     = std::max(largest, uh.norm());
             }
-          context.print("fine scale, " + name + ": " +
-                        std::to_string(fine_tria.n_active_cells()) +
-                        " triangles, " + std::to_string(fine_simulator.n_dofs()) +
-                        " dofs; on boundary " +
+          // Mesh sizes and the third digit change with round-off in the
+          // contours: the log has them, stdout two digits.
+          context.log("fine scale, " + name + ": " +
+                      std::to_string(fine_tria.n_active_cells()) +
+                      " triangles, " + std::to_string(fine_simulator.n_dofs()) +
+                      " dofs, mean error " + sig(mean / largest, 4) +
+                      ", max " + sig(worst_error / largest, 4));
+          context.print("fine scale, " + name + ": on boundary " +
                         std::to_string(compared_boundary) +
                         " |u_fine - u_homogenized| / max |u_homogenized|: mean " +
-                        sig(mean / largest, 3) + ", max " +
-                        sig(worst_error / largest, 3));
+                        sig(mean / largest, 2) + ", max " +
+                        sig(worst_error / largest, 2));
+          lap("fine solve, " + name);
           context.summary["fine_scale"][name] = {
             {"triangles", fine_tria.n_active_cells()},
             {"dofs", fine_simulator.n_dofs()},
@@ -866,6 +745,7 @@ namespace forma
             }
           fine_scale(squares, "remapped_square");
         }
+      context.summary["seconds"] = seconds;
 
       nlohmann::json cells = nlohmann::json::array();
       for (unsigned int c = 0; c < n_cells; ++c)

@@ -311,8 +311,11 @@ namespace forma
 
     QuadMeshOptimizationResult
     optimize_rhombic_mesh(Triangulation<2, 2>                  &tria,
-                          const QuadMeshOptimizationParameters &prm)
+                          const QuadMeshOptimizationParameters &prm,
+                          const std::vector<bool>              &fixed)
     {
+      AssertThrow(fixed.empty() || fixed.size() == tria.n_vertices(),
+                  ExcMessage("quad mesh optimization: one flag per vertex"));
       AssertThrow(tria.n_levels() == 1,
                   ExcMessage("quad mesh optimization needs a mesh without "
                              "refinement levels (flatten it first)."));
@@ -384,6 +387,12 @@ namespace forma
         else
           corner[v] = true; // a vertex where the boundary touches itself
       const std::vector<Point<2>> x_input = x;
+      // Vertices the caller holds in place.
+      std::vector<bool> held(n_vertices, false);
+      if (!fixed.empty())
+        for (unsigned int v = 0; v < all.size(); ++v)
+          if (used[v] && fixed[v])
+            held[index[v]] = true;
 
       // A boundary vertex slides along the boundary near where it started
       // (the segments up to 4 vertices away along the boundary): the
@@ -482,7 +491,10 @@ namespace forma
             // (large s) cannot pull them off.
             AffineConstraints<double> sliding;
             for (unsigned int v = 0; v < n_vertices; ++v)
-              if (on_boundary[v])
+              if (held[v])
+                for (unsigned int d = 0; d < 2; ++d)
+                  sliding.add_line(2 * v + d);
+              else if (on_boundary[v])
                 {
                   unsigned int k = 0;
                   y[v]           = corner[v] ?
@@ -586,7 +598,7 @@ namespace forma
                 // back on it, unless that folds a quad.
                 std::vector<Point<2>> projected = trial;
                 for (unsigned int v = 0; v < n_vertices; ++v)
-                  if (on_boundary[v])
+                  if (on_boundary[v] && !held[v])
                     projected[v] = corner[v] ?
                                      x_input[v] :
                                      closest_on_segments(trial[v], boundary, slide[v]);

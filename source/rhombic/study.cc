@@ -360,6 +360,32 @@ namespace forma
                         "Cell angle in degrees.");
       prm.leave_subsection();
 
+      prm.enter_subsection("Compound cell");
+      prm.declare_entry("Study",
+                        "non-rhombic",
+                        Patterns::Selection("non-rhombic|twist"),
+                        "non-rhombic: the center vertex of the grid moves "
+                        "towards the upper right corner by each of Values "
+                        "(in quad sides, thesis Fig. 4.29); twist: the cross "
+                        "of mesh lines through the center turns by each of "
+                        "Values (degrees) and the other vertices are "
+                        "optimized (Fig. 4.26).");
+      prm.declare_entry("Grid",
+                        "2",
+                        Patterns::Integer(2, 16),
+                        "Quads per side of the compound cell (even; the "
+                        "twist study needs at least 4).");
+      prm.declare_entry("Values",
+                        "0, 0.1, 0.2, 0.3",
+                        Patterns::Anything(),
+                        "The offsets or turns of the study.");
+      prm.declare_entry("Material",
+                        "0.05, 0",
+                        Patterns::Anything(),
+                        "The target of every quad, 'E/E_b, nu' (thesis: "
+                        "E = 0.05, nu = 0).");
+      prm.leave_subsection();
+
       prm.enter_subsection("Two-scale");
       prm.declare_entry(
         "Macro problem",
@@ -400,6 +426,11 @@ namespace forma
                         "Mesh the tiled geometry, simulate it in the base "
                         "material with the macro problem's supports and "
                         "loads, and compare with the homogenized solution.");
+      prm.declare_entry("Fine-scale simulation",
+                        "true",
+                        Patterns::Bool(),
+                        "false: mesh the tiled geometry (fine_mesh_*.msh) but "
+                        "do not simulate it (e.g. to time the pipeline).");
       prm.declare_entry("Compared boundary",
                         "3",
                         Patterns::Integer(0),

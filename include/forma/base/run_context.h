@@ -47,9 +47,13 @@ namespace forma
     std::string
     path(const std::string &file_name) const;
 
-    /// One line to stdout and the log.
+    /// One line to stdout and the log (the log only when quiet).
     void
     print(const std::string &line) const;
+
+    /// A quiet context prints to its log only: for runs nested in a job
+    /// whose stdout tells the story (e.g. a fine-scale check).
+    bool quiet = false;
 
     /// One line to the log only (timings, solver details).
     void

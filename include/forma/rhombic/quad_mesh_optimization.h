@@ -115,7 +115,8 @@ namespace forma
      * a rhombus, infinite as a cell folds), A the total area, h the mean
      * edge length and n_Q the number of quads; s runs through `exponents`
      * (continuation: the larger s, the closer to minimizing the largest
-     * distortion). After each step the boundary vertices are put back onto
+     * distortion). Vertices flagged in `fixed` (by vertex index; empty: none)
+     * do not move. After each step the boundary vertices are put back onto
      * the input boundary (the penalty alone lets a strongly distorted quad
      * pull them off by a fraction of an edge); vertices where the boundary
      * turns by more than 40 degrees stay at their corner. Throws (leaving
@@ -124,7 +125,8 @@ namespace forma
      */
     QuadMeshOptimizationResult
     optimize_rhombic_mesh(dealii::Triangulation<2, 2>           &tria,
-                          const QuadMeshOptimizationParameters &parameters);
+                          const QuadMeshOptimizationParameters &parameters,
+                          const std::vector<bool>              &fixed = {});
   } // namespace rhombic
 } // namespace forma
 

@@ -168,6 +168,21 @@ namespace forma
                           const Setup              &setup,
                           RunContext               &context);
 
+    /**
+     * The compound-cell studies of thesis ch. 4.8 (Fig. 4.26-4.30): an
+     * n x n grid of quads on a periodic box, deformed (`non-rhombic`: the
+     * center vertex moved; `twist`: the cross through the center turned,
+     * the rest optimized by optimize_rhombic_mesh), every quad filled with
+     * the map's structure for one target material, at its own angle (the
+     * family) or at 90 degrees (structures for squares); the compound
+     * cell is homogenized and compared with the target tensor.
+     */
+    void
+    compound_cell_mode(dealii::ParameterHandler &prm,
+                       const std::string        &prm_directory,
+                       const Setup              &setup,
+                       RunContext               &context);
+
     /// The Quad mesh section's mesh (a .msh file or a meshed .geo), refined
     /// as asked and flattened to one level.
     void
