@@ -131,9 +131,13 @@ namespace forma
     if (is_root())
       {
         log_file.reset();
-        const fs::path failed = fs::path(output_directory) / "failed-run";
-        fs::remove_all(failed);
-        fs::rename(staging_directory, failed);
+        // Never throw from here (it runs while an error is reported): a
+        // staging directory removed meanwhile (e.g. by a second run into
+        // the same directory) leaves nothing to keep.
+        const fs::path  failed = fs::path(output_directory) / "failed-run";
+        std::error_code ignored;
+        fs::remove_all(failed, ignored);
+        fs::rename(staging_directory, failed, ignored);
       }
     finished = true;
   }

@@ -223,7 +223,7 @@ namespace forma
           PlotSeries f, q;
           f.points = family_points;
           f.line   = true;
-          f.label  = "family P(E, nu; alpha)";
+          f.label  = "family P(E, nu, alpha)";
           q.points = square_points;
           q.line   = true;
           q.color  = {{200, 60, 40}};
@@ -234,7 +234,7 @@ namespace forma
                                            "non-rhombic cells (Fig. 4.30)",
                         study == "twist" ? "turn of the cross (degrees)" :
                                            "center offset (quad sides)",
-                        "|C - C*| / |C*|",
+                        "relative error of C",
                         {{values.front(), values.back()}},
                         {{0, 1.1 * top}});
         }

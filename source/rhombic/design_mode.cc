@@ -422,20 +422,18 @@ namespace forma
       };
       constraint.penalty  = [&](const std::vector<double> &q,
                                std::vector<double>       &dP) {
-        double P = 0;
+        const double w = coverage_weight / quad_of.size();
+        double       P = 0;
         for (unsigned int g = 0; g < quad_of.size(); ++g)
           {
-            const double E = q[offset + 2 * g] / E_b, nu = q[offset + 2 * g + 1];
-            for (const auto &h : region[quad_of[g]])
-              {
-                const double v = h.c_E * E + h.c_nu * nu - h.d;
-                if (v <= 0)
-                  continue;
-                const double w = coverage_weight / quad_of.size();
-                P += w * v * v / (tau * tau);
-                dP[offset + 2 * g] += w * 2 * v / (tau * tau) * h.c_E / E_b;
-                dP[offset + 2 * g + 1] += w * 2 * v / (tau * tau) * h.c_nu;
-              }
+            std::array<double, 2> grad = {{0, 0}};
+            P += w * coverage_penalty({{q[offset + 2 * g] / E_b,
+                                        q[offset + 2 * g + 1]}},
+                                      region[quad_of[g]],
+                                      tau,
+                                      grad);
+            dP[offset + 2 * g] += w * grad[0] / E_b;
+            dP[offset + 2 * g + 1] += w * grad[1];
           }
         return P;
       };

@@ -266,6 +266,27 @@ namespace forma
 
 
 
+    double
+    coverage_penalty(const std::array<double, 2>              &m,
+                     const std::vector<MaterialMap::HalfPlane> &region,
+                     const double                               tau,
+                     std::array<double, 2>                     &gradient)
+    {
+      double P = 0;
+      for (const auto &h : region)
+        {
+          const double v = (h.c_E * m[0] + h.c_nu * m[1] - h.d) / tau;
+          if (v <= 0)
+            continue;
+          P += v * v;
+          gradient[0] += 2 * v / tau * h.c_E;
+          gradient[1] += 2 * v / tau * h.c_nu;
+        }
+      return P;
+    }
+
+
+
     RhombicStructure
     MaterialMap::query(const double E,
                        const double nu,

@@ -129,6 +129,19 @@ namespace forma
       static MaterialMap
       read(const std::string &file_name);
     };
+
+    /**
+     * The soft constraint that keeps a material m = (E/E_b, nu) in a
+     * covered region (two-scale design): the sum over the violated
+     * half-planes h of ((h.c . m - h.d) / tau)^2 (a distance in units of
+     * tau, squared; C^1). Its gradient with respect to m is added to
+     * `gradient`.
+     */
+    double
+    coverage_penalty(const std::array<double, 2>              &m,
+                     const std::vector<MaterialMap::HalfPlane> &region,
+                     const double                               tau,
+                     std::array<double, 2>                     &gradient);
   } // namespace rhombic
 } // namespace forma
 
