@@ -94,8 +94,12 @@ namespace forma
       const std::vector<double> material =
         parse_numbers(prm.get("Material"), "Compound cell/Material", -1, 10);
       prm.leave_subsection();
-      AssertThrow(material.size() == 2,
-                  ExcMessage("Compound cell/Material: give 'E/E_b, nu'."));
+      AssertThrow(material.size() == 2 && material[0] > 0 &&
+                    material[1] > -1 && material[1] < 1,
+                  ExcMessage("Compound cell/Material: give 'E/E_b, nu' with "
+                             "E/E_b > 0 and -1 < nu < 1 (2D moduli)."));
+      AssertThrow(!values.empty(),
+                  ExcMessage("Compound cell/Values: give at least one."));
       AssertThrow(study != "non-rhombic" || n % 2 == 0,
                   ExcMessage("Compound cell/Grid: the non-rhombic study moves "
                              "the center vertex; use an even grid."));
@@ -113,10 +117,7 @@ namespace forma
       if (!map_file.empty() && map_file[0] != '/')
         map_file = prm_directory + "/" + map_file;
       const MaterialMap map = MaterialMap::read(map_file);
-      double            angle_lo = 1e300;
-      for (unsigned int a = 0; a < map.angles.size(); ++a)
-        if (std::count(map.covered[a].begin(), map.covered[a].end(), true) >= 3)
-          angle_lo = std::min(angle_lo, map.angles[a]);
+      const double      angle_lo = map.covered_angles()[0];
 
       const double E = material[0] * setup.base.E, nu = material[1];
       const SymmetricTensor<4, 2> target =
@@ -136,6 +137,9 @@ namespace forma
           Triangulation<2, 2> tria;
           compound_mesh(study, n, value, optimization, tria);
           const QuadMeshShape shape = quad_mesh_shape(tria);
+          AssertThrow(shape.min_scaled_jacobian > 0,
+                      ExcMessage("Compound cell/Values: " + sig(value) +
+                                 " folds a quad of the compound cell."));
           double              rhombic_error = 0;
           for (const double e : shape.rhombic_error)
             rhombic_error += e;

@@ -317,17 +317,7 @@ namespace forma
         if (!f->empty() && (*f)[0] != '/')
           *f = prm_directory + "/" + *f;
       const MaterialMap map = MaterialMap::read(map_file);
-      // The angles where the map has a covered region.
-      double angle_lo = 1e300, angle_hi = -1e300;
-      for (unsigned int a = 0; a < map.angles.size(); ++a)
-        if (std::count(map.covered[a].begin(), map.covered[a].end(), true) >= 3)
-          {
-            angle_lo = std::min(angle_lo, map.angles[a]);
-            angle_hi = std::max(angle_hi, map.angles[a]);
-          }
-      AssertThrow(angle_lo <= angle_hi,
-                  ExcMessage("Map/Map file '" + map_file +
-                             "': the map covers no angle."));
+      const auto [angle_lo, angle_hi] = map.covered_angles();
 
       // Wall seconds per stage (log and summary only: not deterministic).
       nlohmann::json seconds;
@@ -387,7 +377,8 @@ namespace forma
       parameters.mesh.source        = "file";
       parameters.mesh.file          = mesh_file;
       parameters.mesh.file_as_given = "rhombic_mesh.msh";
-      parameters.mesh.initial_refinement = 0;
+      parameters.mesh.initial_refinement   = 0;
+      parameters.mesh.convert_to_simplices = false; // cells are the quads
 
       // The simulator numbers cells its own way: match them by center.
       std::vector<unsigned int> quad_of;
@@ -404,7 +395,12 @@ namespace forma
                              std::vector<double>         &upper) {
         const DesignBlock *b = layout.find("cell material");
         offset               = b->offset;
+        AssertThrow(simulator_centers.size() == n_cells,
+                    ExcMessage("Two-scale/Macro problem: its mesh must be the "
+                               "rhombic quad mesh, cell for cell (no "
+                               "refinement or adaptivity)."));
         quad_of.assign(simulator_centers.size(), 0);
+        std::vector<bool> matched(n_cells, false);
         for (unsigned int g = 0; g < simulator_centers.size(); ++g)
           {
             double best = 1e300;
@@ -414,6 +410,11 @@ namespace forma
                   best       = centers[c].distance_square(simulator_centers[g]);
                   quad_of[g] = c;
                 }
+            AssertThrow(best < 1e-10 * tria.begin_active()->measure() &&
+                          !matched[quad_of[g]],
+                        ExcMessage("Two-scale: a cell of the macro problem "
+                                   "matches no quad of the rhombic mesh."));
+            matched[quad_of[g]] = true;
             lower[b->offset + 2 * g]     = std::max(lower[b->offset + 2 * g], E_lo);
             upper[b->offset + 2 * g]     = std::min(upper[b->offset + 2 * g], E_hi);
             lower[b->offset + 2 * g + 1] = std::max(lower[b->offset + 2 * g + 1], nu_lo);
@@ -490,6 +491,10 @@ namespace forma
           bool inside  = false;
           structures[c] =
             map.query(E[c], nu[c], alpha[c], setup.base.nu, inside);
+          // The homogenized reference gets the materials the cells are
+          // built for.
+          q[offset + 2 * g]     = E_b * E[c];
+          q[offset + 2 * g + 1] = nu[c];
         }
       context.print("materials: E/E_b " +
                     sig(*std::min_element(E.begin(), E.end()), 3) + "-" +
@@ -592,7 +597,10 @@ namespace forma
                 ids.emplace_back(cell->face(f)->vertex(0),
                                  cell->face(f)->vertex(1),
                                  cell->face(f)->boundary_id());
-          constexpr types::boundary_id free_id = 99;
+          // Holes get an id the quad mesh does not use: free.
+          types::boundary_id free_id = 0;
+          for (const auto &[a, b, i] : ids)
+            free_id = std::max<types::boundary_id>(free_id, i + 1);
           std::map<unsigned int, Point<2>> compared_points;
           for (const auto &cell : fine_tria.active_cell_iterators())
             for (const unsigned int f : cell->face_indices())
@@ -673,9 +681,12 @@ namespace forma
             for (const auto &[id, l] : fine_length)
               if (macro_length.count(id))
                 factor[id] = macro_length[id] / l;
+            // The check uses the first load case (what homogenized[0] has).
+            if (!fp.load_cases.empty())
+              fp.traction = Utilities::split_string_list(fp.load_cases, '|')[0];
+            fp.load_cases.clear();
             fp.traction = scale_boundary_records(fp.traction, factor);
             fp.pressure = scale_boundary_records(fp.pressure, factor);
-            fp.load_cases.clear(); // the check uses the first load case
           }
           fp.design.blocks.clear();
           fp.objective.terms = "";
@@ -709,6 +720,11 @@ namespace forma
               worst_error = std::max(worst_error, (uf - uh).norm());
               largest     = std::max(largest, uh.norm());
             }
+          AssertThrow(largest > 0,
+                      ExcMessage("Two-scale/Compared boundary " +
+                                 std::to_string(compared_boundary) +
+                                 " does not move in the homogenized "
+                                 "solution: compare where it deforms."));
           // Mesh sizes and the third digit change with round-off in the
           // contours: the log has them, stdout two digits.
           context.log("fine scale, " + name + ": " +

@@ -266,6 +266,23 @@ namespace forma
 
 
 
+    std::array<double, 2>
+    MaterialMap::covered_angles() const
+    {
+      std::array<double, 2> range = {{1e300, -1e300}};
+      for (unsigned int a = 0; a < angles.size(); ++a)
+        if (std::count(covered[a].begin(), covered[a].end(), true) >= 3)
+          {
+            range[0] = std::min(range[0], angles[a]);
+            range[1] = std::max(range[1], angles[a]);
+          }
+      AssertThrow(range[0] <= range[1],
+                  ExcMessage("the material map covers no angle"));
+      return range;
+    }
+
+
+
     double
     coverage_penalty(const std::array<double, 2>              &m,
                      const std::vector<MaterialMap::HalfPlane> &region,

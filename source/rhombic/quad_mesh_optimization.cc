@@ -492,8 +492,11 @@ namespace forma
             AffineConstraints<double> sliding;
             for (unsigned int v = 0; v < n_vertices; ++v)
               if (held[v])
-                for (unsigned int d = 0; d < 2; ++d)
-                  sliding.add_line(2 * v + d);
+                {
+                  y[v] = x_input[v]; // held: no boundary penalty either
+                  for (unsigned int d = 0; d < 2; ++d)
+                    sliding.add_line(2 * v + d);
+                }
               else if (on_boundary[v])
                 {
                   unsigned int k = 0;
@@ -572,6 +575,12 @@ namespace forma
 
             double       distortion = 0;
             const double E0         = total_energy(x, s, distortion);
+            AssertThrow(std::isfinite(E0),
+                        ExcMessage("quad mesh optimization: the distortion "
+                                   "energy overflows at s = " +
+                                   std::to_string(s) +
+                                   " (a quad far from its rhombus): use "
+                                   "smaller Quad mesh/Exponents."));
             const double slope      = g * dx;
             double       t          = 1;
             unsigned int halvings   = 0;

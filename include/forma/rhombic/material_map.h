@@ -113,6 +113,11 @@ namespace forma
       std::vector<HalfPlane>
       coverage(const double alpha_degrees, const double base_nu) const;
 
+      /// The smallest and largest angle (degrees) with a covered region;
+      /// throws if the map covers none.
+      std::array<double, 2>
+      covered_angles() const;
+
       void
       write(const std::string &file_name) const;
 
