@@ -51,9 +51,15 @@ main(int argc, char **argv)
   app.name        = "forma-rhombic";
   app.description = "Homogenization of the rhombic microstructure family on "
                     "parallelogram cells (thesis ch. 4).";
-  app.modes       = {
-          "homogenize", "sweep", "inverse", "verify gradient", "build map", "query",
-    "rhombic mesh", "two-scale design", "compound cell"};
+  app.modes       = {"homogenize",
+                     "sweep",
+                     "inverse",
+                     "verify gradient",
+                     "build map",
+                     "query",
+                     "rhombic mesh",
+                     "two-scale design",
+                     "compound cell"};
   app.declare_parameters = declare_parameters;
   app.run                = run;
   return forma::run_application(argc, argv, app);

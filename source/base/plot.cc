@@ -129,6 +129,41 @@ namespace forma
           }
       }
 
+      // Even-odd scanline fill of a polygon (pixel coordinates) at pixel
+      // centers.
+      void
+      fill(const std::vector<std::array<double, 2>> &q,
+           const std::array<std::uint8_t, 3>        &c)
+      {
+        double y0 = 1e300, y1 = -1e300;
+        for (const auto &v : q)
+          {
+            y0 = std::min(y0, v[1]);
+            y1 = std::max(y1, v[1]);
+          }
+        std::vector<double> xs;
+        for (int y = static_cast<int>(std::floor(y0));
+             y <= static_cast<int>(std::ceil(y1));
+             ++y)
+          {
+            const double yc = y + 0.5;
+            xs.clear();
+            for (unsigned int i = 0; i < q.size(); ++i)
+              {
+                const auto &a = q[i], &b = q[(i + 1) % q.size()];
+                if ((a[1] <= yc) != (b[1] <= yc))
+                  xs.push_back(a[0] +
+                               (yc - a[1]) / (b[1] - a[1]) * (b[0] - a[0]));
+              }
+            std::sort(xs.begin(), xs.end());
+            for (unsigned int i = 0; i + 1 < xs.size(); i += 2)
+              for (int x = static_cast<int>(std::ceil(xs[i] - 0.5));
+                   x + 0.5 <= xs[i + 1];
+                   ++x)
+                set(x, y, c);
+          }
+      }
+
       // Text at (x, y) = top left, `scale` pixels per font pixel; vertical
       // text runs upwards.
       void
@@ -438,31 +473,30 @@ namespace forma
     const int    margin = 20, top = 50, bar = 120;
     const double extent = std::max(hi[0] - lo[0], 1e-300);
     const double scale  = (width - 2 * margin - bar) / extent;
-    const int    height = top + margin +
-                       std::max(200, static_cast<int>((hi[1] - lo[1]) * scale));
-    Image img(width, height);
+    const int    height =
+      top + margin + std::max(200, static_cast<int>((hi[1] - lo[1]) * scale));
+    Image      img(width, height);
     const auto px = [&](const std::array<double, 2> &v) {
-      return std::array<double, 2>{{margin + (v[0] - lo[0]) * scale,
-                                    top + (hi[1] - v[1]) * scale}};
+      return std::array<double, 2>{
+        {margin + (v[0] - lo[0]) * scale, top + (hi[1] - v[1]) * scale}};
     };
     const auto color = [&](const double value) {
-      const double t = std::clamp((value - range[0]) /
-                                    std::max(range[1] - range[0], 1e-300),
-                                  0.,
-                                  1.);
+      const double t =
+        std::clamp((value - range[0]) / std::max(range[1] - range[0], 1e-300),
+                   0.,
+                   1.);
       // blue -> cyan -> green -> yellow -> red
-      const double stops[5][3] = {{40, 60, 200},
-                                  {40, 190, 220},
-                                  {60, 180, 60},
-                                  {240, 210, 40},
-                                  {210, 40, 30}};
-      const double s = 4 * t;
-      const int    k = std::min(3, static_cast<int>(s));
+      const double                stops[5][3] = {{40, 60, 200},
+                                                 {40, 190, 220},
+                                                 {60, 180, 60},
+                                                 {240, 210, 40},
+                                                 {210, 40, 30}};
+      const double                s           = 4 * t;
+      const int                   k = std::min(3, static_cast<int>(s));
       std::array<std::uint8_t, 3> c;
       for (unsigned int i = 0; i < 3; ++i)
-        c[i] = static_cast<std::uint8_t>(stops[k][i] +
-                                         (s - k) *
-                                           (stops[k + 1][i] - stops[k][i]));
+        c[i] = static_cast<std::uint8_t>(
+          stops[k][i] + (s - k) * (stops[k + 1][i] - stops[k][i]));
       return c;
     };
     for (unsigned int k = 0; k < polygons.size(); ++k)
@@ -470,34 +504,7 @@ namespace forma
         std::vector<std::array<double, 2>> q;
         for (const auto &v : polygons[k])
           q.push_back(px(v));
-        double y0 = 1e300, y1 = -1e300;
-        for (const auto &v : q)
-          {
-            y0 = std::min(y0, v[1]);
-            y1 = std::max(y1, v[1]);
-          }
-        const auto c = color(values[k]);
-        // Even-odd scanline fill at pixel centers.
-        for (int y = static_cast<int>(std::floor(y0));
-             y <= static_cast<int>(std::ceil(y1));
-             ++y)
-          {
-            const double       yc = y + 0.5;
-            std::vector<double> xs;
-            for (unsigned int i = 0; i < q.size(); ++i)
-              {
-                const auto &a = q[i], &b = q[(i + 1) % q.size()];
-                if ((a[1] <= yc) != (b[1] <= yc))
-                  xs.push_back(a[0] + (yc - a[1]) / (b[1] - a[1]) *
-                                        (b[0] - a[0]));
-              }
-            std::sort(xs.begin(), xs.end());
-            for (unsigned int i = 0; i + 1 < xs.size(); i += 2)
-              for (int x = static_cast<int>(std::ceil(xs[i] - 0.5));
-                   x + 0.5 <= xs[i + 1];
-                   ++x)
-                img.set(x, y, c);
-          }
+        img.fill(q, color(values[k]));
       }
     for (const auto &p : polygons)
       for (unsigned int i = 0; i < p.size(); ++i)
@@ -522,6 +529,52 @@ namespace forma
     img.text(label(range[1]), bx + 24, by0, 2);
     img.text(label(range[0]), bx + 24, by1 - 14, 2);
     img.text(title, (width - Image::text_width(title, 2)) / 2, 15, 2);
+    img.write_png(file_name);
+  }
+
+
+
+  void
+  write_overlay_png(
+    const std::string                                     &file_name,
+    const std::vector<std::vector<std::array<double, 2>>> &filled,
+    const std::vector<std::vector<std::array<double, 2>>> &outlined,
+    const int                                              width)
+  {
+    double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+    for (const auto *set : {&filled, &outlined})
+      for (const auto &p : *set)
+        for (const auto &v : p)
+          for (unsigned int d = 0; d < 2; ++d)
+            {
+              lo[d] = std::min(lo[d], v[d]);
+              hi[d] = std::max(hi[d], v[d]);
+            }
+    AssertThrow(hi[0] > lo[0],
+                dealii::ExcMessage("overlay plot: nothing to draw"));
+    const int    margin = 10;
+    const double scale  = (width - 2 * margin) / (hi[0] - lo[0]);
+    const int    height =
+      2 * margin + static_cast<int>(std::ceil((hi[1] - lo[1]) * scale));
+    Image      img(width, height);
+    const auto px = [&](const std::array<double, 2> &v) {
+      return std::array<double, 2>{
+        {margin + (v[0] - lo[0]) * scale, margin + (hi[1] - v[1]) * scale}};
+    };
+    std::vector<std::array<double, 2>> q;
+    for (const auto &p : filled)
+      {
+        q.clear();
+        for (const auto &v : p)
+          q.push_back(px(v));
+        img.fill(q, {110, 110, 110});
+      }
+    for (const auto &p : outlined)
+      for (unsigned int i = 0; i < p.size(); ++i)
+        {
+          const auto a = px(p[i]), b = px(p[(i + 1) % p.size()]);
+          img.line(a[0], a[1], b[0], b[1], {210, 30, 30});
+        }
     img.write_png(file_name);
   }
 

@@ -1958,7 +1958,8 @@ namespace forma
                 {
                   row[1 + 2 * dim * k + d] = x[d];
                   row[1 + 2 * dim * k + dim + d] =
-                    m.u_ghost[cell->vertex_dof_index(v, d, cell->active_fe_index())];
+                    m.u_ghost[cell->vertex_dof_index(
+                      v, d, cell->active_fe_index())];
                 }
             }
         }

@@ -6,7 +6,6 @@
 #include <forma/mesh/quad_mesh.h>
 
 #include "gmsh_session.h"
-
 #include <gmsh.h>
 
 #include <filesystem>
@@ -37,8 +36,8 @@ namespace forma
         }
       catch (...)
         {
-          AssertThrow(false,
-                      ExcMessage(internal::gmsh_error(where, "cannot read it")));
+          AssertThrow(
+            false, ExcMessage(internal::gmsh_error(where, "cannot read it")));
         }
       gmsh::vectorpair physicals;
       gmsh::model::getPhysicalGroups(physicals, 2);
@@ -58,8 +57,8 @@ namespace forma
           }
         catch (...)
           {
-            AssertThrow(false,
-                        ExcMessage(internal::gmsh_error(where, "meshing failed")));
+            AssertThrow(
+              false, ExcMessage(internal::gmsh_error(where, "meshing failed")));
           }
         internal::gmsh_check_generated(2, where);
         std::vector<int>                      types;

@@ -27,7 +27,8 @@ namespace forma
             p.push_back({{cell->vertex(v)[0], cell->vertex(v)[1]}});
           polygons.push_back(p);
         }
-      write_polygon_field_png(file_name, polygons, values, range, label, pixels);
+      write_polygon_field_png(
+        file_name, polygons, values, range, label, pixels);
     }
   } // namespace rhombic
 } // namespace forma

@@ -58,17 +58,18 @@ namespace forma
         for (unsigned int i = 0; i < vertices.size(); ++i)
           {
             const Point<2> &p = vertices[i];
-            const bool on_side = std::min({p[0], p[1], L - p[0], L - p[1]}) <
-                                 1e-9;
-            const bool on_cross = std::abs(p[0] - L / 2) < 1e-9 ||
-                                  std::abs(p[1] - L / 2) < 1e-9;
+            const bool      on_side =
+              std::min({p[0], p[1], L - p[0], L - p[1]}) < 1e-9;
+            const bool on_cross =
+              std::abs(p[0] - L / 2) < 1e-9 || std::abs(p[1] - L / 2) < 1e-9;
             fixed[i] = on_side || on_cross;
             if (on_cross && !on_side)
               {
                 const Tensor<1, 2> d = p - center;
                 turned[i] =
-                  center + Tensor<1, 2>({std::cos(r) * d[0] - std::sin(r) * d[1],
-                                         std::sin(r) * d[0] + std::cos(r) * d[1]});
+                  center +
+                  Tensor<1, 2>({std::cos(r) * d[0] - std::sin(r) * d[1],
+                                std::sin(r) * d[0] + std::cos(r) * d[1]});
               }
           }
         for (const auto &cell : tria.active_cell_iterators())
@@ -87,15 +88,15 @@ namespace forma
                        RunContext        &context)
     {
       prm.enter_subsection("Compound cell");
-      const std::string   study  = prm.get("Study");
-      const unsigned int  n      = prm.get_integer("Grid");
+      const std::string         study = prm.get("Study");
+      const unsigned int        n     = prm.get_integer("Grid");
       const std::vector<double> values =
         parse_numbers(prm.get("Values"), "Compound cell/Values", -90, 90);
       const std::vector<double> material =
         parse_numbers(prm.get("Material"), "Compound cell/Material", -1, 10);
       prm.leave_subsection();
-      AssertThrow(material.size() == 2 && material[0] > 0 &&
-                    material[1] > -1 && material[1] < 1,
+      AssertThrow(material.size() == 2 && material[0] > 0 && material[1] > -1 &&
+                    material[1] < 1,
                   ExcMessage("Compound cell/Material: give 'E/E_b, nu' with "
                              "E/E_b > 0 and -1 < nu < 1 (2D moduli)."));
       AssertThrow(!values.empty(),
@@ -111,12 +112,7 @@ namespace forma
       prm.enter_subsection("Quad mesh");
       optimization.parse(prm);
       prm.leave_subsection();
-      prm.enter_subsection("Map");
-      std::string map_file = prm.get("Map file");
-      prm.leave_subsection();
-      if (!map_file.empty() && map_file[0] != '/')
-        map_file = prm_directory + "/" + map_file;
-      const MaterialMap map = MaterialMap::read(map_file);
+      const MaterialMap map      = read_map(prm, prm_directory);
       const double      angle_lo = map.covered_angles()[0];
 
       const double E = material[0] * setup.base.E, nu = material[1];
@@ -124,13 +120,16 @@ namespace forma
         IsotropicModuli::from_young_poisson(E, nu).tensor();
       const double L = 2. * n;
       context.print("compound cell: " + std::to_string(n) + " x " +
-                    std::to_string(n) + " quads, " + study + " study, target "
-                    "E/E_b = " + sig(material[0]) + ", nu = " + sig(nu));
-      context.print(std::string(study == "twist" ? "turn (deg)" : "    offset") +
-                    "   rhombic error  error (family)  error (squares)  "
-                    "E/E_b (family)  nu (family)");
+                    std::to_string(n) + " quads, " + study +
+                    " study, target "
+                    "E/E_b = " +
+                    sig(material[0]) + ", nu = " + sig(nu));
+      context.print(
+        std::string(study == "twist" ? "turn (deg)" : "    offset") +
+        "   rhombic error  error (family)  error (squares)  "
+        "E/E_b (family)  nu (family)");
 
-      nlohmann::json rows = nlohmann::json::array();
+      nlohmann::json                     rows = nlohmann::json::array();
       std::vector<std::array<double, 2>> family_points, square_points;
       for (const double value : values)
         {
@@ -140,7 +139,7 @@ namespace forma
           AssertThrow(shape.min_scaled_jacobian > 0,
                       ExcMessage("Compound cell/Values: " + sig(value) +
                                  " folds a quad of the compound cell."));
-          double              rhombic_error = 0;
+          double rhombic_error = 0;
           for (const double e : shape.rhombic_error)
             rhombic_error += e;
           const std::vector<Quad> quads = quads_of(tria);
@@ -157,9 +156,7 @@ namespace forma
                   structures[c] =
                     map.query(material[0], nu, alpha, setup.base.nu, inside);
                 }
-              const TiledObject object(quads,
-                                       structures,
-                                       Tensor<1, 2>({L, L}));
+              const TiledObject object(quads, structures, Tensor<1, 2>({L, L}));
               // The marching squares grid counts along the box: n times the
               // single cell's.
               LevelSetMeshParameters mesh_parameters = setup.mesh;
@@ -172,7 +169,7 @@ namespace forma
                                       context.communicator(),
                                       nullptr,
                                       "compound cell");
-              PeriodicHomogenization<2> cell(context.communicator(),
+              PeriodicHomogenization<2>   cell(context.communicator(),
                                              mesh,
                                              Point<2>(L, L),
                                              setup.solver,
@@ -192,8 +189,8 @@ namespace forma
           line << std::setw(10) << sig(value) << std::setw(16)
                << (rhombic_error < 1e-9 ? std::string("0") :
                                           sig(rhombic_error, 3))
-               << std::setw(16) << sig(error[0], 2)
-               << std::setw(17) << sig(error[1], 2) << std::setw(16)
+               << std::setw(16) << sig(error[0], 2) << std::setw(17)
+               << sig(error[1], 2) << std::setw(16)
                << sig(fit.E / setup.base.E, 3) << std::setw(13)
                << sig(fit.nu, 2);
           context.print(line.str());
@@ -221,9 +218,8 @@ namespace forma
                 << double(r["error_squares"]) << '\n';
           double top = 0;
           for (const auto &r : rows)
-            top = std::max({top,
-                            double(r["error_family"]),
-                            double(r["error_squares"])});
+            top = std::max(
+              {top, double(r["error_family"]), double(r["error_squares"])});
           PlotSeries f, q;
           f.points = family_points;
           f.line   = true;

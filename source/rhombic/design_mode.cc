@@ -13,10 +13,10 @@
 #include <forma/base/run_context.h>
 #include <forma/elasticity/jobs.h>
 #include <forma/elasticity/load_cases.h>
-#include <forma/elasticity/simulator.h>
-#include <forma/mesh/level_set_mesh.h>
 #include <forma/elasticity/parameters.h>
+#include <forma/elasticity/simulator.h>
 #include <forma/ipc/ipc_parameters.h>
+#include <forma/mesh/level_set_mesh.h>
 #include <forma/rhombic/material_map.h>
 #include <forma/rhombic/study.h>
 #include <forma/rhombic/tiling.h>
@@ -63,8 +63,8 @@ namespace forma
         unsigned int               c = 0;
         for (const auto &cell : tria.active_cell_iterators())
           {
-            const auto v   = acute_first(quad_of_cell(cell));
-            const auto phi = structures[c++].level_set();
+            const auto v       = acute_first(quad_of_cell(cell));
+            const auto phi     = structures[c++].level_set();
             double     b_lo[2] = {1e300, 1e300}, b_hi[2] = {-1e300, -1e300};
             for (const Point<2> &p : v)
               for (unsigned int d = 0; d < 2; ++d)
@@ -72,12 +72,13 @@ namespace forma
                   b_lo[d] = std::min(b_lo[d], p[d]);
                   b_hi[d] = std::max(b_hi[d], p[d]);
                 }
-            const int x0 = std::max(0, int((b_lo[0] - lo[0]) * scale) + margin - 1),
-                      x1 = std::min(width - 1,
-                                    int((b_hi[0] - lo[0]) * scale) + margin + 1),
-                      y0 = std::max(0, int((hi[1] - b_hi[1]) * scale) + margin - 1),
-                      y1 = std::min(height - 1,
-                                    int((hi[1] - b_lo[1]) * scale) + margin + 1);
+            const int
+              x0 = std::max(0, int((b_lo[0] - lo[0]) * scale) + margin - 1),
+              x1 = std::min(width - 1,
+                            int((b_hi[0] - lo[0]) * scale) + margin + 1),
+              y0 = std::max(0, int((hi[1] - b_hi[1]) * scale) + margin - 1),
+              y1 = std::min(height - 1,
+                            int((hi[1] - b_lo[1]) * scale) + margin + 1);
             for (int y = y0; y <= y1; ++y)
               for (int x = x0; x <= x1; ++x)
                 {
@@ -102,81 +103,19 @@ namespace forma
       void
       write_deformation_png(const std::string   &file_name,
                             const DeformedCells &fine,
-                            const DeformedCells &homogenized,
-                            const int            width = 1200)
+                            const DeformedCells &homogenized)
       {
-        double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
-        for (const DeformedCells *cells : {&fine, &homogenized})
-          for (const auto &c : *cells)
-            for (const auto &[x, u] : c)
-              for (unsigned int d = 0; d < 2; ++d)
-                {
-                  lo[d] = std::min(lo[d], x[d] + u[d]);
-                  hi[d] = std::max(hi[d], x[d] + u[d]);
-                }
-        const int    margin = 10;
-        const double scale  = (width - 2 * margin) / (hi[0] - lo[0]);
-        const int    height =
-          2 * margin + static_cast<int>(std::ceil((hi[1] - lo[1]) * scale));
-        std::vector<unsigned char> rgb(3 * width * height, 255);
-        const auto px = [&](const Point<2> &x, const Tensor<1, 2> &u) {
-          return std::array<double, 2>{{margin + (x[0] + u[0] - lo[0]) * scale,
-                                        margin + (hi[1] - x[1] - u[1]) * scale}};
-        };
-        const auto set = [&](const int x, const int y, const unsigned char r,
-                             const unsigned char g, const unsigned char b) {
-          if (x >= 0 && y >= 0 && x < width && y < height)
+        const auto deformed = [](const DeformedCells &cells) {
+          std::vector<std::vector<std::array<double, 2>>> polygons;
+          for (const auto &c : cells)
             {
-              rgb[3 * (y * width + x)]     = r;
-              rgb[3 * (y * width + x) + 1] = g;
-              rgb[3 * (y * width + x) + 2] = b;
+              polygons.emplace_back();
+              for (const auto &[x, u] : c)
+                polygons.back().push_back({{x[0] + u[0], x[1] + u[1]}});
             }
+          return polygons;
         };
-        for (const auto &c : fine)
-          {
-            std::vector<std::array<double, 2>> q;
-            for (const auto &[x, u] : c)
-              q.push_back(px(x, u));
-            double y0 = 1e300, y1 = -1e300;
-            for (const auto &v : q)
-              {
-                y0 = std::min(y0, v[1]);
-                y1 = std::max(y1, v[1]);
-              }
-            for (int y = int(std::floor(y0)); y <= int(std::ceil(y1)); ++y)
-              {
-                const double        yc = y + 0.5;
-                std::vector<double> xs;
-                for (unsigned int i = 0; i < q.size(); ++i)
-                  {
-                    const auto &a = q[i], &b = q[(i + 1) % q.size()];
-                    if ((a[1] <= yc) != (b[1] <= yc))
-                      xs.push_back(a[0] +
-                                   (yc - a[1]) / (b[1] - a[1]) * (b[0] - a[0]));
-                  }
-                std::sort(xs.begin(), xs.end());
-                for (unsigned int i = 0; i + 1 < xs.size(); i += 2)
-                  for (int x = int(std::ceil(xs[i] - 0.5)); x + 0.5 <= xs[i + 1];
-                       ++x)
-                    set(x, y, 110, 110, 110);
-              }
-          }
-        for (const auto &c : homogenized)
-          for (unsigned int i = 0; i < c.size(); ++i)
-            {
-              const auto a = px(c[i].first, c[i].second),
-                         b = px(c[(i + 1) % c.size()].first,
-                                c[(i + 1) % c.size()].second);
-              const int n =
-                1 + int(std::max(std::abs(b[0] - a[0]), std::abs(b[1] - a[1])));
-              for (int k = 0; k <= n; ++k)
-                set(int(std::lround(a[0] + (b[0] - a[0]) * k / n)),
-                    int(std::lround(a[1] + (b[1] - a[1]) * k / n)),
-                    210,
-                    30,
-                    30);
-            }
-        write_image_png(file_name, width, height, rgb);
+        write_overlay_png(file_name, deformed(fine), deformed(homogenized));
       }
 
       /**
@@ -187,7 +126,7 @@ namespace forma
        * (length of material on it) to carry the same force.
        */
       std::string
-      scale_boundary_records(const std::string                          &records,
+      scale_boundary_records(const std::string &records,
                              const std::map<types::boundary_id, double> &factor)
       {
         std::string result;
@@ -198,8 +137,9 @@ namespace forma
             AssertThrow(colon != std::string::npos,
                         ExcMessage("boundary load record '" + record +
                                    "' has no ':'"));
-            const auto id = static_cast<types::boundary_id>(
-              Utilities::string_to_int(Utilities::trim(record.substr(0, colon))));
+            const auto id =
+              static_cast<types::boundary_id>(Utilities::string_to_int(
+                Utilities::trim(record.substr(0, colon))));
             const double k = factor.count(id) ? factor.at(id) : 1.;
             // Expressions separated by the commas outside parentheses.
             std::vector<std::string> expressions(1);
@@ -212,7 +152,8 @@ namespace forma
                 else
                   expressions.back() += ch;
               }
-            std::string scaled = Utilities::trim(record.substr(0, colon)) + " :";
+            std::string scaled =
+              Utilities::trim(record.substr(0, colon)) + " :";
             for (unsigned int i = 0; i < expressions.size(); ++i)
               scaled += std::string(i ? "," : "") + " (" +
                         Utilities::trim(expressions[i]) + ")*" +
@@ -224,8 +165,7 @@ namespace forma
 
       /// The macro problem's parameters: a forma-transient-ipc file.
       ElasticityParameters
-      read_macro_problem(const std::string &file,
-                         ParameterHandler  &macro)
+      read_macro_problem(const std::string &file, ParameterHandler &macro)
       {
         macro.declare_entry("Dimension", "2", Patterns::Integer(2, 3));
         macro.declare_entry("Output directory", "", Patterns::Anything());
@@ -257,7 +197,7 @@ namespace forma
       /// Closest point of the convex region to m (alternating projections
       /// onto the violated half-planes).
       std::array<double, 2>
-      project(std::array<double, 2>                        m,
+      project(std::array<double, 2>                      m,
               const std::vector<MaterialMap::HalfPlane> &region)
       {
         for (unsigned int it = 0; it < 200; ++it)
@@ -280,7 +220,7 @@ namespace forma
       }
 
       double
-      violation(const std::array<double, 2>                 &m,
+      violation(const std::array<double, 2>               &m,
                 const std::vector<MaterialMap::HalfPlane> &region)
       {
         double v = 0;
@@ -308,15 +248,11 @@ namespace forma
       const int compared_boundary = prm.get_integer("Compared boundary");
       const std::string constant_material = prm.get("Constant material");
       const bool        check_moduli      = prm.get_bool("Check cell moduli");
-      const bool fine_simulation = prm.get_bool("Fine-scale simulation");
+      const bool        fine_simulation = prm.get_bool("Fine-scale simulation");
       prm.leave_subsection();
-      prm.enter_subsection("Map");
-      std::string map_file = prm.get("Map file");
-      prm.leave_subsection();
-      for (std::string *f : {&macro_file, &map_file})
-        if (!f->empty() && (*f)[0] != '/')
-          *f = prm_directory + "/" + *f;
-      const MaterialMap map = MaterialMap::read(map_file);
+      if (!macro_file.empty() && macro_file[0] != '/')
+        macro_file = prm_directory + "/" + macro_file;
+      const MaterialMap map           = read_map(prm, prm_directory);
       const auto [angle_lo, angle_hi] = map.covered_angles();
 
       // Wall seconds per stage (log and summary only: not deterministic).
@@ -336,11 +272,11 @@ namespace forma
       MPI_Barrier(context.communicator()); // the root wrote it
 
       // Each quad's angle, clamped to the map's range, and its region D.
-      const unsigned int n_cells = tria.n_active_cells();
+      const unsigned int  n_cells = tria.n_active_cells();
       std::vector<double> alpha(n_cells);
       std::vector<std::vector<MaterialMap::HalfPlane>> region(n_cells);
-      std::vector<Point<2>> centers;
-      unsigned int          clamped = 0;
+      std::vector<Point<2>>                            centers;
+      unsigned int                                     clamped = 0;
       for (const auto &cell : tria.active_cell_iterators())
         {
           const unsigned int c = cell->active_cell_index();
@@ -349,9 +285,8 @@ namespace forma
           clamped += (alpha[c] != a);
           region[c] = map.coverage(alpha[c], setup.base.nu);
           AssertThrow(!region[c].empty(),
-                      ExcMessage("the map has no coverage at " +
-                                 sig(alpha[c]) + " degrees (cell " +
-                                 std::to_string(c) + ")."));
+                      ExcMessage("the map has no coverage at " + sig(alpha[c]) +
+                                 " degrees (cell " + std::to_string(c) + ")."));
           centers.push_back(cell->center());
         }
       context.print("map: angles " + sig(angle_lo) + "-" + sig(angle_hi) +
@@ -374,9 +309,9 @@ namespace forma
                   ExcMessage("Two-scale/Macro problem: the design must be "
                              "'cell material' alone, in Young's modulus and "
                              "Poisson's ratio."));
-      parameters.mesh.source        = "file";
-      parameters.mesh.file          = mesh_file;
-      parameters.mesh.file_as_given = "rhombic_mesh.msh";
+      parameters.mesh.source               = "file";
+      parameters.mesh.file                 = mesh_file;
+      parameters.mesh.file_as_given        = "rhombic_mesh.msh";
       parameters.mesh.initial_refinement   = 0;
       parameters.mesh.convert_to_simplices = false; // cells are the quads
 
@@ -384,10 +319,10 @@ namespace forma
       std::vector<unsigned int> quad_of;
       const double              E_b = setup.base.E;
       const double E_lo = E_b * map.E.front(), E_hi = E_b * map.E.back();
-      const double nu_lo = map.nu.front() + setup.base.nu * map.E.front(),
-                   nu_hi = map.nu.back() + setup.base.nu * map.E.back();
-      constexpr double tau = 0.01; // violation scale in (E/E_b, nu)
-      unsigned int     offset = 0; // of the cell material block
+      const double nu_lo      = map.nu.front() + setup.base.nu * map.E.front(),
+                   nu_hi      = map.nu.back() + setup.base.nu * map.E.back();
+      constexpr double tau    = 0.01; // violation scale in (E/E_b, nu)
+      unsigned int     offset = 0;    // of the cell material block
       DesignConstraint constraint;
       constraint.setup = [&](const DesignLayout          &layout,
                              const std::vector<Point<2>> &simulator_centers,
@@ -414,14 +349,16 @@ namespace forma
                           !matched[quad_of[g]],
                         ExcMessage("Two-scale: a cell of the macro problem "
                                    "matches no quad of the rhombic mesh."));
-            matched[quad_of[g]] = true;
-            lower[b->offset + 2 * g]     = std::max(lower[b->offset + 2 * g], E_lo);
-            upper[b->offset + 2 * g]     = std::min(upper[b->offset + 2 * g], E_hi);
-            lower[b->offset + 2 * g + 1] = std::max(lower[b->offset + 2 * g + 1], nu_lo);
-            upper[b->offset + 2 * g + 1] = std::min(upper[b->offset + 2 * g + 1], nu_hi);
+            matched[quad_of[g]]      = true;
+            lower[b->offset + 2 * g] = std::max(lower[b->offset + 2 * g], E_lo);
+            upper[b->offset + 2 * g] = std::min(upper[b->offset + 2 * g], E_hi);
+            lower[b->offset + 2 * g + 1] =
+              std::max(lower[b->offset + 2 * g + 1], nu_lo);
+            upper[b->offset + 2 * g + 1] =
+              std::min(upper[b->offset + 2 * g + 1], nu_hi);
           }
       };
-      constraint.penalty  = [&](const std::vector<double> &q,
+      constraint.penalty = [&](const std::vector<double> &q,
                                std::vector<double>       &dP) {
         const double w = coverage_weight / quad_of.size();
         double       P = 0;
@@ -475,15 +412,15 @@ namespace forma
       // 3. Each cell's structure from the map (ch. 4.6), inside D(alpha).
       std::vector<RhombicStructure> structures(n_cells);
       std::vector<double>           E(n_cells), nu(n_cells);
-      double                        worst = 0;
+      double                        worst   = 0;
       unsigned int                  outside = 0;
       for (unsigned int g = 0; g < quad_of.size(); ++g)
         {
           const unsigned int          c = quad_of[g];
-          const std::array<double, 2> m = {{q[offset + 2 * g] / E_b,
-                                            q[offset + 2 * g + 1]}};
-          const double                v = violation(m, region[c]);
-          worst                         = std::max(worst, v);
+          const std::array<double, 2> m = {
+            {q[offset + 2 * g] / E_b, q[offset + 2 * g + 1]}};
+          const double v = violation(m, region[c]);
+          worst          = std::max(worst, v);
           outside += v > 1e-6;
           const auto p = project(m, region[c]);
           E[c]         = p[0];
@@ -521,7 +458,8 @@ namespace forma
                 key.push_back(std::round(v * 1e9));
               key.push_back(std::round(structures[c].alpha * 1e9));
               if (!done.count(key))
-                done[key] = evaluate(structures[c], setup, context.communicator());
+                done[key] =
+                  evaluate(structures[c], setup, context.communicator());
               const Sample &r  = done.at(key);
               const double  eE = std::abs(r.fit.E / setup.base.E / E[c] - 1);
               const double  en = std::abs(r.fit.nu - nu[c]);
@@ -531,14 +469,14 @@ namespace forma
               max_nu = std::max(max_nu, en);
               mean_a += std::max(r.anisotropy.a1, r.anisotropy.a2) / n_cells;
             }
-          context.print("cell structures homogenized (" +
-                        std::to_string(done.size()) +
-                        " distinct): |E/E* - 1| mean " + sig(mean_E, 3) +
-                        ", max " + sig(max_E, 3) + "; |nu - nu*| mean " +
-                        sig(mean_nu, 3) + ", max " + sig(max_nu, 3) +
-                        "; anisotropy max(a1, a2) mean " + sig(mean_a, 3));
+          context.print(
+            "cell structures homogenized (" + std::to_string(done.size()) +
+            " distinct): |E/E* - 1| mean " + sig(mean_E, 3) + ", max " +
+            sig(max_E, 3) + "; |nu - nu*| mean " + sig(mean_nu, 3) + ", max " +
+            sig(max_nu, 3) + "; anisotropy max(a1, a2) mean " + sig(mean_a, 3));
           lap("cell moduli");
-          context.summary["cell_moduli"] = {{"distinct_structures", done.size()},
+          context.summary["cell_moduli"] = {{"distinct_structures",
+                                             done.size()},
                                             {"mean_relative_E_error", mean_E},
                                             {"max_relative_E_error", max_E},
                                             {"mean_nu_error", mean_nu},
@@ -555,199 +493,198 @@ namespace forma
       std::unique_ptr<LoadCases<2>> homogenized;
       const auto fine_scale = [&](const std::vector<RhombicStructure> &tiles,
                                   const std::string                   &name) {
-          if (!homogenized)
-            {
-              homogenized = std::make_unique<LoadCases<2>>(
-                parameters, context.communicator());
-              homogenized->prepare(nullptr);
-              if (!parameters.objective.terms.empty())
-                homogenized->set_objective(parameters.objective);
-              homogenized->set_design(q);
-              homogenized->solve_design();
-            }
-          double h = 0;
-          for (const auto &cell : tria.active_cell_iterators())
-            h += std::sqrt(cell->measure()) / n_cells;
-          const TiledObject      object(quads_of(tria), tiles);
-          LevelSetMeshParameters fine;
-          fine.size               = fine_size * h;
-          fine.boundary_size      = fine_boundary_size * h;
-          const Tensor<1, 2> pad  = Tensor<1, 2>({0.25 * h, 0.25 * h});
-          const Point<2>     lower = object.lo - pad, upper = object.hi + pad;
-          fine.grid = std::min<unsigned int>(
-            8192,
-            static_cast<unsigned int>(
-              std::ceil(std::max(upper[0] - lower[0], upper[1] - lower[1]) /
-                        (0.02 * h))));
-          Triangulation<2> fine_tria;
-          LevelSetMeshInfo info;
-          level_set_mesh(object,
-                         lower,
-                         upper,
-                         fine,
-                         fine_tria,
-                         context.communicator(),
-                         &info,
-                         "fine-scale geometry (" + name + ")");
-          // Boundary ids from the quad mesh's boundary; holes: free.
-          std::vector<std::tuple<Point<2>, Point<2>, types::boundary_id>> ids;
+        if (!homogenized)
+          {
+            homogenized =
+              std::make_unique<LoadCases<2>>(parameters,
+                                             context.communicator());
+            homogenized->prepare(nullptr);
+            if (!parameters.objective.terms.empty())
+              homogenized->set_objective(parameters.objective);
+            homogenized->set_design(q);
+            homogenized->solve_design();
+          }
+        double h = 0;
+        for (const auto &cell : tria.active_cell_iterators())
+          h += std::sqrt(cell->measure()) / n_cells;
+        const TiledObject      object(quads_of(tria), tiles);
+        LevelSetMeshParameters fine;
+        fine.size                = fine_size * h;
+        fine.boundary_size       = fine_boundary_size * h;
+        const Tensor<1, 2> pad   = Tensor<1, 2>({0.25 * h, 0.25 * h});
+        const Point<2>     lower = object.lo - pad, upper = object.hi + pad;
+        fine.grid = std::min<unsigned int>(
+          8192,
+          static_cast<unsigned int>(std::ceil(
+            std::max(upper[0] - lower[0], upper[1] - lower[1]) / (0.02 * h))));
+        Triangulation<2> fine_tria;
+        LevelSetMeshInfo info;
+        level_set_mesh(object,
+                       lower,
+                       upper,
+                       fine,
+                       fine_tria,
+                       context.communicator(),
+                       &info,
+                       "fine-scale geometry (" + name + ")");
+        // Boundary ids from the quad mesh's boundary; holes: free.
+        std::vector<std::tuple<Point<2>, Point<2>, types::boundary_id>> ids;
+        for (const auto &cell : tria.active_cell_iterators())
+          for (const unsigned int f : cell->face_indices())
+            if (cell->face(f)->at_boundary())
+              ids.emplace_back(cell->face(f)->vertex(0),
+                               cell->face(f)->vertex(1),
+                               cell->face(f)->boundary_id());
+        // Holes get an id the quad mesh does not use: free.
+        types::boundary_id free_id = 0;
+        for (const auto &[a, b, i] : ids)
+          free_id = std::max<types::boundary_id>(free_id, i + 1);
+        std::map<unsigned int, Point<2>> compared_points;
+        for (const auto &cell : fine_tria.active_cell_iterators())
+          for (const unsigned int f : cell->face_indices())
+            if (cell->face(f)->at_boundary())
+              {
+                const Point<2>     c    = cell->face(f)->center();
+                types::boundary_id id   = free_id;
+                double             best = 1e-3 * h;
+                for (const auto &[a, b, i] : ids)
+                  {
+                    const Tensor<1, 2> e = b - a;
+                    const double t = std::clamp((c - a) * e / (e * e), 0., 1.);
+                    const double d = c.distance(a + t * e);
+                    if (d < best)
+                      {
+                        best = d;
+                        id   = i;
+                      }
+                  }
+                cell->face(f)->set_boundary_id(id);
+                // Vertices of the compared boundary, nudged into their
+                // cell: on the boundary up to round-off, they could fall
+                // just outside the other mesh.
+                if (static_cast<int>(id) == compared_boundary)
+                  for (unsigned int v = 0; v < 2; ++v)
+                    {
+                      const Point<2> x = cell->face(f)->vertex(v);
+                      compared_points[cell->face(f)->vertex_index(v)] =
+                        x + 1e-6 * (cell->center() - x);
+                    }
+              }
+        AssertThrow(!compared_points.empty(),
+                    ExcMessage("Two-scale/Compared boundary: no part of "
+                               "the fine-scale geometry lies on boundary " +
+                               std::to_string(compared_boundary) + "."));
+        const std::string fine_file =
+          context.path("fine_mesh_" + name + ".msh");
+        if (context.is_root())
+          {
+            std::ofstream msh(fine_file);
+            msh << std::setprecision(17); // read back by the simulator
+            GridOut out;
+            out.set_flags(GridOutFlags::Msh(/*write_faces=*/true));
+            out.write_msh(fine_tria, msh);
+          }
+        MPI_Barrier(context.communicator());
+        lap("fine mesh, " + name);
+        context.summary["fine_scale"][name] = {
+          {"triangles", fine_tria.n_active_cells()},
+          {"dropped_islands", info.dropped_islands}};
+        if (!fine_simulation)
+          {
+            context.log("fine scale, " + name + ": " +
+                        std::to_string(fine_tria.n_active_cells()) +
+                        " triangles (not simulated)");
+            return;
+          }
+
+        ElasticityParameters fp = parameters;
+        fp.mesh.file            = fine_file;
+        fp.mesh.file_as_given   = "fine_mesh_" + name + ".msh";
+        fp.bodies = "* : E = " + Utilities::to_string(setup.base.E, 17) +
+                    ", nu = " + Utilities::to_string(setup.base.nu, 17);
+        {
+          std::map<types::boundary_id, double> macro_length, fine_length;
           for (const auto &cell : tria.active_cell_iterators())
             for (const unsigned int f : cell->face_indices())
               if (cell->face(f)->at_boundary())
-                ids.emplace_back(cell->face(f)->vertex(0),
-                                 cell->face(f)->vertex(1),
-                                 cell->face(f)->boundary_id());
-          // Holes get an id the quad mesh does not use: free.
-          types::boundary_id free_id = 0;
-          for (const auto &[a, b, i] : ids)
-            free_id = std::max<types::boundary_id>(free_id, i + 1);
-          std::map<unsigned int, Point<2>> compared_points;
+                macro_length[cell->face(f)->boundary_id()] +=
+                  cell->face(f)->measure();
           for (const auto &cell : fine_tria.active_cell_iterators())
             for (const unsigned int f : cell->face_indices())
               if (cell->face(f)->at_boundary())
-                {
-                  const Point<2>     c    = cell->face(f)->center();
-                  types::boundary_id id   = free_id;
-                  double             best = 1e-3 * h;
-                  for (const auto &[a, b, i] : ids)
-                    {
-                      const Tensor<1, 2> e = b - a;
-                      const double       t =
-                        std::clamp((c - a) * e / (e * e), 0., 1.);
-                      const double d = c.distance(a + t * e);
-                      if (d < best)
-                        {
-                          best = d;
-                          id   = i;
-                        }
-                    }
-                  cell->face(f)->set_boundary_id(id);
-                  // Vertices of the compared boundary, nudged into their
-                  // cell: on the boundary up to round-off, they could fall
-                  // just outside the other mesh.
-                  if (static_cast<int>(id) == compared_boundary)
-                    for (unsigned int v = 0; v < 2; ++v)
-                      {
-                        const Point<2> x = cell->face(f)->vertex(v);
-                        compared_points[cell->face(f)->vertex_index(v)] =
-                          x + 1e-6 * (cell->center() - x);
-                      }
-                }
-          AssertThrow(!compared_points.empty(),
-                      ExcMessage("Two-scale/Compared boundary: no part of "
-                                 "the fine-scale geometry lies on boundary " +
-                                 std::to_string(compared_boundary) + "."));
-          const std::string fine_file =
-            context.path("fine_mesh_" + name + ".msh");
-          if (context.is_root())
-            {
-              std::ofstream msh(fine_file);
-              msh << std::setprecision(17); // read back by the simulator
-              GridOut       out;
-              out.set_flags(GridOutFlags::Msh(/*write_faces=*/true));
-              out.write_msh(fine_tria, msh);
-            }
-          MPI_Barrier(context.communicator());
-          lap("fine mesh, " + name);
-          context.summary["fine_scale"][name] = {
-            {"triangles", fine_tria.n_active_cells()},
-            {"dropped_islands", info.dropped_islands}};
-          if (!fine_simulation)
-            {
-              context.log("fine scale, " + name + ": " +
-                          std::to_string(fine_tria.n_active_cells()) +
-                          " triangles (not simulated)");
-              return;
-            }
+                fine_length[cell->face(f)->boundary_id()] +=
+                  cell->face(f)->measure();
+          std::map<types::boundary_id, double> factor;
+          for (const auto &[id, l] : fine_length)
+            if (macro_length.count(id))
+              factor[id] = macro_length[id] / l;
+          // The check uses the first load case (what homogenized[0] has).
+          if (!fp.load_cases.empty())
+            fp.traction = Utilities::split_string_list(fp.load_cases, '|')[0];
+          fp.load_cases.clear();
+          fp.traction = scale_boundary_records(fp.traction, factor);
+          fp.pressure = scale_boundary_records(fp.pressure, factor);
+        }
+        fp.design.blocks.clear();
+        fp.objective.terms = "";
+        fp.write_vtu       = true;
+        fp.points          = "";
+        ElasticitySimulator<2> fine_simulator(fp, context.communicator());
+        {
+          // Its VTU, PVD and summary in a subdirectory of the results.
+          RunContext fine_context(context.communicator(),
+                                  context.path("fine_scale_" + name));
+          fine_context.quiet = true;
+          fine_simulator.run(&fine_context);
+          fine_context.commit();
+        }
+        // Collective: every rank gathers, the root draws.
+        const DeformedCells fine_cells =
+          fine_simulator.cell_vertex_displacements();
+        const DeformedCells homogenized_cells =
+          (*homogenized)[0].cell_vertex_displacements();
+        if (context.is_root())
+          write_deformation_png(context.path("fine_scale_" + name + ".png"),
+                                fine_cells,
+                                homogenized_cells);
 
-          ElasticityParameters fp = parameters;
-          fp.mesh.file            = fine_file;
-          fp.mesh.file_as_given   = "fine_mesh_" + name + ".msh";
-          fp.bodies = "* : E = " + Utilities::to_string(setup.base.E, 17) +
-                      ", nu = " + Utilities::to_string(setup.base.nu, 17);
+        double mean = 0, worst_error = 0, largest = 0;
+        for (const auto &[v, x] : compared_points)
           {
-            std::map<types::boundary_id, double> macro_length, fine_length;
-            for (const auto &cell : tria.active_cell_iterators())
-              for (const unsigned int f : cell->face_indices())
-                if (cell->face(f)->at_boundary())
-                  macro_length[cell->face(f)->boundary_id()] +=
-                    cell->face(f)->measure();
-            for (const auto &cell : fine_tria.active_cell_iterators())
-              for (const unsigned int f : cell->face_indices())
-                if (cell->face(f)->at_boundary())
-                  fine_length[cell->face(f)->boundary_id()] +=
-                    cell->face(f)->measure();
-            std::map<types::boundary_id, double> factor;
-            for (const auto &[id, l] : fine_length)
-              if (macro_length.count(id))
-                factor[id] = macro_length[id] / l;
-            // The check uses the first load case (what homogenized[0] has).
-            if (!fp.load_cases.empty())
-              fp.traction = Utilities::split_string_list(fp.load_cases, '|')[0];
-            fp.load_cases.clear();
-            fp.traction = scale_boundary_records(fp.traction, factor);
-            fp.pressure = scale_boundary_records(fp.pressure, factor);
+            const Tensor<1, 2> uf = fine_simulator.point_displacement(x);
+            const Tensor<1, 2> uh = (*homogenized)[0].point_displacement(x);
+            mean += (uf - uh).norm() / compared_points.size();
+            worst_error = std::max(worst_error, (uf - uh).norm());
+            largest     = std::max(largest, uh.norm());
           }
-          fp.design.blocks.clear();
-          fp.objective.terms = "";
-          fp.write_vtu       = true;
-          fp.points          = "";
-          ElasticitySimulator<2> fine_simulator(fp, context.communicator());
-          {
-            // Its VTU, PVD and summary in a subdirectory of the results.
-            RunContext fine_context(context.communicator(),
-                                    context.path("fine_scale_" + name));
-            fine_context.quiet = true;
-            fine_simulator.run(&fine_context);
-            fine_context.commit();
-          }
-          // Collective: every rank gathers, the root draws.
-          const DeformedCells fine_cells =
-            fine_simulator.cell_vertex_displacements();
-          const DeformedCells homogenized_cells =
-            (*homogenized)[0].cell_vertex_displacements();
-          if (context.is_root())
-            write_deformation_png(context.path("fine_scale_" + name + ".png"),
-                                  fine_cells,
-                                  homogenized_cells);
-
-          double mean = 0, worst_error = 0, largest = 0;
-          for (const auto &[v, x] : compared_points)
-            {
-              const Tensor<1, 2> uf = fine_simulator.point_displacement(x);
-              const Tensor<1, 2> uh = (*homogenized)[0].point_displacement(x);
-              mean += (uf - uh).norm() / compared_points.size();
-              worst_error = std::max(worst_error, (uf - uh).norm());
-              largest     = std::max(largest, uh.norm());
-            }
-          AssertThrow(largest > 0,
-                      ExcMessage("Two-scale/Compared boundary " +
-                                 std::to_string(compared_boundary) +
-                                 " does not move in the homogenized "
-                                 "solution: compare where it deforms."));
-          // Mesh sizes and the third digit change with round-off in the
-          // contours: the log has them, stdout two digits.
-          context.log("fine scale, " + name + ": " +
-                      std::to_string(fine_tria.n_active_cells()) +
-                      " triangles, " + std::to_string(fine_simulator.n_dofs()) +
-                      " dofs, mean error " + sig(mean / largest, 4) +
-                      ", max " + sig(worst_error / largest, 4));
-          context.print("fine scale, " + name + ": on boundary " +
-                        std::to_string(compared_boundary) +
-                        " |u_fine - u_homogenized| / max |u_homogenized|: mean " +
-                        sig(mean / largest, 2) + ", max " +
-                        sig(worst_error / largest, 2));
-          lap("fine solve, " + name);
-          context.summary["fine_scale"][name] = {
-            {"triangles", fine_tria.n_active_cells()},
-            {"dofs", fine_simulator.n_dofs()},
-            {"dropped_islands", info.dropped_islands},
-            {"compared_boundary", compared_boundary},
-            {"compared_points", compared_points.size()},
-            {"max_homogenized_displacement", largest},
-            {"mean_relative_error", mean / largest},
-            {"max_relative_error", worst_error / largest}};
-        };
+        AssertThrow(largest > 0,
+                    ExcMessage("Two-scale/Compared boundary " +
+                               std::to_string(compared_boundary) +
+                               " does not move in the homogenized "
+                               "solution: compare where it deforms."));
+        // Mesh sizes and the third digit change with round-off in the
+        // contours: the log has them, stdout two digits.
+        context.log("fine scale, " + name + ": " +
+                    std::to_string(fine_tria.n_active_cells()) +
+                    " triangles, " + std::to_string(fine_simulator.n_dofs()) +
+                    " dofs, mean error " + sig(mean / largest, 4) + ", max " +
+                    sig(worst_error / largest, 4));
+        context.print("fine scale, " + name + ": on boundary " +
+                      std::to_string(compared_boundary) +
+                      " |u_fine - u_homogenized| / max |u_homogenized|: mean " +
+                      sig(mean / largest, 2) + ", max " +
+                      sig(worst_error / largest, 2));
+        lap("fine solve, " + name);
+        context.summary["fine_scale"][name] = {
+          {"triangles", fine_tria.n_active_cells()},
+          {"dofs", fine_simulator.n_dofs()},
+          {"dropped_islands", info.dropped_islands},
+          {"compared_boundary", compared_boundary},
+          {"compared_points", compared_points.size()},
+          {"max_homogenized_displacement", largest},
+          {"mean_relative_error", mean / largest},
+          {"max_relative_error", worst_error / largest}};
+      };
       if (fine_check)
         {
           fine_scale(structures, "family");
@@ -771,7 +708,7 @@ namespace forma
                            {"nu", nu[c]},
                            {"parameters", p}});
         }
-      context.summary["cells"] = cells;
+      context.summary["cells"]     = cells;
       context.summary["two_scale"] = {{"cells", n_cells},
                                       {"clamped_angles", clamped},
                                       {"projected_cells", outside},

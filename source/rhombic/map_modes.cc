@@ -473,23 +473,31 @@ namespace forma
 
 
 
+    MaterialMap
+    read_map(ParameterHandler &prm, const std::string &prm_directory)
+    {
+      prm.enter_subsection("Map");
+      std::string file = prm.get("Map file");
+      prm.leave_subsection();
+      if (!file.empty() && file[0] != '/')
+        file = prm_directory + "/" + file;
+      return MaterialMap::read(file);
+    }
+
+
+
     void
     query_mode(ParameterHandler  &prm,
                const std::string &prm_directory,
                const Setup       &setup,
                RunContext        &context)
     {
-      prm.enter_subsection("Map");
-      std::string file = prm.get("Map file");
-      prm.leave_subsection();
       prm.enter_subsection("Query");
       const double E     = prm.get_double("Young's modulus");
       const double nu    = prm.get_double("Poisson's ratio");
       const double angle = prm.get_double("Angle");
       prm.leave_subsection();
-      if (!file.empty() && file[0] != '/')
-        file = prm_directory + "/" + file;
-      const MaterialMap map = MaterialMap::read(file);
+      const MaterialMap map = read_map(prm, prm_directory);
 
       bool             inside = false;
       RhombicStructure s      = map.query(E, nu, angle, setup.base.nu, inside);

@@ -210,7 +210,8 @@ namespace forma
 
 
     std::vector<MaterialMap::HalfPlane>
-    MaterialMap::coverage(const double alpha_degrees, const double base_nu) const
+    MaterialMap::coverage(const double alpha_degrees,
+                          const double base_nu) const
     {
       const double lo = *std::min_element(angles.begin(), angles.end()),
                    hi = *std::max_element(angles.begin(), angles.end());
@@ -284,7 +285,7 @@ namespace forma
 
 
     double
-    coverage_penalty(const std::array<double, 2>              &m,
+    coverage_penalty(const std::array<double, 2>               &m,
                      const std::vector<MaterialMap::HalfPlane> &region,
                      const double                               tau,
                      std::array<double, 2>                     &gradient)
@@ -314,8 +315,8 @@ namespace forma
       AssertThrow(!angles.empty(), ExcMessage("the material map is empty"));
       // The map is for a base with nu = 0: eq. 4.11 backwards.
       const double nu_map = nu - base_nu * E;
-      inside = false;
-      const auto region = coverage(alpha_degrees, base_nu);
+      inside              = false;
+      const auto region   = coverage(alpha_degrees, base_nu);
       if (!region.empty())
         {
           inside = true;

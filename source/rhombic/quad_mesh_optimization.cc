@@ -123,7 +123,7 @@ namespace forma
       double
       corner_sine(const Quad &f, const unsigned int k)
       {
-        const Point<2> &p = f[cyclic[k]];
+        const Point<2>    &p = f[cyclic[k]];
         const Tensor<1, 2> a = f[cyclic[(k + 1) % 4]] - p;
         const Tensor<1, 2> b = f[cyclic[(k + 3) % 4]] - p;
         return (a[0] * b[1] - a[1] * b[0]) / (a.norm() * b.norm());
@@ -132,7 +132,7 @@ namespace forma
       double
       corner_angle(const Quad &f, const unsigned int k)
       {
-        const Point<2> &p = f[cyclic[k]];
+        const Point<2>    &p = f[cyclic[k]];
         const Tensor<1, 2> a = f[cyclic[(k + 1) % 4]] - p;
         const Tensor<1, 2> b = f[cyclic[(k + 3) % 4]] - p;
         return std::atan2(a[0] * b[1] - a[1] * b[0], a * b);
@@ -155,10 +155,10 @@ namespace forma
         for (const double xi : {g_lo, g_hi})
           for (const double eta : {g_lo, g_hi})
             {
-              const double dN[4][2] = {{-(1 - eta), -(1 - xi)},
-                                       {1 - eta, -xi},
-                                       {-eta, 1 - xi},
-                                       {eta, xi}};
+              const double    dN[4][2] = {{-(1 - eta), -(1 - xi)},
+                                          {1 - eta, -xi},
+                                          {-eta, 1 - xi},
+                                          {eta, xi}};
               Tensor<2, 2, N> G;
               for (unsigned int k = 0; k < 4; ++k)
                 for (unsigned int a = 0; a < 2; ++a)
@@ -197,7 +197,7 @@ namespace forma
         double   best_d = std::numeric_limits<double>::max();
         for (const unsigned int k : which)
           {
-            const Segment &s = segs[k];
+            const Segment     &s  = segs[k];
             const Tensor<1, 2> d  = s.b - s.a;
             const double       t  = std::clamp((p - s.a) * d / (d * d), 0., 1.);
             const Point<2>     c  = s.a + t * d;
@@ -224,7 +224,8 @@ namespace forma
       RhombicFit         r;
       const double       cross = t1[0] * t2[1] - t1[1] * t2[0];
       r.area                   = std::abs(cross);
-      r.angle = std::acos(std::clamp(t1 * t2 / (t1.norm() * t2.norm()), -1., 1.));
+      r.angle =
+        std::acos(std::clamp(t1 * t2 / (t1.norm() * t2.norm()), -1., 1.));
       r.alpha = std::min(r.angle, M_PI - r.angle);
       if (!(r.area > 0))
         {
@@ -281,7 +282,7 @@ namespace forma
           Quad f;
           for (unsigned int v = 0; v < 4; ++v)
             f[v] = cell->vertex(v);
-          const RhombicFit r = fit_rhombus(f);
+          const RhombicFit r        = fit_rhombus(f);
           double           smallest = M_PI;
           for (unsigned int k = 0; k < 4; ++k)
             {
@@ -329,7 +330,8 @@ namespace forma
       // Compact numbering of the used vertices: DoFs 2 v + d.
       const std::vector<Point<2>> &all  = tria.get_vertices();
       const std::vector<bool>     &used = tria.get_used_vertices();
-      std::vector<unsigned int>    index(all.size(), numbers::invalid_unsigned_int);
+      std::vector<unsigned int>    index(all.size(),
+                                      numbers::invalid_unsigned_int);
       std::vector<Point<2>>        x;
       for (unsigned int v = 0; v < all.size(); ++v)
         if (used[v])
@@ -337,15 +339,14 @@ namespace forma
             index[v] = x.size();
             x.push_back(all[v]);
           }
-      const unsigned int n_vertices = x.size();
+      const unsigned int                       n_vertices = x.size();
       std::vector<std::array<unsigned int, 4>> quads;
       double                                   area = 0, edges = 0;
       unsigned int                             n_edges = 0;
       std::vector<Segment>                     boundary;
       std::vector<bool>                        on_boundary(n_vertices, false);
       // Boundary neighbours of each boundary vertex, to find corners.
-      std::map<unsigned int, std::vector<unsigned int>> neighbours,
-        segments_at;
+      std::map<unsigned int, std::vector<unsigned int>> neighbours, segments_at;
       for (const auto &cell : tria.active_cell_iterators())
         {
           std::array<unsigned int, 4> q;
@@ -371,7 +372,7 @@ namespace forma
                 }
             }
         }
-      const double h = edges / n_edges;
+      const double h   = edges / n_edges;
       result.mean_edge = h;
 
       // Boundary vertices at corners of the input outline (turning by more
@@ -441,7 +442,7 @@ namespace forma
       std::vector<double>       weight(quads.size());
       std::vector<Point<2>>     y(n_vertices);
 
-      const auto quad_points = [&](const std::vector<Point<2>> &p,
+      const auto quad_points = [&](const std::vector<Point<2>>       &p,
                                    const std::array<unsigned int, 4> &q) {
         Quad f;
         for (unsigned int v = 0; v < 4; ++v)
@@ -511,7 +512,8 @@ namespace forma
                       const Tensor<1, 2> t = boundary[k].b - boundary[k].a;
                       // n . dx = 0 with n = (-t1, t0): eliminate the
                       // coordinate with the larger normal component.
-                      const unsigned int a = std::abs(t[1]) >= std::abs(t[0]) ? 0 : 1;
+                      const unsigned int a =
+                        std::abs(t[1]) >= std::abs(t[0]) ? 0 : 1;
                       const unsigned int b = 1 - a;
                       sliding.add_line(2 * v + a);
                       sliding.add_entry(2 * v + a, 2 * v + b, t[a] / t[b]);
@@ -555,8 +557,10 @@ namespace forma
                       g(2 * v + d) += 2 * boundary_scale * (x[v][d] - y[v][d]);
                       H.add(2 * v + d, 2 * v + d, 2 * boundary_scale);
                     }
-                  deviation = std::max(
-                    deviation, closest_on_segments(x[v], boundary, slide[v]).distance(x[v]));
+                  deviation =
+                    std::max(deviation,
+                             closest_on_segments(x[v], boundary, slide[v])
+                               .distance(x[v]));
                 }
             // A tiny shift keeps the system definite where the projected
             // Hessian of a free mesh is only semidefinite.
@@ -581,9 +585,9 @@ namespace forma
                                    std::to_string(s) +
                                    " (a quad far from its rhombus): use "
                                    "smaller Quad mesh/Exponents."));
-            const double slope      = g * dx;
-            double       t          = 1;
-            unsigned int halvings   = 0;
+            const double          slope    = g * dx;
+            double                t        = 1;
+            unsigned int          halvings = 0;
             std::vector<Point<2>> trial(n_vertices);
             bool                  accepted = false;
             for (; halvings < 40; ++halvings, t *= 0.5)
@@ -608,9 +612,10 @@ namespace forma
                 std::vector<Point<2>> projected = trial;
                 for (unsigned int v = 0; v < n_vertices; ++v)
                   if (on_boundary[v] && !held[v])
-                    projected[v] = corner[v] ?
-                                     x_input[v] :
-                                     closest_on_segments(trial[v], boundary, slide[v]);
+                    projected[v] =
+                      corner[v] ?
+                        x_input[v] :
+                        closest_on_segments(trial[v], boundary, slide[v]);
                 double d_projected = 0;
                 if (std::isfinite(total_energy(projected, s, d_projected)))
                   trial.swap(projected);
@@ -629,9 +634,9 @@ namespace forma
       result.boundary_deviation = 0;
       for (unsigned int v = 0; v < n_vertices; ++v)
         if (on_boundary[v])
-          result.boundary_deviation =
-            std::max(result.boundary_deviation,
-                     closest_on_segments(x[v], boundary, slide[v]).distance(x[v]) / h);
+          result.boundary_deviation = std::max(
+            result.boundary_deviation,
+            closest_on_segments(x[v], boundary, slide[v]).distance(x[v]) / h);
       for (const auto &cell : tria.active_cell_iterators())
         for (unsigned int v = 0; v < 4; ++v)
           cell->vertex(v) = x[index[cell->vertex_index(v)]];

@@ -47,8 +47,7 @@ namespace forma
       shape_line(const QuadMeshShape &s)
       {
         return "alpha min " + sig(s.min_alpha * degrees, 4) + ", mean " +
-               sig(s.mean_alpha * degrees, 4) +
-               " degrees; smallest corner " +
+               sig(s.mean_alpha * degrees, 4) + " degrees; smallest corner " +
                sig(s.min_interior_angle * degrees, 4) +
                " degrees; rhombic error mean " + small(s.mean_error) +
                ", max " + small(s.max_error);
@@ -155,8 +154,8 @@ namespace forma
       const QuadMeshOptimizationResult r =
         optimize_rhombic_mesh(tria, parameters);
       context.print("input:     " + shape_line(r.before));
-      double       last_exponent = -1;
-      nlohmann::json history     = nlohmann::json::array();
+      double         last_exponent = -1;
+      nlohmann::json history       = nlohmann::json::array();
       for (const auto &h : r.history)
         {
           history.push_back({{"exponent", h.exponent},
@@ -189,12 +188,12 @@ namespace forma
                        sig(r.boundary_deviation, 2)) +
                     " mean edge lengths");
 
-      context.summary["quads"]               = tria.n_active_cells();
-      context.summary["mean_edge"]           = r.mean_edge;
-      context.summary["input"]               = shape_json(r.before);
-      context.summary["optimized"]           = shape_json(r.after);
-      context.summary["boundary_deviation"]  = r.boundary_deviation;
-      context.summary["history"]             = history;
+      context.summary["quads"]              = tria.n_active_cells();
+      context.summary["mean_edge"]          = r.mean_edge;
+      context.summary["input"]              = shape_json(r.before);
+      context.summary["optimized"]          = shape_json(r.after);
+      context.summary["boundary_deviation"] = r.boundary_deviation;
+      context.summary["history"]            = history;
       if (context.is_root())
         {
           std::ofstream msh(context.path("rhombic_mesh.msh"));

@@ -52,11 +52,11 @@ namespace forma
       for (unsigned int it = 0; it < 12; ++it)
         {
           const double   s = xi[0], t = xi[1];
-          const Point<2> f = Point<2>((1 - s) * (1 - t) * v[0] +
-                                      s * (1 - t) * v[1] + (1 - s) * t * v[2] +
-                                      s * t * v[3]);
-          const Tensor<1, 2> ds = (1 - t) * (v[1] - v[0]) + t * (v[3] - v[2]);
-          const Tensor<1, 2> dt = (1 - s) * (v[2] - v[0]) + s * (v[3] - v[1]);
+          const Point<2> f =
+            Point<2>((1 - s) * (1 - t) * v[0] + s * (1 - t) * v[1] +
+                     (1 - s) * t * v[2] + s * t * v[3]);
+          const Tensor<1, 2> ds  = (1 - t) * (v[1] - v[0]) + t * (v[3] - v[2]);
+          const Tensor<1, 2> dt  = (1 - s) * (v[2] - v[0]) + s * (v[3] - v[1]);
           const double       det = ds[0] * dt[1] - ds[1] * dt[0];
           if (!(std::abs(det) > 0))
             return false;
@@ -102,8 +102,8 @@ namespace forma
             }
       // The bucket grid covers the box and a pad around it; periodic copies
       // further out are never asked for.
-      box_lo = lo - Tensor<1, 2>({pad, pad});
-      box_hi = hi + Tensor<1, 2>({pad, pad});
+      box_lo               = lo - Tensor<1, 2>({pad, pad});
+      box_hi               = hi + Tensor<1, 2>({pad, pad});
       const unsigned int n = std::max<unsigned int>(
         1, static_cast<unsigned int>(std::sqrt(double(input.size()))));
       nb = {{n, n}};
@@ -133,8 +133,9 @@ namespace forma
     {
       const double t =
         (v - box_lo[d]) / std::max(box_hi[d] - box_lo[d], 1e-300);
-      return std::min<unsigned int>(
-        nb[d] - 1, static_cast<unsigned int>(std::max(0., t) * nb[d]));
+      return std::min<unsigned int>(nb[d] - 1,
+                                    static_cast<unsigned int>(std::max(0., t) *
+                                                              nb[d]));
     }
 
 
@@ -153,12 +154,15 @@ namespace forma
           // Signed distance to the quad (around it: 0, 1, 3, 2).
           double s = -1e300;
           for (const auto &[i, j] :
-               {std::pair<unsigned int, unsigned int>{0, 1}, {1, 3}, {3, 2}, {2, 0}})
+               {std::pair<unsigned int, unsigned int>{0, 1},
+                {1, 3},
+                {3, 2},
+                {2, 0}})
             {
               const Tensor<1, 2> e = v[j] - v[i];
               s                    = std::max(s,
-                               (e[1] * (x[0] - v[i][0]) - e[0] * (x[1] - v[i][1])) /
-                                 e.norm());
+                           (e[1] * (x[0] - v[i][0]) - e[0] * (x[1] - v[i][1])) /
+                             e.norm());
             }
           if (s >= value)
             continue;
@@ -167,11 +171,11 @@ namespace forma
           // A seam shared by two quads (or the side of a periodic box)
           // counts as material where either structure has material there:
           // a sample exactly on it would otherwise read 0, i.e. void.
-          value = std::min(
-            value,
-            std::max(half_size[c] *
-                       phi[c](Point<2>(RhombicStructure::side * xi)),
-                     s - 1e-9 * pad));
+          value =
+            std::min(value,
+                     std::max(half_size[c] *
+                                phi[c](Point<2>(RhombicStructure::side * xi)),
+                              s - 1e-9 * pad));
         }
       return value;
     }

@@ -70,8 +70,8 @@ main()
     base + "set Mode = two-scale design\nsubsection Quad mesh\n set File = " +
     std::string(FORMA_SOURCE_DIR) +
     "/parameter_files/rhombic/meshes/bar.geo\n set Element size = 0.5\nend\n"
-    "subsection Map\n set Map file = " + std::string(FORMA_SOURCE_DIR) +
-    "/contrib/rhombic/map.json\nend\n";
+    "subsection Map\n set Map file = " +
+    std::string(FORMA_SOURCE_DIR) + "/contrib/rhombic/map.json\nend\n";
   expect_failure("macro_problem_missing",
                  two_scale + "subsection Two-scale\n set Macro problem = "
                              "missing.prm\nend\n",

@@ -14,10 +14,11 @@ int
 main()
 {
   initlog();
-  const MaterialMap map =
-    MaterialMap::read(std::string(FORMA_SOURCE_DIR) + "/contrib/rhombic/map.json");
-  const auto violation = [](const std::vector<MaterialMap::HalfPlane> &region,
-                            const double E, const double nu) {
+  const MaterialMap map = MaterialMap::read(std::string(FORMA_SOURCE_DIR) +
+                                            "/contrib/rhombic/map.json");
+  const auto violation  = [](const std::vector<MaterialMap::HalfPlane> &region,
+                            const double                               E,
+                            const double                               nu) {
     double v = -1e300;
     for (const auto &h : region)
       v = std::max(v, h.c_E * E + h.c_nu * nu - h.d);
@@ -25,9 +26,9 @@ main()
   };
   for (unsigned int a = 0; a < map.angles.size(); ++a)
     {
-      const auto region = map.coverage(map.angles[a], 0);
-      double     worst  = -1e300;
-      unsigned int n    = 0;
+      const auto   region = map.coverage(map.angles[a], 0);
+      double       worst  = -1e300;
+      unsigned int n      = 0;
       for (unsigned int i = 0; i < map.E.size(); ++i)
         for (unsigned int j = 0; j < map.nu.size(); ++j)
           if (map.covered[a][i * map.nu.size() + j])
@@ -38,7 +39,8 @@ main()
       deallog << "angle " << map.angles[a] << ": " << region.size()
               << " half-planes, " << n << " covered nodes"
               << (region.empty() ? " (no region)" :
-                  worst <= 1e-12 ? ", all inside" : ", one outside!")
+                  worst <= 1e-12 ? ", all inside" :
+                                   ", one outside!")
               << std::endl;
       if (!region.empty())
         deallog << "  E/E_b = 0.2 inside: "
@@ -61,9 +63,9 @@ main()
 
   // Taylor test of the penalty at a point outside (one smooth piece).
   const auto                  region = map.coverage(75, 0);
-  const std::array<double, 2> m      = {{0.115, 0.43}}, d = {{0.3, -0.7}};
-  std::array<double, 2>       g      = {{0, 0}};
-  const double                P0     = coverage_penalty(m, region, 0.01, g);
+  const std::array<double, 2> m = {{0.115, 0.43}}, d = {{0.3, -0.7}};
+  std::array<double, 2>       g  = {{0, 0}};
+  const double                P0 = coverage_penalty(m, region, 0.01, g);
   deallog << "penalty at (0.115, 0.43): " << P0 << std::endl;
   double previous = 0;
   for (const double eps : {1e-3, 5e-4, 2.5e-4, 1.25e-4})

@@ -25,7 +25,9 @@ namespace
             << r.after.max_error << "; alpha min "
             << r.before.min_alpha * degrees << " -> "
             << r.after.min_alpha * degrees << "; boundary deviation "
-            << (r.boundary_deviation < 1e-2 ? "< 1e-2" : std::to_string(r.boundary_deviation))
+            << (r.boundary_deviation < 1e-2 ?
+                  "< 1e-2" :
+                  std::to_string(r.boundary_deviation))
             << " edge lengths; valid " << (r.after.min_scaled_jacobian > 0)
             << std::endl;
   }
@@ -38,17 +40,16 @@ main()
 
   // A 60 degree rhombus of side 1.3, turned by 25 degrees and moved.
   {
-    const double a = M_PI / 3, t = 25 / degrees, l = 1.3;
+    const double       a = M_PI / 3, t = 25 / degrees, l = 1.3;
     const Tensor<1, 2> e1({l * std::cos(t), l * std::sin(t)}),
       e2({l * std::cos(t + a), l * std::sin(t + a)});
-    const Point<2>           o(0.4, -2);
-    const RhombicFit         r = fit_rhombus({{o, o + e1, o + e2, o + e1 + e2}});
+    const Point<2>   o(0.4, -2);
+    const RhombicFit r = fit_rhombus({{o, o + e1, o + e2, o + e1 + e2}});
     deallog << "rhombus: angle " << r.angle * degrees << ", alpha "
             << r.alpha * degrees << ", area " << r.area << ", error "
             << (r.error < 1e-12 ? "< 1e-12" : "too large") << std::endl;
     // The same with the obtuse angle at vertex 0.
-    const RhombicFit r2 =
-      fit_rhombus({{o + e1, o + e1 + e2, o, o + e2}});
+    const RhombicFit r2 = fit_rhombus({{o + e1, o + e1 + e2, o, o + e2}});
     deallog << "obtuse first: angle " << r2.angle * degrees << ", alpha "
             << r2.alpha * degrees << ", error "
             << (r2.error < 1e-12 ? "< 1e-12" : "too large") << std::endl;
@@ -63,15 +64,15 @@ main()
 
   // A mesh of 70 degree rhombi does not move.
   {
-    Triangulation<2> tria;
-    const double     a = 70 / degrees;
+    Triangulation<2>                  tria;
+    const double                      a     = 70 / degrees;
     const std::array<Tensor<1, 2>, 2> edges = {
       {Tensor<1, 2>({4., 0.}),
        Tensor<1, 2>({3 * std::cos(a), 3 * std::sin(a)})}};
     GridGenerator::subdivided_parallelepiped<2, 2>(tria,
-                                                  Point<2>(),
-                                                  edges,
-                                                  {4, 3});
+                                                   Point<2>(),
+                                                   edges,
+                                                   {4, 3});
     const auto before = tria.get_vertices();
     const auto r      = optimize_rhombic_mesh(tria, prm);
     double     moved  = 0;
@@ -118,8 +119,7 @@ main()
       for (const unsigned int f : cell->face_indices())
         if (cell->face(f)->at_boundary())
           for (unsigned int v = 0; v < 2; ++v)
-            off = std::max(off,
-                           std::abs(cell->face(f)->vertex(v).norm() - 1));
+            off = std::max(off, std::abs(cell->face(f)->vertex(v).norm() - 1));
     deallog << "disk: largest distance of a boundary vertex from the circle "
             << (off < 0.02 ? "< 0.02" : std::to_string(off)) << std::endl;
   }

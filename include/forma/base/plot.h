@@ -59,6 +59,18 @@ namespace forma
     const std::string                                     &title,
     const int                                              width = 800);
 
+  /**
+   * Filled polygons (gray) with outlined ones (red) over them, in the
+   * polygons' own units, `width` pixels wide: e.g. a deformed fine-scale
+   * mesh with the deformed cells of its homogenized model.
+   */
+  void
+  write_overlay_png(
+    const std::string                                     &file_name,
+    const std::vector<std::vector<std::array<double, 2>>> &filled,
+    const std::vector<std::vector<std::array<double, 2>>> &outlined,
+    const int                                              width = 1200);
+
   /// Write an RGB image (rows from the top, 3 bytes per pixel) as PNG.
   void
   write_image_png(const std::string                &file_name,

@@ -24,13 +24,12 @@ namespace forma
    */
   struct DesignConstraint
   {
-    std::function<void(const DesignLayout                    &layout,
+    std::function<void(const DesignLayout                  &layout,
                        const std::vector<dealii::Point<2>> &cell_centers,
-                       std::vector<double>                  &lower,
-                       std::vector<double>                  &upper)>
+                       std::vector<double>                 &lower,
+                       std::vector<double>                 &upper)>
       setup;
-    std::function<double(const std::vector<double> &q,
-                         std::vector<double>       &dP)>
+    std::function<double(const std::vector<double> &q, std::vector<double> &dP)>
       penalty;
   };
 

@@ -86,7 +86,8 @@ namespace forma
      * the mesh, without shape-design offsets; displacement) pairs, around
      * the cell in 2D. For pictures of deformed meshes.
      */
-    std::vector<std::vector<std::pair<dealii::Point<dim>, dealii::Tensor<1, dim>>>>
+    std::vector<
+      std::vector<std::pair<dealii::Point<dim>, dealii::Tensor<1, dim>>>>
     cell_vertex_displacements() const;
 
     /// Force exerted by the supports on the body through boundary `id`.

@@ -143,7 +143,7 @@ namespace forma
      * `gradient`.
      */
     double
-    coverage_penalty(const std::array<double, 2>              &m,
+    coverage_penalty(const std::array<double, 2>               &m,
                      const std::vector<MaterialMap::HalfPlane> &region,
                      const double                               tau,
                      std::array<double, 2>                     &gradient);

@@ -82,15 +82,15 @@ namespace forma
     {
       double       exponent;
       unsigned int iteration;
-      double       energy;     ///< the distortion term (eq. 4.14, normalized)
-      double       deviation;  ///< largest boundary distance / mean edge
-      double       max_move;   ///< largest vertex move / mean edge
+      double       energy;    ///< the distortion term (eq. 4.14, normalized)
+      double       deviation; ///< largest boundary distance / mean edge
+      double       max_move;  ///< largest vertex move / mean edge
       unsigned int line_search_halvings;
     };
 
     struct QuadMeshOptimizationResult
     {
-      QuadMeshShape                          before, after;
+      QuadMeshShape                         before, after;
       std::vector<QuadMeshOptimizationStep> history;
       /// Largest distance of a boundary vertex from the input boundary,
       /// relative to the mean edge length.
@@ -124,7 +124,7 @@ namespace forma
      * non-quad or inverted cells or hanging vertices.
      */
     QuadMeshOptimizationResult
-    optimize_rhombic_mesh(dealii::Triangulation<2, 2>           &tria,
+    optimize_rhombic_mesh(dealii::Triangulation<2, 2>          &tria,
                           const QuadMeshOptimizationParameters &parameters,
                           const std::vector<bool>              &fixed = {});
   } // namespace rhombic

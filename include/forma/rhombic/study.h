@@ -9,6 +9,7 @@
 #include <forma/homogenization/periodic_homogenization.h>
 #include <forma/mesh/level_set_mesh.h>
 #include <forma/microstructure/rhombic_structure.h>
+#include <forma/rhombic/material_map.h>
 #include <forma/rhombic/quad_mesh_optimization.h>
 
 #include <nlohmann/json.hpp>
@@ -182,6 +183,11 @@ namespace forma
                        const std::string        &prm_directory,
                        const Setup              &setup,
                        RunContext               &context);
+
+    /// The material-to-geometry map named by Map/Map file (relative to the
+    /// parameter file).
+    MaterialMap
+    read_map(dealii::ParameterHandler &prm, const std::string &prm_directory);
 
     /// The Quad mesh section's mesh (a .msh file or a meshed .geo), refined
     /// as asked and flattened to one level.

@@ -70,13 +70,13 @@ namespace forma
       unsigned int
       bucket(const unsigned int d, const double v) const;
 
-      std::vector<Quad>                                             quads;
+      std::vector<Quad>                                            quads;
       std::vector<std::function<double(const dealii::Point<2> &)>> phi;
-      std::vector<double>                                           half_size;
-      dealii::Point<2>                                              box_lo, box_hi;
-      double                                                        pad = 0;
-      std::array<unsigned int, 2>                                   nb;
-      std::vector<std::vector<unsigned int>>                        buckets;
+      std::vector<double>                                          half_size;
+      dealii::Point<2>                       box_lo, box_hi;
+      double                                 pad = 0;
+      std::array<unsigned int, 2>            nb;
+      std::vector<std::vector<unsigned int>> buckets;
     };
   } // namespace rhombic
 } // namespace forma
