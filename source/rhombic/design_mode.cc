@@ -16,7 +16,9 @@
 #include <forma/elasticity/parameters.h>
 #include <forma/elasticity/simulator.h>
 #include <forma/ipc/ipc_parameters.h>
+#include <forma/mesh/cut_grid_mesh.h>
 #include <forma/mesh/level_set_mesh.h>
+#include <forma/mesh/polygon_domain.h>
 #include <forma/rhombic/material_map.h>
 #include <forma/rhombic/study.h>
 #include <forma/rhombic/tiling.h>
@@ -27,6 +29,7 @@
 #include <iomanip>
 #include <map>
 #include <memory>
+#include <set>
 #include <tuple>
 
 namespace forma
@@ -39,58 +42,25 @@ namespace forma
     {
       constexpr double degrees = 180 / M_PI;
 
-      /// The tiled geometry: every cell's structure mapped onto its quad
-      /// (material dark), the quads outlined.
+      /// A level set's material {phi < 0} (dark) over the box [lo, hi].
       void
-      write_geometry_png(const std::string                   &file_name,
-                         const Triangulation<2, 2>           &tria,
-                         const std::vector<RhombicStructure> &structures,
-                         const int                            width = 1200)
+      write_level_set_png(const std::string &file_name,
+                          const std::function<double(const Point<2> &)> &phi,
+                          const Point<2>                                &lo,
+                          const Point<2>                                &hi,
+                          const int width = 1200)
       {
-        double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
-        for (const auto &cell : tria.active_cell_iterators())
-          for (unsigned int k = 0; k < 4; ++k)
-            for (unsigned int d = 0; d < 2; ++d)
-              {
-                lo[d] = std::min(lo[d], cell->vertex(k)[d]);
-                hi[d] = std::max(hi[d], cell->vertex(k)[d]);
-              }
         const int    margin = 10;
         const double scale  = (width - 2 * margin) / (hi[0] - lo[0]);
         const int    height =
           2 * margin + static_cast<int>(std::ceil((hi[1] - lo[1]) * scale));
         std::vector<unsigned char> rgb(3 * width * height, 255);
-        unsigned int               c = 0;
-        for (const auto &cell : tria.active_cell_iterators())
-          {
-            const auto v       = acute_first(quad_of_cell(cell));
-            const auto phi     = structures[c++].level_set();
-            double     b_lo[2] = {1e300, 1e300}, b_hi[2] = {-1e300, -1e300};
-            for (const Point<2> &p : v)
-              for (unsigned int d = 0; d < 2; ++d)
-                {
-                  b_lo[d] = std::min(b_lo[d], p[d]);
-                  b_hi[d] = std::max(b_hi[d], p[d]);
-                }
-            const int
-              x0 = std::max(0, int((b_lo[0] - lo[0]) * scale) + margin - 1),
-              x1 = std::min(width - 1,
-                            int((b_hi[0] - lo[0]) * scale) + margin + 1),
-              y0 = std::max(0, int((hi[1] - b_hi[1]) * scale) + margin - 1),
-              y1 = std::min(height - 1,
-                            int((hi[1] - b_lo[1]) * scale) + margin + 1);
-            for (int y = y0; y <= y1; ++y)
-              for (int x = x0; x <= x1; ++x)
-                {
-                  const Point<2> X(lo[0] + (x + 0.5 - margin) / scale,
-                                   hi[1] - (y + 0.5 - margin) / scale);
-                  Point<2>       xi;
-                  if (reference_point(v, X, xi) &&
-                      phi(Point<2>(RhombicStructure::side * xi)) < 0)
-                    for (unsigned int k = 0; k < 3; ++k)
-                      rgb[3 * (y * width + x) + k] = 40;
-                }
-          }
+        for (int y = 0; y < height; ++y)
+          for (int x = 0; x < width; ++x)
+            if (phi(Point<2>(lo[0] + (x + 0.5 - margin) / scale,
+                             hi[1] - (y + 0.5 - margin) / scale)) < 0)
+              for (unsigned int k = 0; k < 3; ++k)
+                rgb[3 * (y * width + x) + k] = 40;
         write_image_png(file_name, width, height, rgb);
       }
 
@@ -228,6 +198,149 @@ namespace forma
           v = std::max(v, h.c_E * m[0] + h.c_nu * m[1] - h.d);
         return v;
       }
+
+
+
+      using Region = std::vector<MaterialMap::HalfPlane>;
+
+      /**
+       * The (E, nu) pairs of one design block kept inside the map's
+       * coverage ('cell material' on the rhombic mesh; 'material', one body
+       * per square, on the cut grid): the map's grid box as bounds, the
+       * polygons D(alpha) as a soft penalty. `regions_of` gives each slot's
+       * polygon from the simulator's cell centers.
+       */
+      struct CoverageConstraint
+      {
+        std::string           block;
+        double                E_b;
+        double                weight;
+        std::array<double, 4> box; // E/E_b and nu: lo, hi, lo, hi
+        std::function<std::vector<const Region *>(
+          const std::vector<Point<2>> &)>
+          regions_of;
+
+        unsigned int                offset = 0; // of the block
+        std::vector<const Region *> regions;    // per slot, after setup
+
+        DesignConstraint
+        constraint()
+        {
+          DesignConstraint c;
+          c.setup = [this](const DesignLayout          &layout,
+                           const std::vector<Point<2>> &centers,
+                           std::vector<double>         &lower,
+                           std::vector<double>         &upper) {
+            const DesignBlock *b = layout.find(block);
+            AssertThrow(b != nullptr, ExcInternalError());
+            offset  = b->offset;
+            regions = regions_of(centers);
+            AssertThrow(2 * regions.size() == b->size, ExcInternalError());
+            for (unsigned int g = 0; g < regions.size(); ++g)
+              {
+                const unsigned int i = offset + 2 * g;
+                lower[i]             = std::max(lower[i], E_b * box[0]);
+                upper[i]             = std::min(upper[i], E_b * box[1]);
+                lower[i + 1]         = std::max(lower[i + 1], box[2]);
+                upper[i + 1]         = std::min(upper[i + 1], box[3]);
+              }
+          };
+          c.penalty = [this](const std::vector<double> &q,
+                             std::vector<double>       &dP) {
+            constexpr double tau = 0.01; // violation scale in (E/E_b, nu)
+            const double     w   = weight / regions.size();
+            double           P   = 0;
+            for (unsigned int g = 0; g < regions.size(); ++g)
+              {
+                const unsigned int    i    = offset + 2 * g;
+                std::array<double, 2> grad = {{0, 0}};
+                P += w * coverage_penalty({{q[i] / E_b, q[i + 1]}},
+                                          *regions[g],
+                                          tau,
+                                          grad);
+                dP[i] += w * grad[0] / E_b;
+                dP[i + 1] += w * grad[1];
+              }
+            return P;
+          };
+          return c;
+        }
+      };
+
+      /**
+       * The block's materials (E/E_b, nu) per slot: optimized for the
+       * macro problem in `context`, or `constant` ('E/E_b, nu') in every
+       * slot; then projected into their regions (`worst`: the largest
+       * distance moved, `outside`: how many moved). q becomes the design
+       * with the projected materials, what the structures are built for.
+       */
+      std::vector<std::array<double, 2>>
+      design_materials(CoverageConstraint         &coverage,
+                       const ElasticityParameters &parameters,
+                       ParameterHandler           &macro,
+                       RunContext                 &context,
+                       const std::string          &constant,
+                       std::vector<double>        &q,
+                       double                     &worst,
+                       unsigned int               &outside)
+      {
+        DesignConstraint constraint = coverage.constraint();
+        if (constant.empty())
+          q = run_elasticity_job(
+            "optimize", parameters, macro, context, &constraint);
+        else
+          {
+            const auto m = Utilities::split_string_list(constant);
+            AssertThrow(m.size() == 2,
+                        ExcMessage("Two-scale/Constant material: give "
+                                   "'E/E_b, nu', e.g. '0.05, 0.3'."));
+            LoadCases<2> probe(parameters, context.communicator());
+            probe.prepare(nullptr);
+            q = probe.design();
+            std::vector<double> lower(q.size()), upper(q.size());
+            constraint.setup(probe.design_layout(),
+                             probe[0].cell_centers(),
+                             lower,
+                             upper);
+            for (unsigned int g = 0; g < coverage.regions.size(); ++g)
+              {
+                q[coverage.offset + 2 * g] =
+                  coverage.E_b * Utilities::string_to_double(m[0]);
+                q[coverage.offset + 2 * g + 1] =
+                  Utilities::string_to_double(m[1]);
+              }
+          }
+        std::vector<std::array<double, 2>> materials;
+        worst   = 0;
+        outside = 0;
+        for (unsigned int g = 0; g < coverage.regions.size(); ++g)
+          {
+            const unsigned int          i = coverage.offset + 2 * g;
+            const std::array<double, 2> m = {{q[i] / coverage.E_b, q[i + 1]}};
+            const double                v = violation(m, *coverage.regions[g]);
+            worst                         = std::max(worst, v);
+            outside += v > 1e-6;
+            materials.push_back(project(m, *coverage.regions[g]));
+            q[i]     = coverage.E_b * materials.back()[0];
+            q[i + 1] = materials.back()[1];
+          }
+        return materials;
+      }
+
+      /// The macro problem solved for the design q.
+      std::unique_ptr<LoadCases<2>>
+      solved(const ElasticityParameters &parameters,
+             const std::vector<double>  &q,
+             const MPI_Comm              comm)
+      {
+        auto cases = std::make_unique<LoadCases<2>>(parameters, comm);
+        cases->prepare(nullptr);
+        if (!parameters.objective.terms.empty())
+          cases->set_objective(parameters.objective);
+        cases->set_design(q);
+        cases->solve_design();
+        return cases;
+      }
     } // namespace
 
 
@@ -249,6 +362,9 @@ namespace forma
       const std::string constant_material = prm.get("Constant material");
       const bool        check_moduli      = prm.get_bool("Check cell moduli");
       const bool        fine_simulation = prm.get_bool("Fine-scale simulation");
+      std::set<std::string> baselines;
+      for (const auto &b : Utilities::split_string_list(prm.get("Baselines")))
+        baselines.insert(b);
       prm.leave_subsection();
       if (!macro_file.empty() && macro_file[0] != '/')
         macro_file = prm_directory + "/" + macro_file;
@@ -268,7 +384,8 @@ namespace forma
       Triangulation<2, 2> tria;
       const QuadMeshShape shape =
         make_rhombic_mesh(prm, prm_directory, context, tria);
-      const std::string mesh_file = context.path("rhombic_mesh.msh");
+      const std::string   mesh_file = context.path("rhombic_mesh.msh");
+      const PolygonDomain domain    = PolygonDomain::boundary_of(tria);
       MPI_Barrier(context.communicator()); // the root wrote it
 
       // Each quad's angle, clamped to the map's range, and its region D.
@@ -316,93 +433,63 @@ namespace forma
       parameters.mesh.convert_to_simplices = false; // cells are the quads
 
       // The simulator numbers cells its own way: match them by center.
-      std::vector<unsigned int> quad_of;
-      const double              E_b = setup.base.E;
-      const double E_lo = E_b * map.E.front(), E_hi = E_b * map.E.back();
-      const double nu_lo      = map.nu.front() + setup.base.nu * map.E.front(),
-                   nu_hi      = map.nu.back() + setup.base.nu * map.E.back();
-      constexpr double tau    = 0.01; // violation scale in (E/E_b, nu)
-      unsigned int     offset = 0;    // of the cell material block
-      DesignConstraint constraint;
-      constraint.setup = [&](const DesignLayout          &layout,
-                             const std::vector<Point<2>> &simulator_centers,
-                             std::vector<double>         &lower,
-                             std::vector<double>         &upper) {
-        const DesignBlock *b = layout.find("cell material");
-        offset               = b->offset;
-        AssertThrow(simulator_centers.size() == n_cells,
-                    ExcMessage("Two-scale/Macro problem: its mesh must be the "
-                               "rhombic quad mesh, cell for cell (no "
-                               "refinement or adaptivity)."));
-        quad_of.assign(simulator_centers.size(), 0);
-        std::vector<bool> matched(n_cells, false);
-        for (unsigned int g = 0; g < simulator_centers.size(); ++g)
-          {
-            double best = 1e300;
-            for (unsigned int c = 0; c < n_cells; ++c)
-              if (centers[c].distance_square(simulator_centers[g]) < best)
-                {
-                  best       = centers[c].distance_square(simulator_centers[g]);
-                  quad_of[g] = c;
-                }
-            AssertThrow(best < 1e-10 * tria.begin_active()->measure() &&
-                          !matched[quad_of[g]],
-                        ExcMessage("Two-scale: a cell of the macro problem "
-                                   "matches no quad of the rhombic mesh."));
-            matched[quad_of[g]]      = true;
-            lower[b->offset + 2 * g] = std::max(lower[b->offset + 2 * g], E_lo);
-            upper[b->offset + 2 * g] = std::min(upper[b->offset + 2 * g], E_hi);
-            lower[b->offset + 2 * g + 1] =
-              std::max(lower[b->offset + 2 * g + 1], nu_lo);
-            upper[b->offset + 2 * g + 1] =
-              std::min(upper[b->offset + 2 * g + 1], nu_hi);
-          }
-      };
-      constraint.penalty = [&](const std::vector<double> &q,
-                               std::vector<double>       &dP) {
-        const double w = coverage_weight / quad_of.size();
-        double       P = 0;
-        for (unsigned int g = 0; g < quad_of.size(); ++g)
-          {
-            std::array<double, 2> grad = {{0, 0}};
-            P += w * coverage_penalty({{q[offset + 2 * g] / E_b,
-                                        q[offset + 2 * g + 1]}},
-                                      region[quad_of[g]],
-                                      tau,
-                                      grad);
-            dP[offset + 2 * g] += w * grad[0] / E_b;
-            dP[offset + 2 * g + 1] += w * grad[1];
-          }
-        return P;
-      };
-      std::vector<double> q;
-      if (constant_material.empty())
-        {
-          context.print("material optimization on the rhombic mesh (" +
-                        std::to_string(n_cells) + " cells)");
-          q = run_elasticity_job(
-            "optimize", parameters, macro, context, &constraint);
-        }
-      else
-        {
-          // One material everywhere (e.g. mesh independence, Fig. 4.25).
-          const auto m = Utilities::split_string_list(constant_material);
-          AssertThrow(m.size() == 2,
-                      ExcMessage("Two-scale/Constant material: give "
-                                 "'E/E_b, nu', e.g. '0.05, 0.3'."));
-          LoadCases<2> probe(parameters, context.communicator());
-          probe.prepare(nullptr);
-          q = probe.design();
-          std::vector<double> lower(q.size()), upper(q.size());
-          constraint.setup(probe.design_layout(),
-                           probe[0].cell_centers(),
-                           lower,
-                           upper);
-          for (unsigned int g = 0; g < quad_of.size(); ++g)
+      std::vector<unsigned int>   quad_of;
+      const double                E_b = setup.base.E;
+      const std::array<double, 4> box = {
+        {map.E.front(),
+         map.E.back(),
+         map.nu.front() + setup.base.nu * map.E.front(),
+         map.nu.back() + setup.base.nu * map.E.back()}};
+      CoverageConstraint coverage{
+        "cell material",
+        E_b,
+        coverage_weight,
+        box,
+        [&](const std::vector<Point<2>> &simulator_centers) {
+          AssertThrow(simulator_centers.size() == n_cells,
+                      ExcMessage("Two-scale/Macro problem: its mesh must be "
+                                 "the rhombic quad mesh, cell for cell (no "
+                                 "refinement or adaptivity)."));
+          quad_of.assign(n_cells, 0);
+          std::vector<bool>           matched(n_cells, false);
+          std::vector<const Region *> regions;
+          for (unsigned int g = 0; g < n_cells; ++g)
             {
-              q[offset + 2 * g]     = E_b * Utilities::string_to_double(m[0]);
-              q[offset + 2 * g + 1] = Utilities::string_to_double(m[1]);
+              double best = 1e300;
+              for (unsigned int c = 0; c < n_cells; ++c)
+                if (centers[c].distance_square(simulator_centers[g]) < best)
+                  {
+                    best = centers[c].distance_square(simulator_centers[g]);
+                    quad_of[g] = c;
+                  }
+              AssertThrow(best < 1e-10 * tria.begin_active()->measure() &&
+                            !matched[quad_of[g]],
+                          ExcMessage("Two-scale: a cell of the macro problem "
+                                     "matches no quad of the rhombic mesh."));
+              matched[quad_of[g]] = true;
+              regions.push_back(&region[quad_of[g]]);
             }
+          return regions;
+        },
+        0,
+        {}};
+      if (constant_material.empty())
+        context.print("material optimization on the rhombic mesh (" +
+                      std::to_string(n_cells) + " cells)");
+      std::vector<double> q;
+      double              worst     = 0;
+      unsigned int        outside   = 0;
+      const auto          materials = design_materials(coverage,
+                                              parameters,
+                                              macro,
+                                              context,
+                                              constant_material,
+                                              q,
+                                              worst,
+                                              outside);
+      if (!constant_material.empty())
+        {
+          const auto m = Utilities::split_string_list(constant_material);
           context.print("constant material E/E_b = " + m[0] + ", nu = " + m[1] +
                         " in all " + std::to_string(n_cells) + " cells");
         }
@@ -412,26 +499,14 @@ namespace forma
       // 3. Each cell's structure from the map (ch. 4.6), inside D(alpha).
       std::vector<RhombicStructure> structures(n_cells);
       std::vector<double>           E(n_cells), nu(n_cells);
-      double                        worst   = 0;
-      unsigned int                  outside = 0;
-      for (unsigned int g = 0; g < quad_of.size(); ++g)
+      for (unsigned int g = 0; g < n_cells; ++g)
         {
-          const unsigned int          c = quad_of[g];
-          const std::array<double, 2> m = {
-            {q[offset + 2 * g] / E_b, q[offset + 2 * g + 1]}};
-          const double v = violation(m, region[c]);
-          worst          = std::max(worst, v);
-          outside += v > 1e-6;
-          const auto p = project(m, region[c]);
-          E[c]         = p[0];
-          nu[c]        = p[1];
-          bool inside  = false;
+          const unsigned int c = quad_of[g];
+          E[c]                 = materials[g][0];
+          nu[c]                = materials[g][1];
+          bool inside          = false;
           structures[c] =
             map.query(E[c], nu[c], alpha[c], setup.base.nu, inside);
-          // The homogenized reference gets the materials the cells are
-          // built for.
-          q[offset + 2 * g]     = E_b * E[c];
-          q[offset + 2 * g + 1] = nu[c];
         }
       context.print("materials: E/E_b " +
                     sig(*std::min_element(E.begin(), E.end()), 3) + "-" +
@@ -490,211 +565,319 @@ namespace forma
       // compared boundary.
       // The family against the baseline of ch. 4.8 (Fig. 4.22): structures
       // made for squares (the map at 90 degrees) mapped onto the quads.
-      std::unique_ptr<LoadCases<2>> homogenized;
-      const auto fine_scale = [&](const std::vector<RhombicStructure> &tiles,
-                                  const std::string                   &name) {
-        if (!homogenized)
-          {
-            homogenized =
-              std::make_unique<LoadCases<2>>(parameters,
-                                             context.communicator());
-            homogenized->prepare(nullptr);
-            if (!parameters.objective.terms.empty())
-              homogenized->set_objective(parameters.objective);
-            homogenized->set_design(q);
-            homogenized->solve_design();
-          }
-        double h = 0;
-        for (const auto &cell : tria.active_cell_iterators())
-          h += std::sqrt(cell->measure()) / n_cells;
-        const TiledObject      object(quads_of(tria), tiles);
-        LevelSetMeshParameters fine;
-        fine.size                = fine_size * h;
-        fine.boundary_size       = fine_boundary_size * h;
-        const Tensor<1, 2> pad   = Tensor<1, 2>({0.25 * h, 0.25 * h});
-        const Point<2>     lower = object.lo - pad, upper = object.hi + pad;
-        fine.grid = std::min<unsigned int>(
-          8192,
-          static_cast<unsigned int>(std::ceil(
-            std::max(upper[0] - lower[0], upper[1] - lower[1]) / (0.02 * h))));
-        Triangulation<2> fine_tria;
-        LevelSetMeshInfo info;
-        level_set_mesh(object,
-                       lower,
-                       upper,
-                       fine,
-                       fine_tria,
-                       context.communicator(),
-                       &info,
-                       "fine-scale geometry (" + name + ")");
-        // Boundary ids from the quad mesh's boundary; holes: free.
-        std::vector<std::tuple<Point<2>, Point<2>, types::boundary_id>> ids;
-        for (const auto &cell : tria.active_cell_iterators())
-          for (const unsigned int f : cell->face_indices())
-            if (cell->face(f)->at_boundary())
-              ids.emplace_back(cell->face(f)->vertex(0),
-                               cell->face(f)->vertex(1),
-                               cell->face(f)->boundary_id());
-        // Holes get an id the quad mesh does not use: free.
-        types::boundary_id free_id = 0;
-        for (const auto &[a, b, i] : ids)
-          free_id = std::max<types::boundary_id>(free_id, i + 1);
-        std::map<unsigned int, Point<2>> compared_points;
-        for (const auto &cell : fine_tria.active_cell_iterators())
-          for (const unsigned int f : cell->face_indices())
-            if (cell->face(f)->at_boundary())
-              {
-                const Point<2>     c    = cell->face(f)->center();
-                types::boundary_id id   = free_id;
-                double             best = 1e-3 * h;
-                for (const auto &[a, b, i] : ids)
-                  {
-                    const Tensor<1, 2> e = b - a;
-                    const double t = std::clamp((c - a) * e / (e * e), 0., 1.);
-                    const double d = c.distance(a + t * e);
-                    if (d < best)
-                      {
-                        best = d;
-                        id   = i;
-                      }
-                  }
-                cell->face(f)->set_boundary_id(id);
-                // Vertices of the compared boundary, nudged into their
-                // cell: on the boundary up to round-off, they could fall
-                // just outside the other mesh.
-                if (static_cast<int>(id) == compared_boundary)
-                  for (unsigned int v = 0; v < 2; ++v)
-                    {
-                      const Point<2> x = cell->face(f)->vertex(v);
-                      compared_points[cell->face(f)->vertex_index(v)] =
-                        x + 1e-6 * (cell->center() - x);
-                    }
-              }
-        AssertThrow(!compared_points.empty(),
-                    ExcMessage("Two-scale/Compared boundary: no part of "
-                               "the fine-scale geometry lies on boundary " +
-                               std::to_string(compared_boundary) + "."));
-        const std::string fine_file =
-          context.path("fine_mesh_" + name + ".msh");
-        if (context.is_root())
-          {
-            std::ofstream msh(fine_file);
-            msh << std::setprecision(17); // read back by the simulator
-            GridOut out;
-            out.set_flags(GridOutFlags::Msh(/*write_faces=*/true));
-            out.write_msh(fine_tria, msh);
-          }
-        MPI_Barrier(context.communicator());
-        lap("fine mesh, " + name);
-        context.summary["fine_scale"][name] = {
-          {"triangles", fine_tria.n_active_cells()},
-          {"dropped_islands", info.dropped_islands}};
-        if (!fine_simulation)
-          {
-            context.log("fine scale, " + name + ": " +
-                        std::to_string(fine_tria.n_active_cells()) +
-                        " triangles (not simulated)");
-            return;
-          }
-
-        ElasticityParameters fp = parameters;
-        fp.mesh.file            = fine_file;
-        fp.mesh.file_as_given   = "fine_mesh_" + name + ".msh";
-        fp.bodies = "* : E = " + Utilities::to_string(setup.base.E, 17) +
-                    ", nu = " + Utilities::to_string(setup.base.nu, 17);
-        {
-          std::map<types::boundary_id, double> macro_length, fine_length;
-          for (const auto &cell : tria.active_cell_iterators())
-            for (const unsigned int f : cell->face_indices())
-              if (cell->face(f)->at_boundary())
-                macro_length[cell->face(f)->boundary_id()] +=
-                  cell->face(f)->measure();
+      double h = 0; // the quads' mean size
+      for (const auto &cell : tria.active_cell_iterators())
+        h += std::sqrt(cell->measure()) / n_cells;
+      const auto fine_scale =
+        [&](const std::function<double(const Point<2> &)> &object,
+            const Point<2>                                &object_lo,
+            const Point<2>                                &object_hi,
+            const std::string                             &name,
+            LoadCases<2>                                  &homogenized) {
+          LevelSetMeshParameters fine;
+          fine.size                = fine_size * h;
+          fine.boundary_size       = fine_boundary_size * h;
+          const Tensor<1, 2> pad   = Tensor<1, 2>({0.25 * h, 0.25 * h});
+          const Point<2>     lower = object_lo - pad, upper = object_hi + pad;
+          fine.grid = std::min<unsigned int>(
+            8192,
+            static_cast<unsigned int>(
+              std::ceil(std::max(upper[0] - lower[0], upper[1] - lower[1]) /
+                        (0.02 * h))));
+          Triangulation<2> fine_tria;
+          LevelSetMeshInfo info;
+          level_set_mesh(object,
+                         lower,
+                         upper,
+                         fine,
+                         fine_tria,
+                         context.communicator(),
+                         &info,
+                         "fine-scale geometry (" + name + ")");
+          // Boundary ids from the outline; holes get an id it does not use:
+          // free.
+          types::boundary_id free_id = 0;
+          for (const auto &loop : domain.loops)
+            for (const types::boundary_id i : loop.ids)
+              free_id = std::max<types::boundary_id>(free_id, i + 1);
+          std::map<unsigned int, Point<2>> compared_points;
           for (const auto &cell : fine_tria.active_cell_iterators())
             for (const unsigned int f : cell->face_indices())
               if (cell->face(f)->at_boundary())
-                fine_length[cell->face(f)->boundary_id()] +=
-                  cell->face(f)->measure();
-          std::map<types::boundary_id, double> factor;
-          for (const auto &[id, l] : fine_length)
-            if (macro_length.count(id))
-              factor[id] = macro_length[id] / l;
-          // The check uses the first load case (what homogenized[0] has).
-          if (!fp.load_cases.empty())
-            fp.traction = Utilities::split_string_list(fp.load_cases, '|')[0];
-          fp.load_cases.clear();
-          fp.traction = scale_boundary_records(fp.traction, factor);
-          fp.pressure = scale_boundary_records(fp.pressure, factor);
-        }
-        fp.design.blocks.clear();
-        fp.objective.terms = "";
-        fp.write_vtu       = true;
-        fp.points          = "";
-        ElasticitySimulator<2> fine_simulator(fp, context.communicator());
-        {
-          // Its VTU, PVD and summary in a subdirectory of the results.
-          RunContext fine_context(context.communicator(),
-                                  context.path("fine_scale_" + name));
-          fine_context.quiet = true;
-          fine_simulator.run(&fine_context);
-          fine_context.commit();
-        }
-        // Collective: every rank gathers, the root draws.
-        const DeformedCells fine_cells =
-          fine_simulator.cell_vertex_displacements();
-        const DeformedCells homogenized_cells =
-          (*homogenized)[0].cell_vertex_displacements();
-        if (context.is_root())
-          write_deformation_png(context.path("fine_scale_" + name + ".png"),
-                                fine_cells,
-                                homogenized_cells);
+                {
+                  const types::boundary_id id =
+                    domain.boundary_id(cell->face(f)->center(),
+                                       1e-3 * h,
+                                       free_id);
+                  cell->face(f)->set_boundary_id(id);
+                  // Vertices of the compared boundary, nudged into their
+                  // cell: on the boundary up to round-off, they could fall
+                  // just outside the other mesh.
+                  if (static_cast<int>(id) == compared_boundary)
+                    for (unsigned int v = 0; v < 2; ++v)
+                      {
+                        const Point<2> x = cell->face(f)->vertex(v);
+                        compared_points[cell->face(f)->vertex_index(v)] =
+                          x + 1e-6 * (cell->center() - x);
+                      }
+                }
+          AssertThrow(!compared_points.empty(),
+                      ExcMessage("Two-scale/Compared boundary: no part of "
+                                 "the fine-scale geometry lies on boundary " +
+                                 std::to_string(compared_boundary) + "."));
+          const std::string fine_file =
+            context.path("fine_mesh_" + name + ".msh");
+          if (context.is_root())
+            {
+              std::ofstream msh(fine_file);
+              msh << std::setprecision(17); // read back by the simulator
+              GridOut out;
+              out.set_flags(GridOutFlags::Msh(/*write_faces=*/true));
+              out.write_msh(fine_tria, msh);
+            }
+          MPI_Barrier(context.communicator());
+          lap("fine mesh, " + name);
+          context.summary["fine_scale"][name] = {
+            {"triangles", fine_tria.n_active_cells()},
+            {"dropped_islands", info.dropped_islands}};
+          if (!fine_simulation)
+            {
+              context.log("fine scale, " + name + ": " +
+                          std::to_string(fine_tria.n_active_cells()) +
+                          " triangles (not simulated)");
+              return;
+            }
 
-        double mean = 0, worst_error = 0, largest = 0;
-        for (const auto &[v, x] : compared_points)
+          ElasticityParameters fp = parameters;
+          fp.mesh.file            = fine_file;
+          fp.mesh.file_as_given   = "fine_mesh_" + name + ".msh";
+          fp.bodies = "* : E = " + Utilities::to_string(setup.base.E, 17) +
+                      ", nu = " + Utilities::to_string(setup.base.nu, 17);
           {
-            const Tensor<1, 2> uf = fine_simulator.point_displacement(x);
-            const Tensor<1, 2> uh = (*homogenized)[0].point_displacement(x);
-            mean += (uf - uh).norm() / compared_points.size();
-            worst_error = std::max(worst_error, (uf - uh).norm());
-            largest     = std::max(largest, uh.norm());
+            std::map<types::boundary_id, double> fine_length;
+            for (const auto &cell : fine_tria.active_cell_iterators())
+              for (const unsigned int f : cell->face_indices())
+                if (cell->face(f)->at_boundary())
+                  fine_length[cell->face(f)->boundary_id()] +=
+                    cell->face(f)->measure();
+            std::map<types::boundary_id, double> factor;
+            for (const auto &[id, l] : fine_length)
+              if (domain.length(id) > 0)
+                factor[id] = domain.length(id) / l;
+            // The check uses the first load case (what homogenized[0] has).
+            if (!fp.load_cases.empty())
+              fp.traction = Utilities::split_string_list(fp.load_cases, '|')[0];
+            fp.load_cases.clear();
+            fp.traction = scale_boundary_records(fp.traction, factor);
+            fp.pressure = scale_boundary_records(fp.pressure, factor);
           }
-        AssertThrow(largest > 0,
-                    ExcMessage("Two-scale/Compared boundary " +
-                               std::to_string(compared_boundary) +
-                               " does not move in the homogenized "
-                               "solution: compare where it deforms."));
-        // Mesh sizes and the third digit change with round-off in the
-        // contours: the log has them, stdout two digits.
-        context.log("fine scale, " + name + ": " +
-                    std::to_string(fine_tria.n_active_cells()) +
-                    " triangles, " + std::to_string(fine_simulator.n_dofs()) +
-                    " dofs, mean error " + sig(mean / largest, 4) + ", max " +
-                    sig(worst_error / largest, 4));
-        context.print("fine scale, " + name + ": on boundary " +
-                      std::to_string(compared_boundary) +
-                      " |u_fine - u_homogenized| / max |u_homogenized|: mean " +
-                      sig(mean / largest, 2) + ", max " +
-                      sig(worst_error / largest, 2));
-        lap("fine solve, " + name);
-        context.summary["fine_scale"][name] = {
-          {"triangles", fine_tria.n_active_cells()},
-          {"dofs", fine_simulator.n_dofs()},
-          {"dropped_islands", info.dropped_islands},
-          {"compared_boundary", compared_boundary},
-          {"compared_points", compared_points.size()},
-          {"max_homogenized_displacement", largest},
-          {"mean_relative_error", mean / largest},
-          {"max_relative_error", worst_error / largest}};
-      };
+          fp.design.blocks.clear();
+          fp.objective.terms = "";
+          fp.write_vtu       = true;
+          fp.points          = "";
+          ElasticitySimulator<2> fine_simulator(fp, context.communicator());
+          {
+            // Its VTU, PVD and summary in a subdirectory of the results.
+            RunContext fine_context(context.communicator(),
+                                    context.path("fine_scale_" + name));
+            fine_context.quiet = true;
+            fine_simulator.run(&fine_context);
+            fine_context.commit();
+          }
+          // Collective: every rank gathers, the root draws.
+          const DeformedCells fine_cells =
+            fine_simulator.cell_vertex_displacements();
+          const DeformedCells homogenized_cells =
+            homogenized[0].cell_vertex_displacements();
+          if (context.is_root())
+            write_deformation_png(context.path("fine_scale_" + name + ".png"),
+                                  fine_cells,
+                                  homogenized_cells);
+
+          double mean = 0, worst_error = 0, largest = 0;
+          for (const auto &[v, x] : compared_points)
+            {
+              const Tensor<1, 2> uf = fine_simulator.point_displacement(x);
+              const Tensor<1, 2> uh = homogenized[0].point_displacement(x);
+              mean += (uf - uh).norm() / compared_points.size();
+              worst_error = std::max(worst_error, (uf - uh).norm());
+              largest     = std::max(largest, uh.norm());
+            }
+          AssertThrow(largest > 0,
+                      ExcMessage("Two-scale/Compared boundary " +
+                                 std::to_string(compared_boundary) +
+                                 " does not move in the homogenized "
+                                 "solution: compare where it deforms."));
+          // Mesh sizes and the third digit change with round-off in the
+          // contours: the log has them, stdout two digits.
+          context.log("fine scale, " + name + ": " +
+                      std::to_string(fine_tria.n_active_cells()) +
+                      " triangles, " + std::to_string(fine_simulator.n_dofs()) +
+                      " dofs, mean error " + sig(mean / largest, 4) + ", max " +
+                      sig(worst_error / largest, 4));
+          context.print(
+            "fine scale, " + name + ": on boundary " +
+            std::to_string(compared_boundary) +
+            " |u_fine - u_homogenized| / max |u_homogenized|: mean " +
+            sig(mean / largest, 2) + ", max " + sig(worst_error / largest, 2));
+          lap("fine solve, " + name);
+          context.summary["fine_scale"][name] = {
+            {"triangles", fine_tria.n_active_cells()},
+            {"dofs", fine_simulator.n_dofs()},
+            {"dropped_islands", info.dropped_islands},
+            {"compared_boundary", compared_boundary},
+            {"compared_points", compared_points.size()},
+            {"max_homogenized_displacement", largest},
+            {"mean_relative_error", mean / largest},
+            {"max_relative_error", worst_error / largest}};
+        };
+      const TiledObject tiled(quads_of(tria), structures);
+      const auto tiled_phi = [&tiled](const Point<2> &x) { return tiled(x); };
       if (fine_check)
         {
-          fine_scale(structures, "family");
-          std::vector<RhombicStructure> squares(n_cells);
-          for (unsigned int c = 0; c < n_cells; ++c)
+          // The family, then the baselines of ch. 4.8, each against its own
+          // homogenized solution.
+          const auto homogenized =
+            solved(parameters, q, context.communicator());
+          fine_scale(tiled_phi, tiled.lo, tiled.hi, "family", *homogenized);
+          if (baselines.count("remapped square"))
             {
-              bool inside = false;
-              squares[c]  = map.query(E[c], nu[c], 90, setup.base.nu, inside);
+              // Fig. 4.22: structures made for squares on the same quads.
+              std::vector<RhombicStructure> squares(n_cells);
+              for (unsigned int c = 0; c < n_cells; ++c)
+                {
+                  bool inside = false;
+                  squares[c] =
+                    map.query(E[c], nu[c], 90, setup.base.nu, inside);
+                }
+              const TiledObject remapped(quads_of(tria), squares);
+              fine_scale([&remapped](const Point<2> &x) { return remapped(x); },
+                         remapped.lo,
+                         remapped.hi,
+                         "remapped_square",
+                         *homogenized);
             }
-          fine_scale(squares, "remapped_square");
+        }
+      if (fine_check && baselines.count("cut grid"))
+        {
+          // Fig. 4.20: a regular grid of squares with the rhombic mesh's
+          // mean edge, cut by the outline; its materials optimized for the
+          // same macro problem, each square given its square structure, the
+          // geometry cropped by the outline.
+          double       edge    = 0;
+          unsigned int n_edges = 0;
+          for (const auto &face : tria.active_face_iterators())
+            {
+              edge += face->measure();
+              ++n_edges;
+            }
+          edge /= n_edges;
+          Triangulation<2>      cut_tria;
+          std::vector<Point<2>> corners;
+          cut_grid_mesh(domain,
+                        domain.lo,
+                        edge,
+                        0.5 * edge,
+                        cut_tria,
+                        corners,
+                        context.communicator());
+          const std::string cut_file = context.path("cut_grid_mesh.msh");
+          if (context.is_root())
+            {
+              std::ofstream msh(cut_file);
+              msh << std::setprecision(17);
+              GridOut out;
+              out.set_flags(GridOutFlags::Msh(/*write_faces=*/true));
+              out.write_msh(cut_tria, msh);
+            }
+          MPI_Barrier(context.communicator());
+          ElasticityParameters cut  = parameters;
+          cut.mesh.file             = cut_file;
+          cut.mesh.file_as_given    = "cut_grid_mesh.msh";
+          cut.design.blocks         = {"material"};
+          cut.design.bodies         = "";
+          const Region       square = map.coverage(90, setup.base.nu);
+          CoverageConstraint cut_coverage{"material",
+                                          E_b,
+                                          coverage_weight,
+                                          box,
+                                          [&](const std::vector<Point<2>> &) {
+                                            return std::vector<const Region *>(
+                                              corners.size(), &square);
+                                          },
+                                          0,
+                                          {}};
+          context.print(
+            "cut grid: " + std::to_string(corners.size()) +
+            " squares of side " + sig(edge, 3) +
+            " (the rhombic mesh's mean edge)" +
+            (constant_material.empty() ? "; materials optimized on them" : ""));
+          std::vector<double>                q_cut;
+          double                             cut_worst   = 0;
+          unsigned int                       cut_outside = 0;
+          std::vector<std::array<double, 2>> cut_materials;
+          nlohmann::json                     cut_summary;
+          {
+            // Its optimization history, VTU and convergence plot apart.
+            RunContext cut_context(context.communicator(),
+                                   context.path("cut_grid"));
+            cut_context.quiet = true;
+            cut_materials     = design_materials(cut_coverage,
+                                             cut,
+                                             macro,
+                                             cut_context,
+                                             constant_material,
+                                             q_cut,
+                                             cut_worst,
+                                             cut_outside);
+            cut_summary       = cut_context.summary;
+            cut_context.commit();
+          }
+          context.log("cut grid: " + std::to_string(cut_tria.n_active_cells()) +
+                      " triangles; " + std::to_string(cut_outside) +
+                      " squares projected into the coverage (largest "
+                      "distance " +
+                      sig(cut_worst, 2) + ")");
+          lap("cut grid materials");
+          std::vector<Quad>             quads;
+          std::vector<RhombicStructure> tiles;
+          for (unsigned int k = 0; k < corners.size(); ++k)
+            {
+              const Point<2> &o = corners[k];
+              quads.push_back({{o,
+                                o + Tensor<1, 2>({edge, 0.}),
+                                o + Tensor<1, 2>({0., edge}),
+                                o + Tensor<1, 2>({edge, edge})}});
+              bool inside = false;
+              tiles.push_back(map.query(cut_materials[k][0],
+                                        cut_materials[k][1],
+                                        90,
+                                        setup.base.nu,
+                                        inside));
+            }
+          const TiledObject grid(quads, tiles);
+          const auto        cropped = [&](const Point<2> &x) {
+            return std::max(grid(x), domain.signed_distance(x));
+          };
+          fine_scale(cropped,
+                     domain.lo,
+                     domain.hi,
+                     "cut_grid",
+                     *solved(cut, q_cut, context.communicator()));
+          context.summary["cut_grid"] = {
+            {"squares", corners.size()},
+            {"side", edge},
+            {"triangles", cut_tria.n_active_cells()},
+            {"projected_squares", cut_outside},
+            {"largest_coverage_violation", cut_worst}};
+          if (cut_summary.count("final_objective"))
+            context.summary["cut_grid"]["final_objective"] =
+              cut_summary["final_objective"];
+          if (context.is_root())
+            write_level_set_png(context.path("cut_grid_geometry.png"),
+                                cropped,
+                                domain.lo,
+                                domain.hi);
         }
       context.summary["seconds"] = seconds;
 
@@ -723,9 +906,12 @@ namespace forma
           write_cell_field_png(context.path("material_nu.png"),
                                tria,
                                nu,
-                               {{nu_lo, nu_hi}},
+                               {{box[2], box[3]}},
                                "Poisson ratio nu (cell materials)");
-          write_geometry_png(context.path("geometry.png"), tria, structures);
+          write_level_set_png(context.path("geometry.png"),
+                              tiled_phi,
+                              tiled.lo,
+                              tiled.hi);
           Vector<double> vE(E.begin(), E.end()), vnu(nu.begin(), nu.end()),
             va(alpha.begin(), alpha.end());
           DataOut<2> out;

@@ -437,6 +437,16 @@ namespace forma
                         "Boundary id (of the Quad mesh file) where the "
                         "fine-scale and homogenized displacements are "
                         "compared (e.g. the objective's target boundary).");
+      prm.declare_entry(
+        "Baselines",
+        "remapped square",
+        Patterns::MultipleSelection("remapped square|cut grid"),
+        "Fine-scale checks of the thesis's baselines (ch. 4.8) besides the "
+        "family: 'remapped square' puts the structures made for squares on "
+        "the same quads (Fig. 4.22); 'cut grid' optimizes the materials "
+        "again on a regular grid of squares (side: the rhombic mesh's mean "
+        "edge) cut by the object's outline, gives each square its square "
+        "structure and crops the geometry by the outline (Fig. 4.20).");
       prm.declare_entry("Fine element size",
                         "0.1",
                         Patterns::Double(0),

@@ -1,0 +1,79 @@
+#ifndef forma_mesh_polygon_domain_h
+#define forma_mesh_polygon_domain_h
+
+#include <deal.II/base/point.h>
+#include <deal.II/base/types.h>
+
+#include <vector>
+
+namespace dealii
+{
+  template <int dim, int spacedim>
+  class Triangulation;
+}
+
+namespace forma
+{
+  /**
+   * A 2D domain bounded by closed polygons (outer boundaries and holes, in
+   * any orientation), each side carrying a boundary id: the outline of a
+   * mesh, for the operations that need the domain rather than its cells
+   * (signed distance, inside test, boundary ids of another mesh of the same
+   * domain).
+   */
+  class PolygonDomain
+  {
+  public:
+    struct Segment
+    {
+      dealii::Point<2>           a, b;
+      dealii::types::boundary_id id;
+    };
+
+    /// Segments that chain into closed loops (shared end points equal up
+    /// to round-off); throws if a loop does not close.
+    explicit PolygonDomain(const std::vector<Segment> &segments);
+
+    /// The boundary faces of a 2D mesh.
+    static PolygonDomain
+    boundary_of(const dealii::Triangulation<2, 2> &tria);
+
+    /// Crossing-number test (even-odd over all loops).
+    bool
+    inside(const dealii::Point<2> &x) const;
+
+    /// Negative inside, positive outside.
+    double
+    signed_distance(const dealii::Point<2> &x) const;
+
+    /// The id of the closest side if it is nearer than `tolerance`, else
+    /// `otherwise`.
+    dealii::types::boundary_id
+    boundary_id(const dealii::Point<2>          &x,
+                const double                     tolerance,
+                const dealii::types::boundary_id otherwise) const;
+
+    /// The loops as vertex lists, each with its sides' ids (side k joins
+    /// vertex k and k + 1), and whether it bounds a hole (lies inside an
+    /// odd number of other loops).
+    struct Loop
+    {
+      std::vector<dealii::Point<2>>           vertices;
+      std::vector<dealii::types::boundary_id> ids;
+      bool                                    hole = false;
+    };
+    std::vector<Loop> loops;
+
+    /// Bounding box.
+    dealii::Point<2> lo, hi;
+
+    /// Sum of the side lengths per boundary id.
+    double
+    length(const dealii::types::boundary_id id) const;
+
+  private:
+    std::vector<Segment> segments;
+  };
+} // namespace forma
+
+#endif
