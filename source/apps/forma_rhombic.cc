@@ -6,6 +6,7 @@
 
 #include <forma/base/application.h>
 #include <forma/base/run_context.h>
+#include <forma/rhombic/pointwise_table.h>
 #include <forma/rhombic/study.h>
 
 namespace
@@ -37,6 +38,8 @@ namespace
       compound_cell_mode(prm, prm_directory, setup, context);
     else if (mode == "two-scale design")
       two_scale_design_mode(prm, prm_directory, setup, context);
+    else if (mode == "pointwise table")
+      pointwise_table_mode(prm, setup, context);
     else if (mode == "query")
       query_mode(prm, prm_directory, setup, context);
     else
@@ -59,7 +62,8 @@ main(int argc, char **argv)
                      "query",
                      "rhombic mesh",
                      "two-scale design",
-                     "compound cell"};
+                     "compound cell",
+                     "pointwise table"};
   app.declare_parameters = declare_parameters;
   app.run                = run;
   return forma::run_application(argc, argv, app);

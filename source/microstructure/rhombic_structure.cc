@@ -134,8 +134,8 @@ namespace forma
 
   template <typename Number>
   InflationGraph<Number>
-  RhombicStructure::graph(
-    const std::array<Number, n_parameters> &parameters) const
+  RhombicStructure::graph(const std::array<Number, n_parameters> &parameters,
+                          const std::array<double, 4> &side_radii) const
   {
     RhombicStructure checked = *this;
     for (unsigned int i = 0; i < n_parameters; ++i)
@@ -157,6 +157,8 @@ namespace forma
     double r_max = 0;
     for (unsigned int i = 4; i < 8; ++i)
       r_max = std::max(r_max, val(q[i]));
+    for (const double r : side_radii)
+      r_max = std::max(r_max, r);
     const double pad =
       r_max + 20 * InflationGraph<Number>::max_modulation * blending;
     Point<2> lo(1e30, 1e30), hi(-1e30, -1e30);
@@ -183,7 +185,16 @@ namespace forma
         if (keys[i].distance(key) < 1e-10)
           return i;
       keys.push_back(key);
-      vertices.push_back(Vertex{x, radius, blending});
+      // A side joint of this cell (reference (1, 0), (2, 1), (1, 2),
+      // (0, 1)) may have a radius of its own.
+      Number                        r = radius;
+      const Point<2>                u(val(u_ref[0]) + 1., val(u_ref[1]) + 1.);
+      const std::array<Point<2>, 4> midpoints = {
+        {Point<2>(1, 0), Point<2>(2, 1), Point<2>(1, 2), Point<2>(0, 1)}};
+      for (unsigned int k = 0; k < 4; ++k)
+        if (side_radii[k] > 0 && u.distance(midpoints[k]) < 1e-10)
+          r = Number(side_radii[k]);
+      vertices.push_back(Vertex{x, r, blending});
       return static_cast<unsigned int>(vertices.size() - 1);
     };
     for (int i = -1; i <= 1; ++i)
@@ -230,10 +241,14 @@ namespace forma
 
 
   std::function<double(const Point<2> &)>
-  RhombicStructure::level_set() const
+  RhombicStructure::level_set(const std::array<double, 4> &side_radii) const
   {
-    const auto graph_ptr =
-      std::make_shared<const InflationGraph<double>>(graph<double>(p));
+    for (const double r : side_radii)
+      AssertThrow(r >= 0 && r <= 0.6,
+                  ExcMessage("rhombic structure: a side joint radius " +
+                             std::to_string(r) + " is outside [0, 0.6]"));
+    const auto graph_ptr = std::make_shared<const InflationGraph<double>>(
+      graph<double>(p, side_radii));
     const Tensor<2, 2> F = cell_map();
     return [graph_ptr, F](const Point<2> &x) {
       return graph_ptr->value(Point<2>(F * x));
@@ -243,8 +258,10 @@ namespace forma
 
 
   template InflationGraph<double>
-  RhombicStructure::graph(const std::array<double, n_parameters> &) const;
+  RhombicStructure::graph(const std::array<double, n_parameters> &,
+                          const std::array<double, 4> &) const;
   template InflationGraph<Sacado::Fad::DFad<double>>
   RhombicStructure::graph(
-    const std::array<Sacado::Fad::DFad<double>, n_parameters> &) const;
+    const std::array<Sacado::Fad::DFad<double>, n_parameters> &,
+    const std::array<double, 4> &) const;
 } // namespace forma

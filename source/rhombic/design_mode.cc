@@ -20,6 +20,7 @@
 #include <forma/mesh/level_set_mesh.h>
 #include <forma/mesh/polygon_domain.h>
 #include <forma/rhombic/material_map.h>
+#include <forma/rhombic/pointwise_table.h>
 #include <forma/rhombic/study.h>
 #include <forma/rhombic/tiling.h>
 
@@ -365,9 +366,29 @@ namespace forma
       std::set<std::string> baselines;
       for (const auto &b : Utilities::split_string_list(prm.get("Baselines")))
         baselines.insert(b);
+      std::string table_file = prm.get("Pointwise table");
+      const bool  merge      = prm.get_bool("Merge joints");
       prm.leave_subsection();
       if (!macro_file.empty() && macro_file[0] != '/')
         macro_file = prm_directory + "/" + macro_file;
+      // The baselines' table first: a bad file must not cost a design.
+      PointwiseTable table;
+      if (baselines.count("pointwise table"))
+        {
+          AssertThrow(!table_file.empty(),
+                      ExcMessage("Two-scale/Baselines: 'pointwise table' "
+                                 "needs Two-scale/Pointwise table (a "
+                                 "pointwise_table.json of Mode = pointwise "
+                                 "table)."));
+          if (table_file[0] != '/')
+            table_file = prm_directory + "/" + table_file;
+          table = PointwiseTable::read(table_file);
+          AssertThrow(std::abs(table.base_nu - setup.base.nu) < 1e-12,
+                      ExcMessage("Two-scale/Pointwise table: the table was "
+                                 "built for a base Poisson's ratio of " +
+                                 sig(table.base_nu) + ", this run's base has " +
+                                 sig(setup.base.nu) + "."));
+        }
       const MaterialMap map           = read_map(prm, prm_directory);
       const auto [angle_lo, angle_hi] = map.covered_angles();
 
@@ -731,7 +752,7 @@ namespace forma
             {"mean_relative_error", mean / largest},
             {"max_relative_error", worst_error / largest}};
         };
-      const TiledObject tiled(quads_of(tria), structures);
+      const TiledObject tiled(quads_of(tria), structures, {}, merge);
       const auto tiled_phi = [&tiled](const Point<2> &x) { return tiled(x); };
       if (fine_check)
         {
@@ -750,12 +771,49 @@ namespace forma
                   squares[c] =
                     map.query(E[c], nu[c], 90, setup.base.nu, inside);
                 }
-              const TiledObject remapped(quads_of(tria), squares);
+              const TiledObject remapped(quads_of(tria), squares, {}, merge);
               fine_scale([&remapped](const Point<2> &x) { return remapped(x); },
                          remapped.lo,
                          remapped.hi,
                          "remapped_square",
                          *homogenized);
+            }
+          if (baselines.count("pointwise table"))
+            {
+              // Fig. 4.23: the same quads and materials, each quad given the
+              // table's structure nearest to its material, mapped onto it.
+              std::vector<RhombicStructure> looked_up(n_cells);
+              double                        dE = 0, dnu = 0;
+              for (unsigned int c = 0; c < n_cells; ++c)
+                {
+                  const auto &e = table.nearest(E[c], nu[c]);
+                  looked_up[c]  = e.structure;
+                  dE += std::abs(e.E / E[c] - 1) / n_cells;
+                  dnu += std::abs(e.nu - nu[c]) / n_cells;
+                }
+              context.print(
+                "pointwise table: " + std::to_string(table.entries.size()) +
+                " structures; nearest entry |E/E* - 1| mean " + sig(dE, 2) +
+                ", |nu - nu*| mean " + sig(dnu, 2));
+              const TiledObject pointwise(quads_of(tria), looked_up, {}, merge);
+              fine_scale([&pointwise](
+                           const Point<2> &x) { return pointwise(x); },
+                         pointwise.lo,
+                         pointwise.hi,
+                         "pointwise_table",
+                         *homogenized);
+              context.print("pointwise table: joint radii p5 of neighbours "
+                            "differ by up to " +
+                            sig(pointwise.largest_joint_mismatch, 2) +
+                            (merge ? " (merged)" : "") +
+                            "; the family's by up to " +
+                            sig(tiled.largest_joint_mismatch, 2));
+              context.summary["pointwise_table"] = {
+                {"largest_joint_mismatch", pointwise.largest_joint_mismatch},
+                {"family_largest_joint_mismatch", tiled.largest_joint_mismatch},
+                {"entries", table.entries.size()},
+                {"mean_lookup_E_error", dE},
+                {"mean_lookup_nu_error", dnu}};
             }
         }
       if (fine_check && baselines.count("cut grid"))
@@ -855,7 +913,7 @@ namespace forma
                                         setup.base.nu,
                                         inside));
             }
-          const TiledObject grid(quads, tiles);
+          const TiledObject grid(quads, tiles, {}, merge);
           const auto        cropped = [&](const Point<2> &x) {
             return std::max(grid(x), domain.signed_distance(x));
           };

@@ -24,14 +24,8 @@ namespace forma
       const RhombicStructure s0 = read_structure(prm, setup);
       const InverseProblem   problem =
         InverseProblem::read(prm, setup, s0, context.communicator());
-      OptimizationParameters op;
-      prm.enter_subsection("Inverse");
-      op.max_iterations = prm.get_integer("Max iterations");
-      prm.leave_subsection();
-      op.value_target       = problem.tolerance * problem.tolerance;
-      op.relative_decrease  = 1e-5;
-      op.decrease_window    = 3;
-      op.gradient_tolerance = 1e-6;
+      const OptimizationParameters op =
+        inverse_optimization_parameters(prm, problem.tolerance);
 
       std::vector<nlohmann::json> iterations;
       const auto                  accepted =

@@ -107,6 +107,23 @@ namespace forma
 
 
 
+    OptimizationParameters
+    inverse_optimization_parameters(ParameterHandler &prm,
+                                    const double      tolerance)
+    {
+      OptimizationParameters op;
+      prm.enter_subsection("Inverse");
+      op.max_iterations = prm.get_integer("Max iterations");
+      prm.leave_subsection();
+      op.value_target       = tolerance * tolerance;
+      op.relative_decrease  = 1e-5;
+      op.decrease_window    = 3;
+      op.gradient_tolerance = 1e-6;
+      return op;
+    }
+
+
+
     RhombicStructure
     InverseProblem::with(const RhombicStructure    &s,
                          const std::vector<double> &z) const

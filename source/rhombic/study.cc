@@ -386,6 +386,18 @@ namespace forma
                         "E = 0.05, nu = 0).");
       prm.leave_subsection();
 
+      prm.enter_subsection("Pointwise table");
+      prm.declare_entry("Young's moduli",
+                        "0.02:0.1:9",
+                        Patterns::Anything(),
+                        "pointwise table: the targets' E/E_b.");
+      prm.declare_entry("Poisson's ratios",
+                        "0:0.4:9",
+                        Patterns::Anything(),
+                        "pointwise table: the targets' nu (every pair with "
+                        "the Young's moduli is a target).");
+      prm.leave_subsection();
+
       prm.enter_subsection("Two-scale");
       prm.declare_entry(
         "Macro problem",
@@ -440,13 +452,29 @@ namespace forma
       prm.declare_entry(
         "Baselines",
         "remapped square",
-        Patterns::MultipleSelection("remapped square|cut grid"),
+        Patterns::MultipleSelection("remapped square|cut grid|pointwise table"),
         "Fine-scale checks of the thesis's baselines (ch. 4.8) besides the "
         "family: 'remapped square' puts the structures made for squares on "
         "the same quads (Fig. 4.22); 'cut grid' optimizes the materials "
         "again on a regular grid of squares (side: the rhombic mesh's mean "
         "edge) cut by the object's outline, gives each square its square "
-        "structure and crops the geometry by the outline (Fig. 4.20).");
+        "structure and crops the geometry by the outline (Fig. 4.20); "
+        "'pointwise table' gives each quad the entry of the Pointwise table "
+        "file nearest to its material, mapped onto it (Fig. 4.23).");
+      prm.declare_entry("Merge joints",
+                        "true",
+                        Patterns::Bool(),
+                        "Neighbouring cells share the joints at the "
+                        "midpoints of their common sides: where their joint "
+                        "radii p5 differ (structures from the pointwise "
+                        "table), give both the average (ch. 4.8, merge). "
+                        "false: the larger joint wins.");
+      prm.declare_entry("Pointwise table",
+                        "",
+                        Patterns::Anything(),
+                        "The table of the 'pointwise table' baseline "
+                        "(relative to this file): pointwise_table.json of "
+                        "Mode = pointwise table.");
       prm.declare_entry("Fine element size",
                         "0.1",
                         Patterns::Double(0),

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 namespace forma
 {
@@ -72,7 +73,8 @@ namespace forma
 
     TiledObject::TiledObject(const std::vector<Quad>             &input,
                              const std::vector<RhombicStructure> &structures,
-                             const Tensor<1, 2>                  &period)
+                             const Tensor<1, 2>                  &period,
+                             const bool                           merge_joints)
     {
       AssertThrow(input.size() == structures.size() && !input.empty(),
                   ExcMessage("tiling: one structure per quad"));
@@ -88,7 +90,8 @@ namespace forma
               lo[d] = std::min(lo[d], p[d]);
               hi[d] = std::max(hi[d], p[d]);
             }
-      const bool periodic = period.norm() > 0;
+      const bool          periodic = period.norm() > 0;
+      std::vector<double> radius; // p5 per quad, and its copies
       for (int i = periodic ? -1 : 0; i <= (periodic ? 1 : 0); ++i)
         for (int j = periodic ? -1 : 0; j <= (periodic ? 1 : 0); ++j)
           for (unsigned int c = 0; c < input.size(); ++c)
@@ -97,9 +100,53 @@ namespace forma
               for (Point<2> &p : q)
                 p += Tensor<1, 2>({i * period[0], j * period[1]});
               quads.push_back(q);
-              phi.push_back(structures[c].level_set());
               half_size.push_back(0.5 * std::sqrt(fit_rhombus(q).area));
+              radius.push_back(structures[c].p[4]);
             }
+
+      // The sides y = 0, x = 2, y = 2, x = 0 of the reference square are
+      // the quad's sides v0 v1, v1 v3, v2 v3, v0 v2; neighbours (also
+      // across the period) share a side's midpoint.
+      constexpr unsigned int side_vertices[4][2] = {{0, 1},
+                                                    {1, 3},
+                                                    {2, 3},
+                                                    {0, 2}};
+      const auto             key                 = [&](const Point<2> &x) {
+        return std::make_pair(std::llround(x[0] / (1e-7 * h)),
+                              std::llround(x[1] / (1e-7 * h)));
+      };
+      std::multimap<std::pair<long long, long long>, unsigned int> sides;
+      for (unsigned int c = 0; c < quads.size(); ++c)
+        for (unsigned int k = 0; k < 4; ++k)
+          sides.emplace(key(Point<2>(0.5 * (quads[c][side_vertices[k][0]] +
+                                            quads[c][side_vertices[k][1]]))),
+                        c);
+      std::vector<std::array<double, 4>> side_radii(quads.size(),
+                                                    {{0, 0, 0, 0}});
+      for (unsigned int c = 0; c < quads.size(); ++c)
+        for (unsigned int k = 0; k < 4; ++k)
+          {
+            const auto range = sides.equal_range(
+              key(Point<2>(0.5 * (quads[c][side_vertices[k][0]] +
+                                  quads[c][side_vertices[k][1]]))));
+            for (auto it = range.first; it != range.second; ++it)
+              if (it->second != c)
+                {
+                  const unsigned int n = it->second;
+                  largest_joint_mismatch =
+                    std::max(largest_joint_mismatch,
+                             std::abs(radius[c] - radius[n]));
+                  // The average physical radius, in c's reference units.
+                  if (merge_joints && radius[c] != radius[n])
+                    side_radii[c][k] =
+                      0.5 *
+                      (half_size[c] * radius[c] + half_size[n] * radius[n]) /
+                      half_size[c];
+                }
+          }
+      for (unsigned int c = 0; c < quads.size(); ++c)
+        phi.push_back(
+          structures[c % structures.size()].level_set(side_radii[c]));
       // The bucket grid covers the box and a pad around it; periodic copies
       // further out are never asked for.
       box_lo               = lo - Tensor<1, 2>({pad, pad});

@@ -83,4 +83,17 @@ main()
                  two_scale + "subsection Two-scale\n set Macro problem = "
                              "macro_per_body.prm\nend\n",
                  good);
+  expect_failure("pointwise_table_not_given",
+                 two_scale + "subsection Two-scale\n set Macro problem = "
+                             "macro_per_body.prm\n set Baselines = pointwise "
+                             "table\nend\n",
+                 good);
+  std::ofstream("broken_table.json") << "{\"format\": \"forma-rhombic "
+                                        "pointwise table 1\", \"entries\": [";
+  expect_failure("pointwise_table_broken",
+                 two_scale + "subsection Two-scale\n set Macro problem = "
+                             "macro_per_body.prm\n set Baselines = pointwise "
+                             "table\n set Pointwise table = broken_table.json"
+                             "\nend\n",
+                 good);
 }

@@ -83,12 +83,21 @@ namespace forma
      */
     template <typename Number>
     InflationGraph<Number>
-    graph(const std::array<Number, n_parameters> &parameters) const;
+    graph(const std::array<Number, n_parameters> &parameters,
+          const std::array<double, 4>            &side_radii = {}) const;
 
-    /// The structure's level set on the reference square (negative in the
-    /// material), periodic on [0, 2]^2. The graph is built once.
+    /**
+     * The structure's level set on the reference square (negative in the
+     * material), periodic on [0, 2]^2. The graph is built once.
+     *
+     * `side_radii` (nonzero entries) replace p5 at the joints on the
+     * midpoints of the sides y = 0, x = 2, y = 2 and x = 0 of the reference
+     * square (in this order): the merge of thesis ch. 4.8, where a joint
+     * shared with a neighbouring cell of another p5 gets the average. The
+     * level set is then no longer periodic.
+     */
     std::function<double(const dealii::Point<2> &)>
-    level_set() const;
+    level_set(const std::array<double, 4> &side_radii = {}) const;
 
     /// The 12 node positions on the reference square (for drawing).
     std::array<dealii::Point<2>, 12>

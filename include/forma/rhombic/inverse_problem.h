@@ -76,6 +76,12 @@ namespace forma
               &accepted = {}) const;
     };
 
+    /// The optimizer settings of pointwise inverse homogenization
+    /// (Inverse/Max iterations; stops at the tolerance or on stagnation).
+    OptimizationParameters
+    inverse_optimization_parameters(dealii::ParameterHandler &prm,
+                                    const double              tolerance);
+
     struct InverseSolution
     {
       RhombicStructure    structure;

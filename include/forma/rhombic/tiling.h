@@ -52,13 +52,23 @@ namespace forma
      * nonzero `period` the quads tile a periodic box [0, period] and their
      * copies shifted by one period count too, so that phi is periodic.
      * Cells are found through a bucket grid of their bounding boxes.
+     *
+     * Neighbouring cells share the joints at their common side's midpoint.
+     * Where their joint radii p5 differ, `merge_joints` gives both the
+     * average (in physical units) instead of leaving the larger one to
+     * win (thesis ch. 4.8, merge error).
      */
     class TiledObject
     {
     public:
       TiledObject(const std::vector<Quad>             &quads,
                   const std::vector<RhombicStructure> &structures,
-                  const dealii::Tensor<1, 2>          &period = {});
+                  const dealii::Tensor<1, 2>          &period       = {},
+                  const bool                           merge_joints = false);
+
+      /// The largest difference of p5 between two cells sharing a side
+      /// (what a merge averages away).
+      double largest_joint_mismatch = 0;
 
       double
       operator()(const dealii::Point<2> &x) const;
