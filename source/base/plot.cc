@@ -596,4 +596,59 @@ namespace forma
     img.rgb = rgb;
     img.write_png(file_name);
   }
+
+
+  void
+  write_polygons_svg(
+    const std::string                                     &file_name,
+    const std::vector<std::vector<std::array<double, 2>>> &polygons,
+    const double                                           stroke)
+  {
+    double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+    for (const auto &polygon : polygons)
+      for (const auto &v : polygon)
+        for (unsigned int d = 0; d < 2; ++d)
+          {
+            lo[d] = std::min(lo[d], v[d]);
+            hi[d] = std::max(hi[d], v[d]);
+          }
+    const double  pad = 2 * stroke;
+    std::ofstream out(file_name);
+    out << std::setprecision(9);
+    // One unit is one millimetre (cutters read unitless sizes as pixels).
+    const double w = hi[0] - lo[0] + 2 * pad, h = hi[1] - lo[1] + 2 * pad;
+    out << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << w
+        << "mm\" height=\"" << h << "mm\" viewBox=\"" << lo[0] - pad << " "
+        << -hi[1] - pad << " " << w << " " << h
+        << "\">\n<path fill=\"#282828\" "
+        << "fill-rule=\"evenodd\" stroke=\"black\" stroke-width=\"" << stroke
+        << "\" d=\"";
+    for (const auto &polygon : polygons)
+      for (unsigned int k = 0; k < polygon.size(); ++k)
+        out << (k == 0 ? "M" : "L") << polygon[k][0] << " " << -polygon[k][1]
+            << (k + 1 == polygon.size() ? "Z" : " ");
+    out << "\"/>\n</svg>\n";
+  }
+
+
+  void
+  write_level_set_png(const std::string                           &file_name,
+                      const std::function<double(double, double)> &phi,
+                      const std::array<double, 2>                 &lo,
+                      const std::array<double, 2>                 &hi,
+                      const int                                    width)
+  {
+    const int    margin = 10;
+    const double scale  = (width - 2 * margin) / (hi[0] - lo[0]);
+    const int    height =
+      2 * margin + static_cast<int>(std::ceil((hi[1] - lo[1]) * scale));
+    std::vector<unsigned char> rgb(3 * width * height, 255);
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x)
+        if (phi(lo[0] + (x + 0.5 - margin) / scale,
+                hi[1] - (y + 0.5 - margin) / scale) < 0)
+          for (unsigned int k = 0; k < 3; ++k)
+            rgb[3 * (y * width + x) + k] = 40;
+    write_image_png(file_name, width, height, rgb);
+  }
 } // namespace forma

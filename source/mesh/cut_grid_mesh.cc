@@ -139,6 +139,10 @@ namespace forma
         {
           error = error_message(e);
         }
+      catch (...)
+        {
+          error = context + ": meshing failed with an unknown error";
+        }
     std::tie(msh, error) =
       Utilities::MPI::broadcast(comm, std::make_pair(msh, error));
     AssertThrow(error.empty(), ExcMessage(error));
@@ -149,6 +153,11 @@ namespace forma
     squares.clear();
     for (unsigned int k = 0; k + 1 < corners.size(); k += 2)
       squares.emplace_back(corners[k], corners[k + 1]);
+    // OpenCASCADE may move the outline by its boolean tolerance.
+    const double tolerance =
+      std::max(1e-6 * spacing,
+               1e-5 * std::max(domain.hi[0] - domain.lo[0],
+                               domain.hi[1] - domain.lo[1]));
     Triangulation<2>   read;
     std::istringstream in(msh);
     GridIn<2>          grid_in(read);
@@ -160,7 +169,7 @@ namespace forma
           if (cell->face(f)->at_boundary())
             {
               const auto id = domain.boundary_id(cell->face(f)->center(),
-                                                 1e-6 * spacing,
+                                                 tolerance,
                                                  numbers::invalid_boundary_id);
               AssertThrow(id != numbers::invalid_boundary_id,
                           ExcMessage(
@@ -171,6 +180,17 @@ namespace forma
               cell->face(f)->set_boundary_id(id);
             }
       }
+    // Material id k is square k: every square has cells (callers index
+    // per-square data by material id).
+    std::set<types::material_id> ids;
+    for (const auto &cell : read.active_cell_iterators())
+      ids.insert(cell->material_id());
+    AssertThrow(ids.size() == squares.size() &&
+                  *ids.rbegin() + 1 == squares.size(),
+                ExcMessage(context +
+                           ": the material ids are not the "
+                           "squares 0.." +
+                           std::to_string(squares.size() - 1)));
     check_mesh_validity(read, "the cut grid mesh");
     tria.clear();
     tria.copy_triangulation(read);

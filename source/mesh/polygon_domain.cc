@@ -33,7 +33,8 @@ namespace forma
 
 
 
-  PolygonDomain::PolygonDomain(const std::vector<Segment> &input)
+  PolygonDomain::PolygonDomain(const std::vector<Segment> &input,
+                               const bool                  classify_holes)
     : segments(input)
   {
     AssertThrow(!segments.empty(),
@@ -93,29 +94,31 @@ namespace forma
       }
     // A loop inside an odd number of others bounds a hole.
     for (Loop &l : loops)
-      {
-        unsigned int depth = 0;
-        for (const Loop &m : loops)
-          if (&m != &l)
-            {
-              bool            in = false;
-              const Point<2> &x  = l.vertices[0];
-              for (unsigned int k = 0; k < m.vertices.size(); ++k)
-                {
-                  const Point<2> &a = m.vertices[k],
-                                 &b = m.vertices[(k + 1) % m.vertices.size()];
-                  in ^= crosses(x, a, b);
-                }
-              depth += in;
-            }
-        l.hole = depth % 2 == 1;
-      }
+      if (classify_holes)
+        {
+          unsigned int depth = 0;
+          for (const Loop &m : loops)
+            if (&m != &l)
+              {
+                bool            in = false;
+                const Point<2> &x  = l.vertices[0];
+                for (unsigned int k = 0; k < m.vertices.size(); ++k)
+                  {
+                    const Point<2> &a = m.vertices[k],
+                                   &b = m.vertices[(k + 1) % m.vertices.size()];
+                    in ^= crosses(x, a, b);
+                  }
+                depth += in;
+              }
+          l.hole = depth % 2 == 1;
+        }
   }
 
 
 
   PolygonDomain
-  PolygonDomain::boundary_of(const Triangulation<2, 2> &tria)
+  PolygonDomain::boundary_of(const Triangulation<2, 2> &tria,
+                             const bool                 classify_holes)
   {
     std::vector<Segment> segments;
     for (const auto &cell : tria.active_cell_iterators())
@@ -124,7 +127,7 @@ namespace forma
           segments.push_back({cell->face(f)->vertex(0),
                               cell->face(f)->vertex(1),
                               cell->face(f)->boundary_id()});
-    return PolygonDomain(segments);
+    return PolygonDomain(segments, classify_holes);
   }
 
 
@@ -147,6 +150,34 @@ namespace forma
     for (const Segment &s : segments)
       d = std::min(d, distance_to_segment(x, s.a, s.b));
     return inside(x) ? -d : d;
+  }
+
+
+
+  Point<2>
+  PolygonDomain::point_inside_near(const Point<2> &x, const double depth) const
+  {
+    double best = 1e300;
+    for (const Segment &s : segments)
+      best = std::min(best, distance_to_segment(x, s.a, s.b));
+    // The closest sides (two at a vertex): the sum of their inward normals
+    // bisects the corner, inside whether it is convex or reflex.
+    const double tolerance = 1e-12 * std::max(hi[0] - lo[0], hi[1] - lo[1]);
+    Point<2>     p;
+    Tensor<1, 2> direction;
+    for (const Segment &s : segments)
+      if (distance_to_segment(x, s.a, s.b) <= best + tolerance)
+        {
+          const Tensor<1, 2> e = s.b - s.a;
+          const double       t = std::clamp((x - s.a) * e / (e * e), 0., 1.);
+          p                    = s.a + t * e;
+          Tensor<1, 2>   n     = Tensor<1, 2>({-e[1], e[0]}) / e.norm();
+          const Point<2> m     = s.a + 0.5 * e;
+          if (!inside(m + 1e-6 * e.norm() * n))
+            n = -n;
+          direction += n;
+        }
+    return direction.norm() > 0 ? p + depth * direction / direction.norm() : p;
   }
 
 

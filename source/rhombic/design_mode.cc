@@ -43,26 +43,55 @@ namespace forma
     {
       constexpr double degrees = 180 / M_PI;
 
-      /// A level set's material {phi < 0} (dark) over the box [lo, hi].
+      /// The material {phi < 0} of a level set on points, over [lo, hi].
       void
-      write_level_set_png(const std::string &file_name,
+      write_level_set_png(const std::string                             &file,
                           const std::function<double(const Point<2> &)> &phi,
                           const Point<2>                                &lo,
-                          const Point<2>                                &hi,
-                          const int width = 1200)
+                          const Point<2>                                &hi)
       {
-        const int    margin = 10;
-        const double scale  = (width - 2 * margin) / (hi[0] - lo[0]);
-        const int    height =
-          2 * margin + static_cast<int>(std::ceil((hi[1] - lo[1]) * scale));
-        std::vector<unsigned char> rgb(3 * width * height, 255);
-        for (int y = 0; y < height; ++y)
-          for (int x = 0; x < width; ++x)
-            if (phi(Point<2>(lo[0] + (x + 0.5 - margin) / scale,
-                             hi[1] - (y + 0.5 - margin) / scale)) < 0)
-              for (unsigned int k = 0; k < 3; ++k)
-                rgb[3 * (y * width + x) + k] = 40;
-        write_image_png(file_name, width, height, rgb);
+        forma::write_level_set_png(file,
+                                   [&phi](const double x, const double y) {
+                                     return phi(Point<2>(x, y));
+                                   },
+                                   {{lo[0], lo[1]}},
+                                   {{hi[0], hi[1]}});
+      }
+
+
+      /// Run f on the root of comm only; an error there is thrown on every
+      /// rank (collective, and a barrier: the root is done when it returns).
+      void
+      on_root(const MPI_Comm comm, const std::function<void()> &f)
+      {
+        std::string error;
+        if (Utilities::MPI::this_mpi_process(comm) == 0)
+          try
+            {
+              f();
+            }
+          catch (const std::exception &e)
+            {
+              error = error_message(e);
+            }
+        error = Utilities::MPI::broadcast(comm, error);
+        AssertThrow(error.empty(), ExcMessage(error));
+      }
+
+      /// A mesh (material and boundary ids) for the simulator to read back.
+      void
+      write_msh(const Triangulation<2> &tria,
+                const std::string      &file,
+                const MPI_Comm          comm)
+      {
+        on_root(comm, [&]() {
+          std::ofstream msh(file);
+          msh << std::setprecision(17);
+          GridOut out;
+          out.set_flags(GridOutFlags::Msh(/*write_faces=*/true));
+          out.write_msh(tria, msh);
+          AssertThrow(msh, ExcMessage("cannot write '" + file + "'"));
+        });
       }
 
 
@@ -366,8 +395,9 @@ namespace forma
       std::set<std::string> baselines;
       for (const auto &b : Utilities::split_string_list(prm.get("Baselines")))
         baselines.insert(b);
-      std::string table_file = prm.get("Pointwise table");
-      const bool  merge      = prm.get_bool("Merge joints");
+      std::string        table_file = prm.get("Pointwise table");
+      const bool         merge      = prm.get_bool("Merge joints");
+      const unsigned int refinement = prm.get_integer("Fine-scale refinement");
       prm.leave_subsection();
       if (!macro_file.empty() && macro_file[0] != '/')
         macro_file = prm_directory + "/" + macro_file;
@@ -589,6 +619,40 @@ namespace forma
       double h = 0; // the quads' mean size
       for (const auto &cell : tria.active_cell_iterators())
         h += std::sqrt(cell->measure()) / n_cells;
+      // A baseline that cannot be built, meshed or solved is reported, not
+      // fatal: the design is the family's.
+      const auto baseline = [&](const std::string           &name,
+                                const std::function<void()> &run) {
+        try
+          {
+            run();
+          }
+        catch (const std::exception &e)
+          {
+            const std::string message = error_message(e);
+            context.print("baseline " + name + " failed: " + message);
+            context.summary["fine_scale"][name] = {{"error", message}};
+          }
+      };
+
+      // Tilings, optionally of subdivided cells (Fig. 4.21).
+      const unsigned int n_sub  = 1u << refinement;
+      const double       h_tile = h / n_sub;
+      const auto         tile = [&](const std::vector<Quad>             &quads,
+                            const std::vector<RhombicStructure> &tiles) {
+        if (n_sub == 1)
+          return TiledObject(quads, tiles, {}, merge);
+        // Children keep their parent's orientation.
+        std::vector<Quad> oriented;
+        for (const Quad &q : quads)
+          oriented.push_back(acute_first(q));
+        std::vector<unsigned int> parent;
+        const std::vector<Quad>   children = subdivide(oriented, n_sub, parent);
+        std::vector<RhombicStructure> inherited;
+        for (const unsigned int c : parent)
+          inherited.push_back(tiles[c]);
+        return TiledObject(children, inherited, {}, merge, false);
+      };
       const auto fine_scale =
         [&](const std::function<double(const Point<2> &)> &object,
             const Point<2>                                &object_lo,
@@ -596,15 +660,15 @@ namespace forma
             const std::string                             &name,
             LoadCases<2>                                  &homogenized) {
           LevelSetMeshParameters fine;
-          fine.size                = fine_size * h;
-          fine.boundary_size       = fine_boundary_size * h;
-          const Tensor<1, 2> pad   = Tensor<1, 2>({0.25 * h, 0.25 * h});
+          fine.size              = fine_size * h_tile;
+          fine.boundary_size     = fine_boundary_size * h_tile;
+          const Tensor<1, 2> pad = Tensor<1, 2>({0.25 * h_tile, 0.25 * h_tile});
           const Point<2>     lower = object_lo - pad, upper = object_hi + pad;
           fine.grid = std::min<unsigned int>(
             8192,
             static_cast<unsigned int>(
               std::ceil(std::max(upper[0] - lower[0], upper[1] - lower[1]) /
-                        (0.02 * h))));
+                        (0.02 * h_tile))));
           Triangulation<2> fine_tria;
           LevelSetMeshInfo info;
           level_set_mesh(object,
@@ -632,8 +696,9 @@ namespace forma
                                        free_id);
                   cell->face(f)->set_boundary_id(id);
                   // Vertices of the compared boundary, nudged into their
-                  // cell: on the boundary up to round-off, they could fall
-                  // just outside the other mesh.
+                  // cell for the fine solution; the homogenized one is
+                  // evaluated just inside the outline next to them (the
+                  // fine mesh cuts the outline's corners).
                   if (static_cast<int>(id) == compared_boundary)
                     for (unsigned int v = 0; v < 2; ++v)
                       {
@@ -648,15 +713,21 @@ namespace forma
                                  std::to_string(compared_boundary) + "."));
           const std::string fine_file =
             context.path("fine_mesh_" + name + ".msh");
-          if (context.is_root())
-            {
-              std::ofstream msh(fine_file);
-              msh << std::setprecision(17); // read back by the simulator
-              GridOut out;
-              out.set_flags(GridOutFlags::Msh(/*write_faces=*/true));
-              out.write_msh(fine_tria, msh);
-            }
-          MPI_Barrier(context.communicator());
+          write_msh(fine_tria, fine_file, context.communicator());
+          on_root(context.communicator(), [&]() {
+            // The outline for fabrication (e.g. a laser cutter).
+            std::vector<std::vector<std::array<double, 2>>> outline;
+            for (const auto &loop :
+                 PolygonDomain::boundary_of(fine_tria, false).loops)
+              {
+                outline.emplace_back();
+                for (const Point<2> &v : loop.vertices)
+                  outline.back().push_back({{v[0], v[1]}});
+              }
+            write_polygons_svg(context.path("geometry_" + name + ".svg"),
+                               outline,
+                               1e-3 * h);
+          });
           lap("fine mesh, " + name);
           context.summary["fine_scale"][name] = {
             {"triangles", fine_tria.n_active_cells()},
@@ -710,16 +781,18 @@ namespace forma
             fine_simulator.cell_vertex_displacements();
           const DeformedCells homogenized_cells =
             homogenized[0].cell_vertex_displacements();
-          if (context.is_root())
+          on_root(context.communicator(), [&]() {
             write_deformation_png(context.path("fine_scale_" + name + ".png"),
                                   fine_cells,
                                   homogenized_cells);
+          });
 
           double mean = 0, worst_error = 0, largest = 0;
           for (const auto &[v, x] : compared_points)
             {
               const Tensor<1, 2> uf = fine_simulator.point_displacement(x);
-              const Tensor<1, 2> uh = homogenized[0].point_displacement(x);
+              const Tensor<1, 2> uh = homogenized[0].point_displacement(
+                domain.point_inside_near(x, 1e-4 * h));
               mean += (uf - uh).norm() / compared_points.size();
               worst_error = std::max(worst_error, (uf - uh).norm());
               largest     = std::max(largest, uh.norm());
@@ -752,7 +825,7 @@ namespace forma
             {"mean_relative_error", mean / largest},
             {"max_relative_error", worst_error / largest}};
         };
-      const TiledObject tiled(quads_of(tria), structures, {}, merge);
+      const TiledObject tiled = tile(quads_of(tria), structures);
       const auto tiled_phi = [&tiled](const Point<2> &x) { return tiled(x); };
       if (fine_check)
         {
@@ -762,7 +835,7 @@ namespace forma
             solved(parameters, q, context.communicator());
           fine_scale(tiled_phi, tiled.lo, tiled.hi, "family", *homogenized);
           if (baselines.count("remapped square"))
-            {
+            baseline("remapped_square", [&]() {
               // Fig. 4.22: structures made for squares on the same quads.
               std::vector<RhombicStructure> squares(n_cells);
               for (unsigned int c = 0; c < n_cells; ++c)
@@ -771,15 +844,15 @@ namespace forma
                   squares[c] =
                     map.query(E[c], nu[c], 90, setup.base.nu, inside);
                 }
-              const TiledObject remapped(quads_of(tria), squares, {}, merge);
+              const TiledObject remapped = tile(quads_of(tria), squares);
               fine_scale([&remapped](const Point<2> &x) { return remapped(x); },
                          remapped.lo,
                          remapped.hi,
                          "remapped_square",
                          *homogenized);
-            }
+            });
           if (baselines.count("pointwise table"))
-            {
+            baseline("pointwise_table", [&]() {
               // Fig. 4.23: the same quads and materials, each quad given the
               // table's structure nearest to its material, mapped onto it.
               std::vector<RhombicStructure> looked_up(n_cells);
@@ -795,7 +868,7 @@ namespace forma
                 "pointwise table: " + std::to_string(table.entries.size()) +
                 " structures; nearest entry |E/E* - 1| mean " + sig(dE, 2) +
                 ", |nu - nu*| mean " + sig(dnu, 2));
-              const TiledObject pointwise(quads_of(tria), looked_up, {}, merge);
+              const TiledObject pointwise = tile(quads_of(tria), looked_up);
               fine_scale([&pointwise](
                            const Point<2> &x) { return pointwise(x); },
                          pointwise.lo,
@@ -814,10 +887,10 @@ namespace forma
                 {"entries", table.entries.size()},
                 {"mean_lookup_E_error", dE},
                 {"mean_lookup_nu_error", dnu}};
-            }
+            });
         }
       if (fine_check && baselines.count("cut grid"))
-        {
+        baseline("cut_grid", [&]() {
           // Fig. 4.20: a regular grid of squares with the rhombic mesh's
           // mean edge, cut by the outline; its materials optimized for the
           // same macro problem, each square given its square structure, the
@@ -840,15 +913,7 @@ namespace forma
                         corners,
                         context.communicator());
           const std::string cut_file = context.path("cut_grid_mesh.msh");
-          if (context.is_root())
-            {
-              std::ofstream msh(cut_file);
-              msh << std::setprecision(17);
-              GridOut out;
-              out.set_flags(GridOutFlags::Msh(/*write_faces=*/true));
-              out.write_msh(cut_tria, msh);
-            }
-          MPI_Barrier(context.communicator());
+          write_msh(cut_tria, cut_file, context.communicator());
           ElasticityParameters cut  = parameters;
           cut.mesh.file             = cut_file;
           cut.mesh.file_as_given    = "cut_grid_mesh.msh";
@@ -880,7 +945,12 @@ namespace forma
             RunContext cut_context(context.communicator(),
                                    context.path("cut_grid"));
             cut_context.quiet = true;
-            cut_materials     = design_materials(cut_coverage,
+            // Optimization/Resume means the main design's checkpoint.
+            macro.enter_subsection("Optimization");
+            const bool resume = macro.get_bool("Resume");
+            macro.set("Resume", false);
+            macro.leave_subsection();
+            cut_materials = design_materials(cut_coverage,
                                              cut,
                                              macro,
                                              cut_context,
@@ -888,7 +958,10 @@ namespace forma
                                              q_cut,
                                              cut_worst,
                                              cut_outside);
-            cut_summary       = cut_context.summary;
+            macro.enter_subsection("Optimization");
+            macro.set("Resume", resume);
+            macro.leave_subsection();
+            cut_summary = cut_context.summary;
             cut_context.commit();
           }
           context.log("cut grid: " + std::to_string(cut_tria.n_active_cells()) +
@@ -913,7 +986,7 @@ namespace forma
                                         setup.base.nu,
                                         inside));
             }
-          const TiledObject grid(quads, tiles, {}, merge);
+          const TiledObject grid    = tile(quads, tiles);
           const auto        cropped = [&](const Point<2> &x) {
             return std::max(grid(x), domain.signed_distance(x));
           };
@@ -931,12 +1004,13 @@ namespace forma
           if (cut_summary.count("final_objective"))
             context.summary["cut_grid"]["final_objective"] =
               cut_summary["final_objective"];
-          if (context.is_root())
+          on_root(context.communicator(), [&]() {
             write_level_set_png(context.path("cut_grid_geometry.png"),
                                 cropped,
                                 domain.lo,
                                 domain.hi);
-        }
+          });
+        });
       context.summary["seconds"] = seconds;
 
       nlohmann::json cells = nlohmann::json::array();
@@ -954,43 +1028,42 @@ namespace forma
                                       {"clamped_angles", clamped},
                                       {"projected_cells", outside},
                                       {"largest_coverage_violation", worst}};
-      if (context.is_root())
-        {
-          write_cell_field_png(context.path("material_E.png"),
-                               tria,
-                               E,
-                               {{map.E.front(), map.E.back()}},
-                               "E / E_base (cell materials)");
-          write_cell_field_png(context.path("material_nu.png"),
-                               tria,
-                               nu,
-                               {{box[2], box[3]}},
-                               "Poisson ratio nu (cell materials)");
-          write_level_set_png(context.path("geometry.png"),
-                              tiled_phi,
-                              tiled.lo,
-                              tiled.hi);
-          Vector<double> vE(E.begin(), E.end()), vnu(nu.begin(), nu.end()),
-            va(alpha.begin(), alpha.end());
-          DataOut<2> out;
-          out.attach_triangulation(tria);
-          out.add_data_vector(vE, "E_relative", DataOut<2>::type_cell_data);
-          out.add_data_vector(vnu, "nu", DataOut<2>::type_cell_data);
-          out.add_data_vector(va, "alpha", DataOut<2>::type_cell_data);
-          std::vector<Vector<double>> pv(RhombicStructure::n_parameters,
-                                         Vector<double>(n_cells));
-          for (unsigned int i = 0; i < RhombicStructure::n_parameters; ++i)
-            {
-              for (unsigned int c = 0; c < n_cells; ++c)
-                pv[i][c] = structures[c].p[i];
-              out.add_data_vector(pv[i],
-                                  "p" + std::to_string(i + 1),
-                                  DataOut<2>::type_cell_data);
-            }
-          out.build_patches();
-          std::ofstream f(context.path("design.vtu"));
-          out.write_vtu(f);
-        }
+      on_root(context.communicator(), [&]() {
+        write_cell_field_png(context.path("material_E.png"),
+                             tria,
+                             E,
+                             {{map.E.front(), map.E.back()}},
+                             "E / E_base (cell materials)");
+        write_cell_field_png(context.path("material_nu.png"),
+                             tria,
+                             nu,
+                             {{box[2], box[3]}},
+                             "Poisson ratio nu (cell materials)");
+        write_level_set_png(context.path("geometry.png"),
+                            tiled_phi,
+                            tiled.lo,
+                            tiled.hi);
+        Vector<double> vE(E.begin(), E.end()), vnu(nu.begin(), nu.end()),
+          va(alpha.begin(), alpha.end());
+        DataOut<2> out;
+        out.attach_triangulation(tria);
+        out.add_data_vector(vE, "E_relative", DataOut<2>::type_cell_data);
+        out.add_data_vector(vnu, "nu", DataOut<2>::type_cell_data);
+        out.add_data_vector(va, "alpha", DataOut<2>::type_cell_data);
+        std::vector<Vector<double>> pv(RhombicStructure::n_parameters,
+                                       Vector<double>(n_cells));
+        for (unsigned int i = 0; i < RhombicStructure::n_parameters; ++i)
+          {
+            for (unsigned int c = 0; c < n_cells; ++c)
+              pv[i][c] = structures[c].p[i];
+            out.add_data_vector(pv[i],
+                                "p" + std::to_string(i + 1),
+                                DataOut<2>::type_cell_data);
+          }
+        out.build_patches();
+        std::ofstream f(context.path("design.vtu"));
+        out.write_vtu(f);
+      });
     }
   } // namespace rhombic
 } // namespace forma

@@ -111,8 +111,13 @@ namespace forma
       const RhombicStructure start = read_structure(prm, setup);
       InverseProblem         problem =
         InverseProblem::read(prm, setup, start, MPI_COMM_SELF);
-      const OptimizationParameters op =
+      OptimizationParameters op =
         inverse_optimization_parameters(prm, problem.tolerance);
+      op.checkpoint = false; // many independent solves: nothing to resume
+      AssertThrow(problem.target_structure[0] == 0,
+                  ExcMessage("pointwise table: the targets are isotropic "
+                             "(Pointwise table section); set Inverse/Target "
+                             "= isotropic."));
       prm.enter_subsection("Pointwise table");
       const auto Es  = parse_values(prm.get("Young's moduli"),
                                    "Pointwise table/Young's moduli");
@@ -138,8 +143,8 @@ namespace forma
         Utilities::MPI::n_mpi_processes(context.communicator());
       context.print("pointwise table: " + std::to_string(n) + " targets on a " +
                     sig(start.alpha * 180 / M_PI) + " degree cell, " +
-                    std::to_string(problem.free.size()) + " free parameters, " +
-                    std::to_string(size) + " process(es)");
+                    std::to_string(problem.free.size()) + " free parameters");
+      context.log("pointwise table: " + std::to_string(size) + " processes");
       std::vector<double> rows(width * n, 0.);
       context.quiet = true; // the solvers' iterations: log only
       for (unsigned int k = rank; k < n; k += size)
@@ -150,16 +155,29 @@ namespace forma
             IsotropicModuli::from_young_poisson(problem.target_E * setup.base.E,
                                                 problem.target_nu)
               .tensor();
-          const InverseSolution s =
-            problem.solve(start, setup, MPI_COMM_SELF, op, context);
           double *row = rows.data() + width * k;
           row[0]      = problem.target_E;
           row[1]      = problem.target_nu;
-          row[2]      = s.sample.fit.E / setup.base.E;
-          row[3]      = s.sample.fit.nu;
-          row[4]      = s.misfit;
-          row[5]      = s.reached;
-          row[6]      = s.iterations;
+          // A target that fails stays out of the table; this rank must
+          // still reach the sum below.
+          InverseSolution s;
+          try
+            {
+              s = problem.solve(start, setup, MPI_COMM_SELF, op, context);
+            }
+          catch (const std::exception &e)
+            {
+              row[4] = -1; // failed
+              context.log("pointwise table: the target E/E_b = " + sig(row[0]) +
+                          ", nu = " + sig(row[1]) +
+                          " failed: " + error_message(e));
+              continue;
+            }
+          row[2] = s.sample.fit.E / setup.base.E;
+          row[3] = s.sample.fit.nu;
+          row[4] = s.misfit;
+          row[5] = s.reached;
+          row[6] = s.iterations;
           std::copy(s.structure.p.begin(), s.structure.p.end(), row + 7);
         }
       context.quiet = false;
@@ -183,8 +201,9 @@ namespace forma
                              {"blending", start.blending}});
           context.print("  E/E_b = " + sig(row[0], 3) +
                         ", nu = " + sig(row[1], 3) + ": " +
-                        (row[5] > 0.5 ? "reached" : "NOT reached") +
-                        ", p5 = " + sig(row[7 + 4], 2));
+                        (row[4] < 0   ? std::string("FAILED (see the log)") :
+                         row[5] > 0.5 ? "reached, p5 = " + sig(row[7 + 4], 2) :
+                                        std::string("NOT reached")));
         }
       context.print("pointwise table: " + std::to_string(reached) + " of " +
                     std::to_string(n) + " targets reached (|C - C*|/|C*| <= " +

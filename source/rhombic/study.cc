@@ -461,6 +461,14 @@ namespace forma
         "structure and crops the geometry by the outline (Fig. 4.20); "
         "'pointwise table' gives each quad the entry of the Pointwise table "
         "file nearest to its material, mapped onto it (Fig. 4.23).");
+      prm.declare_entry("Fine-scale refinement",
+                        "0",
+                        Patterns::Integer(0, 3),
+                        "Split every cell (and every square of the cut "
+                        "grid) into 2^r x 2^r cells with the same structure "
+                        "before tiling, the materials kept (Fig. 4.21): "
+                        "closer to scale separation, 4^r times the fine "
+                        "mesh.");
       prm.declare_entry("Merge joints",
                         "true",
                         Patterns::Bool(),

@@ -33,6 +33,41 @@ namespace forma
 
 
 
+    Point<2>
+    bilinear(const Quad &v, const double s, const double t)
+    {
+      return Point<2>((1 - s) * (1 - t) * v[0] + s * (1 - t) * v[1] +
+                      (1 - s) * t * v[2] + s * t * v[3]);
+    }
+
+
+
+    std::vector<Quad>
+    subdivide(const std::vector<Quad>   &quads,
+              const unsigned int         n,
+              std::vector<unsigned int> &parent)
+    {
+      std::vector<Quad> children;
+      parent.clear();
+      for (unsigned int c = 0; c < quads.size(); ++c)
+        {
+          const Quad &v  = quads[c];
+          const auto  at = [&](const unsigned int i, const unsigned int j) {
+            return bilinear(v, double(i) / n, double(j) / n);
+          };
+          for (unsigned int j = 0; j < n; ++j)
+            for (unsigned int i = 0; i < n; ++i)
+              {
+                children.push_back(
+                  {{at(i, j), at(i + 1, j), at(i, j + 1), at(i + 1, j + 1)}});
+                parent.push_back(c);
+              }
+        }
+      return children;
+    }
+
+
+
     Quad
     acute_first(const Quad &v)
     {
@@ -52,10 +87,8 @@ namespace forma
       xi = Point<2>(0.5, 0.5);
       for (unsigned int it = 0; it < 12; ++it)
         {
-          const double   s = xi[0], t = xi[1];
-          const Point<2> f =
-            Point<2>((1 - s) * (1 - t) * v[0] + s * (1 - t) * v[1] +
-                     (1 - s) * t * v[2] + s * t * v[3]);
+          const double       s = xi[0], t = xi[1];
+          const Point<2>     f   = bilinear(v, s, t);
           const Tensor<1, 2> ds  = (1 - t) * (v[1] - v[0]) + t * (v[3] - v[2]);
           const Tensor<1, 2> dt  = (1 - s) * (v[2] - v[0]) + s * (v[3] - v[1]);
           const double       det = ds[0] * dt[1] - ds[1] * dt[0];
@@ -74,7 +107,8 @@ namespace forma
     TiledObject::TiledObject(const std::vector<Quad>             &input,
                              const std::vector<RhombicStructure> &structures,
                              const Tensor<1, 2>                  &period,
-                             const bool                           merge_joints)
+                             const bool                           merge_joints,
+                             const bool                           orient)
     {
       AssertThrow(input.size() == structures.size() && !input.empty(),
                   ExcMessage("tiling: one structure per quad"));
@@ -96,7 +130,7 @@ namespace forma
         for (int j = periodic ? -1 : 0; j <= (periodic ? 1 : 0); ++j)
           for (unsigned int c = 0; c < input.size(); ++c)
             {
-              Quad q = acute_first(input[c]);
+              Quad q = orient ? acute_first(input[c]) : input[c];
               for (Point<2> &p : q)
                 p += Tensor<1, 2>({i * period[0], j * period[1]});
               quads.push_back(q);
@@ -132,16 +166,19 @@ namespace forma
             for (auto it = range.first; it != range.second; ++it)
               if (it->second != c)
                 {
-                  const unsigned int n = it->second;
+                  // Physical radii: cells of different sizes with the
+                  // same p5 do not match either.
+                  const unsigned int n  = it->second;
+                  const double       rc = half_size[c] * radius[c],
+                               rn       = half_size[n] * radius[n],
+                               l        = 0.5 * (half_size[c] + half_size[n]);
                   largest_joint_mismatch =
-                    std::max(largest_joint_mismatch,
-                             std::abs(radius[c] - radius[n]));
-                  // The average physical radius, in c's reference units.
-                  if (merge_joints && radius[c] != radius[n])
+                    std::max(largest_joint_mismatch, std::abs(rc - rn) / l);
+                  // The average, in c's reference units (within p5's
+                  // range).
+                  if (merge_joints && std::abs(rc - rn) > 1e-9 * l)
                     side_radii[c][k] =
-                      0.5 *
-                      (half_size[c] * radius[c] + half_size[n] * radius[n]) /
-                      half_size[c];
+                      std::clamp(0.5 * (rc + rn) / half_size[c], 0.01, 0.6);
                 }
           }
       for (unsigned int c = 0; c < quads.size(); ++c)

@@ -88,8 +88,8 @@ main()
                              "macro_per_body.prm\n set Baselines = pointwise "
                              "table\nend\n",
                  good);
-  std::ofstream("broken_table.json") << "{\"format\": \"forma-rhombic "
-                                        "pointwise table 1\", \"entries\": [";
+  std::ofstream("broken_table.json")
+    << "{\"format\": \"forma-rhombic material map 1\", \"entries\": []}";
   expect_failure("pointwise_table_broken",
                  two_scale + "subsection Two-scale\n set Macro problem = "
                              "macro_per_body.prm\n set Baselines = pointwise "

@@ -125,6 +125,25 @@ main(int argc, char **argv)
                                                                    "LARGE")
             << std::endl;
 
+  // Points just inside next to boundary points, corners included (convex
+  // corners of the 24-gon, reflex corners of the material at the hole).
+  {
+    unsigned int inside = 0, near = 0, n = 0;
+    for (const Polygon *p : {&outer, &hole})
+      for (unsigned int k = 0; k < p->size(); ++k)
+        for (const double t : {0., 0.3})
+          {
+            const Point<2> x =
+              (*p)[k] + t * ((*p)[(k + 1) % p->size()] - (*p)[k]);
+            const Point<2> y = domain.point_inside_near(x, 1e-4);
+            inside += domain.inside(y);
+            near += x.distance(y) < 3e-4;
+            ++n;
+          }
+    deallog << "points inside near the boundary: " << inside << " of " << n
+            << " inside, " << near << " within 3 depths" << std::endl;
+  }
+
   const double          h = 0.3;
   const Point<2>        origin(-1.2, -1.1);
   Triangulation<2>      tria;

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -70,6 +71,27 @@ namespace forma
     const std::vector<std::vector<std::array<double, 2>>> &filled,
     const std::vector<std::vector<std::array<double, 2>>> &outlined,
     const int                                              width = 1200);
+
+  /**
+   * Closed polygons (outer boundaries and holes alike, filled by the
+   * even-odd rule) as one SVG path, y up, one unit a millimetre, with a
+   * stroke of `stroke` units: e.g. a microstructured object's outline for
+   * a laser cutter.
+   */
+  void
+  write_polygons_svg(
+    const std::string                                     &file_name,
+    const std::vector<std::vector<std::array<double, 2>>> &polygons,
+    const double                                           stroke);
+
+  /// The material {phi < 0} of a level set (dark) over the box [lo, hi],
+  /// `width` pixels wide.
+  void
+  write_level_set_png(const std::string                           &file_name,
+                      const std::function<double(double, double)> &phi,
+                      const std::array<double, 2>                 &lo,
+                      const std::array<double, 2>                 &hi,
+                      const int width = 1200);
 
   /// Write an RGB image (rows from the top, 3 bytes per pixel) as PNG.
   void

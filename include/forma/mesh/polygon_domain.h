@@ -31,12 +31,16 @@ namespace forma
     };
 
     /// Segments that chain into closed loops (shared end points equal up
-    /// to round-off); throws if a loop does not close.
-    explicit PolygonDomain(const std::vector<Segment> &segments);
+    /// to round-off); throws if a loop does not close. Telling holes from
+    /// outer loops costs (loops x vertices): `classify_holes` = false
+    /// skips it (Loop::hole is then false throughout).
+    explicit PolygonDomain(const std::vector<Segment> &segments,
+                           const bool                  classify_holes = true);
 
     /// The boundary faces of a 2D mesh.
     static PolygonDomain
-    boundary_of(const dealii::Triangulation<2, 2> &tria);
+    boundary_of(const dealii::Triangulation<2, 2> &tria,
+                const bool                         classify_holes = true);
 
     /// Crossing-number test (even-odd over all loops).
     bool
@@ -45,6 +49,14 @@ namespace forma
     /// Negative inside, positive outside.
     double
     signed_distance(const dealii::Point<2> &x) const;
+
+    /// A point `depth` inside the domain next to x's closest boundary
+    /// point: moved off its side along the inward normal and towards the
+    /// side's midpoint, so that it is inside at corners too. For
+    /// evaluating a field of another mesh of the domain at a boundary point
+    /// (each mesh's boundary is the outline only up to round-off).
+    dealii::Point<2>
+    point_inside_near(const dealii::Point<2> &x, const double depth) const;
 
     /// The id of the closest side if it is nearer than `tolerance`, else
     /// `otherwise`.

@@ -26,6 +26,18 @@ namespace forma
     std::vector<Quad>
     quads_of(const dealii::Triangulation<2, 2> &tria);
 
+    /// The bilinear map of a quad at the reference point (s, t).
+    dealii::Point<2>
+    bilinear(const Quad &quad, const double s, const double t);
+
+    /// Every quad split into n x n quads along the iso-lines of its
+    /// bilinear map (straight, so the children tile it exactly), in the
+    /// parent's orientation; `parent` gets each child's quad index.
+    std::vector<Quad>
+    subdivide(const std::vector<Quad>   &quads,
+              const unsigned int         n,
+              std::vector<unsigned int> &parent);
+
     /// The quad renumbered so that its fitted rhombus's acute angle is at
     /// vertex 0, where the family's cell has alpha (orientation kept).
     Quad
@@ -56,7 +68,9 @@ namespace forma
      * Neighbouring cells share the joints at their common side's midpoint.
      * Where their joint radii p5 differ, `merge_joints` gives both the
      * average (in physical units) instead of leaving the larger one to
-     * win (thesis ch. 4.8, merge error).
+     * win (thesis ch. 4.8, merge error). `orient` = false takes the quads
+     * as they are instead of acute_first() (e.g. children of oriented
+     * quads, which must all keep their parent's orientation).
      */
     class TiledObject
     {
@@ -64,10 +78,12 @@ namespace forma
       TiledObject(const std::vector<Quad>             &quads,
                   const std::vector<RhombicStructure> &structures,
                   const dealii::Tensor<1, 2>          &period       = {},
-                  const bool                           merge_joints = false);
+                  const bool                           merge_joints = false,
+                  const bool                           orient       = true);
 
-      /// The largest difference of p5 between two cells sharing a side
-      /// (what a merge averages away).
+      /// The largest difference of the joint radii (physical, over the
+      /// cells' mean half size: p5 units) between two cells sharing a side,
+      /// what a merge averages away.
       double largest_joint_mismatch = 0;
 
       double
