@@ -94,6 +94,7 @@ namespace forma
         parse_numbers(prm.get("Values"), "Compound cell/Values", -90, 90);
       const std::vector<double> material =
         parse_numbers(prm.get("Material"), "Compound cell/Material", -1, 10);
+      const unsigned int n_sub = 1u << prm.get_integer("Refinement");
       prm.leave_subsection();
       AssertThrow(material.size() == 2 && material[0] > 0 && material[1] > -1 &&
                     material[1] < 1,
@@ -142,25 +143,36 @@ namespace forma
           double rhombic_error = 0;
           for (const double e : shape.rhombic_error)
             rhombic_error += e;
-          const std::vector<Quad> quads = quads_of(tria);
-          std::array<double, 2>   error = {{0, 0}};
-          IsotropicModuli         fit;
+          // Refined (Fig. 4.28): children of the oriented quads keep their
+          // parent's orientation, each gets the angle of its own rhombus.
+          std::vector<Quad> oriented;
+          for (const Quad &q : quads_of(tria))
+            oriented.push_back(acute_first(q));
+          std::vector<unsigned int> parent;
+          const std::vector<Quad>   quads = subdivide(oriented, n_sub, parent);
+          std::array<double, 2>     error = {{0, 0}};
+          IsotropicModuli           fit;
           for (const bool family : {true, false})
             {
               std::vector<RhombicStructure> structures(quads.size());
               for (unsigned int c = 0; c < quads.size(); ++c)
                 {
+                  const double a = fit_rhombus(quads[c]).angle * degrees;
                   const double alpha =
-                    family ? std::max(shape.alpha[c] * degrees, angle_lo) : 90.;
+                    family ? std::max(std::min(a, 180 - a), angle_lo) : 90.;
                   bool inside = false;
                   structures[c] =
                     map.query(material[0], nu, alpha, setup.base.nu, inside);
                 }
-              const TiledObject object(quads, structures, Tensor<1, 2>({L, L}));
+              const TiledObject object(
+                quads, structures, Tensor<1, 2>({L, L}), false, false);
               // The marching squares grid counts along the box: n times the
-              // single cell's.
+              // single cell's; sub-quads are meshed like the cell scaled.
               LevelSetMeshParameters mesh_parameters = setup.mesh;
-              mesh_parameters.grid = std::min(8192u, setup.mesh.grid * n);
+              mesh_parameters.grid =
+                std::min(8192u, setup.mesh.grid * n * n_sub);
+              mesh_parameters.size /= n_sub;
+              mesh_parameters.boundary_size /= n_sub;
               Triangulation<2> mesh;
               periodic_level_set_mesh(object,
                                       Point<2>(L, L),

@@ -375,6 +375,13 @@ namespace forma
                         Patterns::Integer(2, 16),
                         "Quads per side of the compound cell (even; the "
                         "twist study needs at least 4).");
+      prm.declare_entry("Refinement",
+                        "0",
+                        Patterns::Integer(0, 3),
+                        "Split every quad of the deformed compound cell into "
+                        "2^r x 2^r quads along its bilinear map, each with the "
+                        "structure for its own angle (Fig. 4.28): the quads "
+                        "get closer to parallelograms.");
       prm.declare_entry("Values",
                         "0, 0.1, 0.2, 0.3",
                         Patterns::Anything(),
