@@ -97,15 +97,7 @@ namespace forma
           gmsh::model::addPhysicalGroup(2, tags, squares.size());
         }
 
-      gmsh::option::setNumber("Mesh.MeshSizeMax", size);
-      gmsh::option::setNumber("Mesh.MeshSizeMin", 0);
-      gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
-      gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
-      gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 1);
-      gmsh::option::setNumber("Mesh.Algorithm", 6); // Frontal-Delaunay
-      gmsh::model::mesh::generate(2);
-      internal::gmsh_check_generated(2, context);
-      return internal::gmsh_written_mesh();
+      return internal::gmsh_triangulate(size, context);
     }
   } // namespace
 
@@ -123,29 +115,10 @@ namespace forma
     AssertThrow(spacing > 0 && size > 0 && size <= spacing,
                 ExcMessage(context + ": the grid spacing must be positive "
                                      "and the element size no larger"));
-    std::string msh, error;
-    if (Utilities::MPI::this_mpi_process(comm) == 0)
-      try
-        {
-          std::lock_guard<std::mutex> lock(internal::gmsh_mutex());
-          internal::GmshSession       session("forma-cut-grid-mesh");
-          msh = generate(domain, origin, spacing, size, squares);
-        }
-      catch (const std::string &message) // what the Gmsh API throws
-        {
-          error = internal::gmsh_error(context, "failed (" + message + ")");
-        }
-      catch (const std::exception &e)
-        {
-          error = error_message(e);
-        }
-      catch (...)
-        {
-          error = context + ": meshing failed with an unknown error";
-        }
-    std::tie(msh, error) =
-      Utilities::MPI::broadcast(comm, std::make_pair(msh, error));
-    AssertThrow(error.empty(), ExcMessage(error));
+    const std::string msh =
+      internal::gmsh_on_root(comm, "forma-cut-grid-mesh", context, [&]() {
+        return generate(domain, origin, spacing, size, squares);
+      });
     std::vector<double> corners;
     for (const Point<2> &p : squares)
       corners.insert(corners.end(), {p[0], p[1]});

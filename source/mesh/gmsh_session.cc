@@ -1,6 +1,9 @@
 #include "gmsh_session.h"
 
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/mpi.h>
+
+#include <forma/base/application.h>
 
 #include <gmsh.h>
 #include <unistd.h>
@@ -97,6 +100,56 @@ namespace forma
       in.close();
       std::filesystem::remove(file);
       return text.str();
+    }
+
+
+
+    std::string
+    gmsh_triangulate(const double size, const std::string &context)
+    {
+      gmsh::option::setNumber("Mesh.MeshSizeMax", size);
+      gmsh::option::setNumber("Mesh.MeshSizeMin", 0);
+      gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
+      gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
+      gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 1);
+      gmsh::option::setNumber("Mesh.Algorithm", 6); // Frontal-Delaunay
+      gmsh::model::mesh::generate(2);
+      gmsh_check_generated(2, context);
+      return gmsh_written_mesh();
+    }
+
+
+
+    std::string
+    gmsh_on_root(const MPI_Comm                      comm,
+                 const std::string                  &model,
+                 const std::string                  &context,
+                 const std::function<std::string()> &generate)
+    {
+      std::string msh, error;
+      if (Utilities::MPI::this_mpi_process(comm) == 0)
+        try
+          {
+            std::lock_guard<std::mutex> lock(gmsh_mutex());
+            GmshSession                 session(model);
+            msh = generate();
+          }
+        catch (const std::string &message) // what the Gmsh API throws
+          {
+            error = gmsh_error(context, "failed (" + message + ")");
+          }
+        catch (const std::exception &e)
+          {
+            error = error_message(e);
+          }
+        catch (...)
+          {
+            error = context + ": meshing failed with an unknown error";
+          }
+      std::tie(msh, error) =
+        Utilities::MPI::broadcast(comm, std::make_pair(msh, error));
+      AssertThrow(error.empty(), ExcMessage(error));
+      return msh;
     }
   } // namespace internal
 } // namespace forma

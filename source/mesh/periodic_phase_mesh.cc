@@ -145,15 +145,7 @@ namespace forma
           gmsh::model::mesh::setPeriodic(1, slaves, masters, shift);
         }
 
-      gmsh::option::setNumber("Mesh.MeshSizeMax", size);
-      gmsh::option::setNumber("Mesh.MeshSizeMin", 0);
-      gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
-      gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
-      gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 1);
-      gmsh::option::setNumber("Mesh.Algorithm", 6); // Frontal-Delaunay
-      gmsh::model::mesh::generate(2);
-      internal::gmsh_check_generated(2, context);
-      return internal::gmsh_written_mesh();
+      return internal::gmsh_triangulate(size, context);
     }
   } // namespace
 
@@ -175,25 +167,10 @@ namespace forma
                            std::to_string(size) +
                            " is not smaller than the box"));
     // Meshed once, on the root, so that every rank reads the same mesh.
-    std::string msh, error;
-    if (Utilities::MPI::this_mpi_process(comm) == 0)
-      try
-        {
-          std::lock_guard<std::mutex> lock(internal::gmsh_mutex());
-          internal::GmshSession       session("forma-periodic-phase-mesh");
-          msh = generate(polygons, box, size);
-        }
-      catch (const std::string &message) // what the Gmsh API throws
-        {
-          error = internal::gmsh_error(context, "failed (" + message + ")");
-        }
-      catch (const std::exception &e)
-        {
-          error = error_message(e);
-        }
-    std::tie(msh, error) =
-      Utilities::MPI::broadcast(comm, std::make_pair(msh, error));
-    AssertThrow(error.empty(), ExcMessage(error));
+    const std::string msh =
+      internal::gmsh_on_root(comm, "forma-periodic-phase-mesh", context, [&]() {
+        return generate(polygons, box, size);
+      });
     Triangulation<2>   read;
     std::istringstream in(msh);
     GridIn<2>          grid_in(read);

@@ -101,14 +101,7 @@ namespace forma
                                 }),
                   ExcMessage("Map/Spline control points: three integers >= 4 "
                              "(along E, nu, alpha)"));
-      for (const double E : Es)
-        AssertThrow(E > 0 && E < 1,
-                    ExcMessage("Map/Young's moduli: " + sig(E) +
-                               " is not in (0, 1) (relative to the base)"));
-      for (const double nu : nus)
-        AssertThrow(nu > -1 && nu < 1,
-                    ExcMessage("Map/Poisson's ratios: " + sig(nu) +
-                               " is not in (-1, 1)"));
+      check_target_grid(Es, nus, "Map");
       AssertThrow(setup.base_nu == 0,
                   ExcMessage("build map: the map is built for a base with "
                              "Poisson's ratio 0 (other bases follow by the "

@@ -124,14 +124,7 @@ namespace forma
       const auto nus = parse_values(prm.get("Poisson's ratios"),
                                     "Pointwise table/Poisson's ratios");
       prm.leave_subsection();
-      for (const double E : Es)
-        AssertThrow(E > 0 && E < 1,
-                    ExcMessage("Pointwise table/Young's moduli: " + sig(E) +
-                               " is not in (0, 1) (relative to the base)"));
-      for (const double nu : nus)
-        AssertThrow(nu > -1 && nu < 1,
-                    ExcMessage("Pointwise table/Poisson's ratios: " + sig(nu) +
-                               " is not in (-1, 1)"));
+      check_target_grid(Es, nus, "Pointwise table");
 
       // Targets round robin over the ranks, each solved alone; the rows
       // are summed over the ranks.

@@ -42,6 +42,23 @@ namespace forma
 
 
 
+    void
+    check_target_grid(const std::vector<double> &Es,
+                      const std::vector<double> &nus,
+                      const std::string         &section)
+    {
+      for (const double E : Es)
+        AssertThrow(E > 0 && E < 1,
+                    ExcMessage(section + "/Young's moduli: " + sig(E) +
+                               " is not in (0, 1) (relative to the base)"));
+      for (const double nu : nus)
+        AssertThrow(nu > -1 && nu < 1,
+                    ExcMessage(section + "/Poisson's ratios: " + sig(nu) +
+                               " is not in (-1, 1)"));
+    }
+
+
+
     nlohmann::json
     structure_json(const RhombicStructure &s)
     {

@@ -196,6 +196,13 @@ namespace forma
                    const std::string           &prm_directory,
                    dealii::Triangulation<2, 2> &tria);
 
+    /// Throws unless every E/E_b is in (0, 1) and every nu in (-1, 1); the
+    /// messages name `section` (e.g. "Map").
+    void
+    check_target_grid(const std::vector<double> &Es,
+                      const std::vector<double> &nus,
+                      const std::string         &section);
+
     /// A picture of a 2D mesh with one value per active cell (blue at
     /// `range[0]` to red at `range[1]`) and the cell edges, `pixels` wide,
     /// with a color bar labelled `label`.
