@@ -238,6 +238,65 @@ def main():
     m.write("interlock_2d.msh",
             lambda b, c: 1 if b == 0 and c[1] < 1e-9 else
             2 if b == 1 and c[1] > 3 - 1e-9 else 0)
+    # A hook over the top of a door (static, thesis Fig. 3.7): the door's
+    # edge (body 0, held on its whole boundary, tag 1) and a hook of
+    # 0.2-thick arms (body 1) around it 0.005 apart: a back lip, a top and
+    # a front drop that turns into a U. Tags: 2 the inside of the U's
+    # bottom (where the coat hangs), 3 the hook's sides that face the door
+    # (kept in shape optimization), 0 the hook's free boundary.
+    g, t = 0.005, 0.2
+    m = Mesh(2)
+    m.union(0, [((0, -1), (0.4, 1))], 0.1)
+    x0, x1, x2, x3 = -t - g, -g, 0.4 + g, 0.4 + g + t
+    m.union(1, [((x0, 0.6), (x1, 1 + g)), ((x0, 1 + g), (x1, 1 + g + t)),
+                ((x1, 1 + g), (x2, 1 + g + t)), ((x2, 1 + g), (x3, 1 + g + t)),
+                ((x2, -0.4), (x3, 1 + g)), ((x2, -0.4 - t), (x3, -0.4)),
+                ((x3, -0.4 - t), (x3 + 0.6, -0.4)),
+                ((x3 + 0.6, -0.4 - t), (x3 + 0.6 + t, -0.4)),
+                ((x3 + 0.6, -0.4), (x3 + 0.6 + t, -0.1))], 0.05)
+    on = lambda a, b: abs(a - b) < 1e-9
+    m.write("hook_2d.msh",
+            lambda b, c: 1 if b == 0 else
+            2 if on(c[1], -0.4) and x3 < c[0] < x3 + 0.6 else
+            3 if (on(c[0], x1) and c[1] < 1 + g) or
+                 (on(c[1], 1 + g) and x1 < c[0] < x2) or
+                 (on(c[0], x2) and c[1] > -0.4) else 0)
+    # A coat hanger joining two posts (static 3D, thesis Fig. 3.8; Tozoni
+    # et al. 2021, Fig. 29): a lower and an upper post (bodies 0, 1, square
+    # 0.6 x 0.6, held at their far ends, tag 1) 0.2 apart, and a hanger
+    # (body 2) 0.005 from both: a sleeve around the joint, a collar between
+    # the posts' ends and two arms with upturned tips. Square posts, not
+    # round ones: a frictionless sleeve on a round post could spin freely
+    # (a singular static problem). Tags: 1 the posts' far ends, 4 the rest
+    # of the posts, 2 the arms' tops (the coats), 3 the hanger's sides that
+    # face the posts, 0 its free boundary.
+    g, t, a = 0.005, 0.15, 0.305
+    m = Mesh(3)
+    m.union(0, [((-0.3, -0.3, -1.2), (0.3, 0.3, 0))], 0.3)
+    m.union(1, [((-0.3, -0.3, 0.2), (0.3, 0.3, 1.4))], 0.3)
+    xs = [-a - t, -a, a, a + t]
+    zs = [-0.5, g, 0.2 - g, 0.45, 0.6]
+    boxes = []
+    for k in range(len(zs) - 1):
+        for i in range(3):
+            for j in range(3):
+                if i == 1 and j == 1 and k != 1:
+                    continue  # the posts' hole, filled by the collar
+                boxes.append(((xs[i], xs[j], zs[k]),
+                              (xs[i + 1], xs[j + 1], zs[k + 1])))
+    for sign in (-1, 1):
+        x = [sign * (a + t), sign * (a + t + 0.7), sign * (a + 2 * t + 0.7)]
+        for x0, x1 in ((x[0], x[1]), (x[1], x[2])):
+            boxes.append(((min(x0, x1), -a, zs[3]), (max(x0, x1), a, zs[4])))
+        boxes.append(((min(x[1], x[2]), -a, zs[4]),
+                      (max(x[1], x[2]), a, zs[4] + 0.25)))
+    m.union(2, boxes, 0.075)
+    inside = lambda c: abs(c[0]) < a + 1e-9 and abs(c[1]) < a + 1e-9
+    m.write("hanger_3d.msh",
+            lambda b, c: (1 if abs(c[2] - (-1.2 if b == 0 else 1.4)) < 1e-9
+                          else 4) if b < 2 else
+            2 if abs(c[2] - zs[4]) < 1e-9 and a + t < abs(c[0]) < a + t + 0.7
+            else 3 if inside(c) else 0)
     # A plus-shaped puzzle piece, and pegs to bounce among (closed
     # polygons of one line mesh).
     m = Mesh(2)

@@ -582,6 +582,34 @@ namespace forma
         return 0;
       }
     };
+
+
+    /// The contact force term (see ObjectiveTerm::contact_force).
+    template <int dim>
+    class ContactForceTerm : public RegularizationTerm<dim>
+    {
+    public:
+      ContactForceTerm(const std::string &name,
+                       const double       weight,
+                       const double       p)
+        : RegularizationTerm<dim>(name,
+                                  weight,
+                                  ObjectiveTerm<dim>::Regularization::none,
+                                  p)
+      {
+        this->contact_force = true;
+      }
+      bool
+      depends_on_state() const override
+      {
+        return true;
+      }
+      void
+      restrict_to_material(const types::material_id id) override
+      {
+        this->contact_bodies = {id};
+      }
+    };
   } // namespace
 
 
@@ -604,6 +632,9 @@ namespace forma
         "'boundary target : boundary=id' (eq. 3.37, see Target), 'center "
         "of mass : x=.., y=.., z=..' (eq. 3.38), 'height' (eq. 3.39), "
         "'boundary smoothing : p=2' (eq. 3.43, needs the shape block), "
+        "'contact force : p=2' (IPC: |R|^p of the resultant R of the "
+        "barrier contact forces on a body (material=id) or, without "
+        "material, of the obstacles' push on all bodies), "
         "'material smoothing' (eq. 3.44, on per-cell Lame parameters), and on "
         "one side of a contact interface (boundary=id, material=id of the "
         "side whose normals count, the part that stays while the other is "
@@ -734,6 +765,14 @@ namespace forma
                                              R::material_smoothing,
               p);
           }
+        else if (name == "contact force")
+          {
+            const double p = key(kv, "p", 2., where);
+            AssertThrow(p >= 2,
+                        ExcMessage(where + ": p must be at least 2 (got " +
+                                   std::to_string(p) + ")."));
+            t = std::make_unique<ContactForceTerm<dim>>(name, w, p);
+          }
         else if (name == "center of mass" || name == "height")
           {
             Tensor<1, dim> c;
@@ -799,7 +838,7 @@ namespace forma
               name == "volume" || name == "volume bound" ||
               name == "volume target" || name == "stress bound" ||
               name == "von mises bound" || name == "center of mass" ||
-              name == "height";
+              name == "height" || name == "contact force";
             AssertThrow(volume_term,
                         ExcMessage(where + ": 'material' is not available "
                                            "for this term."));

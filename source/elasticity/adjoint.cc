@@ -627,10 +627,12 @@ namespace forma
         if (sw == 0)
           continue;
         const auto I = objective_integrals(J, i);
+        const auto c = contact_force_terms(J, i, sw, nullptr, nullptr);
         for (unsigned int t = 0; t < J.terms().size(); ++t)
           {
             const double v =
-              sw * J.terms()[t]->weight * J.terms()[t]->combine(I[t], nullptr);
+              sw * J.terms()[t]->weight * J.terms()[t]->combine(I[t], nullptr) +
+              c[t];
             term_values[t] += v;
             value += v;
           }
@@ -1333,10 +1335,17 @@ namespace forma
     };
 
     Vector_t dJ_du(owned, comm), rhs(owned, comm);
+    // The contact force terms' partials at step i.
+    auto contact_partials = [&](const unsigned int i) {
+      const double sw = is_static ? 1. : J.step_weight(i, n, step);
+      for (const double v : contact_force_terms(J, i, sw, &dJ_du, &g))
+        value += v;
+    };
     if (is_static)
       {
         const auto w = weights_at_step(0);
         accumulate(J, &w, nullptr, &dJ_du, &g); // objective partials
+        contact_partials(0);
         rhs = dJ_du;
         rhs *= -1.;
         // The Jacobian of the converged Newton step is still assembled;
@@ -1400,6 +1409,7 @@ namespace forma
             const auto w = weights_at_step(i);
             dJ_du        = 0;
             accumulate(J, &w, nullptr, &dJ_du, &g);
+            contact_partials(i);
             mass_and_damping_products(z,
                                       i < n ? &lambda[i + 1] : nullptr,
                                       i + 1,
@@ -1445,6 +1455,7 @@ namespace forma
         const auto w = weights_at_step(0);
         dJ_du        = 0;
         accumulate(J, &w, nullptr, &dJ_du, &g);
+        contact_partials(0);
         z = 0;
         Vector_t zv(owned, comm);
         for (unsigned int k = 1; k <= std::min(n, m); ++k)
@@ -1608,22 +1619,79 @@ namespace forma
     ipc_contact->adjoint_products(u, lambda, constraints_zero, lagged, out);
     for (unsigned int k = 0; k < out.friction.size(); ++k)
       g.friction[k] += out.friction[k];
+    add_rest_gradient(out.rest, g);
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::add_rest_gradient(
+    const std::vector<ipc::Vec> &rest,
+    PhysicalGradient            &g)
+  {
     if (!layout.find("shape"))
       return;
-    // Rest positions to shape DoFs: the transpose of the upsampling M*.
     const auto                          &m = ipc_contact->mesh();
     std::vector<types::global_dof_index> dofs;
     std::vector<double>                  values;
     for (unsigned int v = 0; v < m.n_vertices(); ++v)
-      if (!m.fixed(v) && out.rest[v].norm_square() > 0)
+      if (!m.fixed(v) && rest[v].norm_square() > 0)
         for (const auto &w : m.shape_weights[v])
           {
             dofs.push_back(w.dof);
-            values.push_back(w.weight * out.rest[v][w.component]);
+            values.push_back(w.weight * rest[v][w.component]);
           }
     Vector<double> local(values.begin(), values.end());
     shape_constraints.distribute_local_to_global(local, dofs, g.shape);
     g.shape.compress(VectorOperation::add);
+  }
+
+
+
+  template <int dim>
+  std::vector<double>
+  ElasticitySimulator<dim>::Impl::contact_force_terms(const Objective<dim> &J,
+                                                      const unsigned int    i,
+                                                      const double          sw,
+                                                      Vector_t         *dJ_du,
+                                                      PhysicalGradient *g)
+  {
+    std::vector<double> values(J.terms().size(), 0.);
+    bool                any = false;
+    for (const auto &t : J.terms())
+      any |= t->contact_force;
+    if (!any || sw == 0)
+      return values;
+    AssertThrow(ipc_contact,
+                ExcMessage("Objective/Terms: 'contact force' measures IPC "
+                           "contact forces: set IPC/Enabled = true."));
+    set_step_state(i);
+    if (ipc_contact->update_candidates(u, nullptr))
+      build_jacobian_pattern();
+    for (unsigned int k = 0; k < J.terms().size(); ++k)
+      {
+        const auto &term = *J.terms()[k];
+        if (!term.contact_force)
+          continue;
+        const Tensor<1, dim> R =
+          ipc_contact->barrier_resultant(u, term.contact_bodies);
+        const double p = term.exponent, r2 = R.norm_square();
+        const double c = sw * term.weight;
+        values[k]      = c * std::pow(r2, 0.5 * p);
+        if (!g || r2 == 0)
+          continue;
+        std::vector<ipc::Vec> rest;
+        ipc_contact->barrier_resultant_products(u,
+                                                c * p *
+                                                  std::pow(r2, 0.5 * p - 1) * R,
+                                                term.contact_bodies,
+                                                constraints_zero,
+                                                *dJ_du,
+                                                rest);
+        add_rest_gradient(rest, *g);
+      }
+    return values;
   }
 
 

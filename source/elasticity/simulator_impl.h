@@ -457,6 +457,19 @@ namespace forma
     ipc_adjoint_products(const Vector_t   &lambda,
                          PhysicalGradient &g,
                          Vector_t         *lagged);
+    /// Add d J / d rest positions of the collision vertices to g's shape
+    /// block (the transpose of the upsampling M*).
+    void
+    add_rest_gradient(const std::vector<ipc::Vec> &rest, PhysicalGradient &g);
+    /// The `contact force` terms of J at stored step i, times the step
+    /// weight sw (per term, zero for others); with dJ_du and g, add their
+    /// partials (state, shape).
+    std::vector<double>
+    contact_force_terms(const Objective<dim> &J,
+                        const unsigned int    i,
+                        const double          sw,
+                        Vector_t             *dJ_du,
+                        PhysicalGradient     *g);
     /// Slip smoothing eps_v dt of IPC friction (static: per load step).
     double
     ipc_friction_eta() const;

@@ -984,6 +984,194 @@ namespace forma
 
     template <int dim>
     void
+    IpcContact<dim>::add_threshold_gradient(const Candidate  &c,
+                                            const double      s,
+                                            std::vector<Vec> &rest) const
+    {
+      // eps_x = 1e-3 |e_a|^2 |e_b|^2 at rest.
+      const auto              &m  = *collision_mesh;
+      const Vec                ea = m.rest[c.vertex[1]] - m.rest[c.vertex[0]];
+      const Vec                eb = m.rest[c.vertex[3]] - m.rest[c.vertex[2]];
+      const Vec                ga = 2e-3 * s * eb.norm_square() * ea;
+      const Vec                gb = 2e-3 * s * ea.norm_square() * eb;
+      const std::array<Vec, 4> g{{-ga, ga, -gb, gb}};
+      for (unsigned int i = 0; i < 4; ++i)
+        if (!m.fixed(c.vertex[i]))
+          rest[c.vertex[i]] += g[i];
+    }
+
+
+
+    namespace
+    {
+      // Nested forward AD over the moving coordinates of a pair (and the
+      // mollifier threshold, variable N of the outer level).
+      template <int dim>
+      constexpr int n_pair_variables = 3 * dim + (dim == 3 ? 3 : 0);
+      template <int dim>
+      using PairInner = Sacado::Fad::SFad<double, n_pair_variables<dim>>;
+      template <int dim>
+      using PairOuter =
+        Sacado::Fad::SFad<PairInner<dim>, n_pair_variables<dim> + 1>;
+    } // namespace
+
+
+
+    template <int dim>
+    template <typename F>
+    void
+    IpcContact<dim>::for_each_barrier_pair(const std::vector<Vec> &x,
+                                           const F                &f) const
+    {
+      constexpr int N = n_pair_variables<dim>;
+      using Inner     = PairInner<dim>;
+      using Outer     = PairOuter<dim>;
+      std::vector<unsigned int> used;
+      for (unsigned int k = 0; k < candidates.size(); ++k)
+        {
+          if (!mine(k))
+            continue;
+          const Candidate         &c  = candidates[k];
+          const std::array<Vec, 4> X  = pair_positions(c, x);
+          const PairGeometry       pg = pair_geometry(c, X);
+          if (pg.distance <= 0 || pg.distance >= dhat)
+            continue;
+          barrier_variables(c, pg, used);
+          const bool mollify = pg.mollifier < 1;
+          const auto y = seeded_positions<dim, Outer, Inner>(X, used, N + 1, N);
+          Outer      eps = pg.eps_x;
+          if (mollify)
+            eps = Outer(N + 1, N, Inner(pg.eps_x));
+          // kappa A_k b(d) m: e.val().dx(i) is the gradient, e.dx(j).dx(i)
+          // the Hessian, e.dx(N).dx(i) the mixed threshold derivative.
+          Outer e = barrier_term(pg.stencil, y, mollify, eps, dhat);
+          e *= kappa * pg.weight;
+          f(c, pg, used, e);
+        }
+    }
+
+
+
+    template <int dim>
+    void
+    IpcContact<dim>::barrier_products(
+      const std::vector<Vec>          &x,
+      const std::vector<Vec>          &pv,
+      std::vector<Vec>                &rest,
+      std::vector<double>             &area,
+      const AffineConstraints<double> *constraints,
+      Vector_t                        *hessian_p) const
+    {
+      // p^T grad E; its derivative along the positions x = rest + u is the
+      // Hessian times p, plus the explicit rest terms (area weight,
+      // mollifier threshold).
+      constexpr int                        N = n_pair_variables<dim>;
+      const auto                          &m = *collision_mesh;
+      std::vector<double>                  pl, Hp;
+      std::vector<types::global_dof_index> dofs;
+      for_each_barrier_pair(
+        x,
+        [&](const Candidate                 &c,
+            const PairGeometry              &pg,
+            const std::vector<unsigned int> &used,
+            const PairOuter<dim>            &e) {
+          const unsigned int n = dim * used.size();
+          pl.resize(n);
+          Hp.resize(n);
+          for (unsigned int i = 0; i < n; ++i)
+            pl[i] = pv[c.vertex[used[i / dim]]][i % dim];
+          double pF = 0;
+          for (unsigned int i = 0; i < n; ++i)
+            pF += e.val().dx(i) * pl[i];
+          for (unsigned int j = 0; j < n; ++j)
+            {
+              Hp[j] = 0;
+              for (unsigned int i = 0; i < n; ++i)
+                Hp[j] += e.dx(j).dx(i) * pl[i];
+              rest[c.vertex[used[j / dim]]][j % dim] += Hp[j];
+            }
+          if (hessian_p)
+            {
+              dofs.clear();
+              for (const unsigned int i : used)
+                for (unsigned int d = 0; d < dim; ++d)
+                  dofs.push_back(m.dofs[c.vertex[i]][d]);
+              const Vector<double> local(Hp.begin(), Hp.end());
+              constraints->distribute_local_to_global(local, dofs, *hessian_p);
+            }
+          if (pg.mollifier < 1)
+            {
+              double s = 0;
+              for (unsigned int i = 0; i < n; ++i)
+                s += e.dx(N).dx(i) * pl[i];
+              add_threshold_gradient(c, s, rest);
+            }
+          for (const auto &[v, coefficient] : pg.weight_terms)
+            area[v] += coefficient * pF / pg.weight;
+        });
+    }
+
+
+
+    template <int dim>
+    Tensor<1, dim>
+    IpcContact<dim>::barrier_resultant(
+      const Vector_t                     &u,
+      const std::set<types::material_id> &bodies)
+    {
+      const auto            &m = *collision_mesh;
+      const std::vector<Vec> x = positions(u);
+      Tensor<1, dim>         R;
+      for_each_barrier_pair(x,
+                            [&](const Candidate &c,
+                                const PairGeometry &,
+                                const std::vector<unsigned int> &used,
+                                const PairOuter<dim>            &e) {
+                              for (unsigned int i = 0; i < dim * used.size();
+                                   ++i)
+                                {
+                                  const unsigned int v =
+                                    c.vertex[used[i / dim]];
+                                  if (bodies.empty() || bodies.count(m.body[v]))
+                                    R[i % dim] -= e.val().dx(i);
+                                }
+                            });
+      return Utilities::MPI::sum(R, comm);
+    }
+
+
+
+    template <int dim>
+    void
+    IpcContact<dim>::barrier_resultant_products(
+      const Vector_t                     &u,
+      const Tensor<1, dim>               &dJ_dR,
+      const std::set<types::material_id> &bodies,
+      const AffineConstraints<double>    &constraints,
+      Vector_t                           &dJ_du,
+      std::vector<Vec>                   &rest)
+    {
+      // R = -sum over the bodies' vertices of grad E = -s^T grad E with s
+      // the indicator of their DoFs, so J(R) has the products of p = -s
+      // dJ/dR: dJ/du = H p, dJ/d rest = d(p^T grad E)/d rest.
+      const auto            &m = *collision_mesh;
+      const std::vector<Vec> x = positions(u);
+      std::vector<Vec>       pv(m.n_vertices());
+      for (unsigned int v = 0; v < m.n_vertices(); ++v)
+        if (!m.fixed(v) && (bodies.empty() || bodies.count(m.body[v])))
+          for (unsigned int d = 0; d < dim; ++d)
+            pv[v][d] = -dJ_dR[d];
+      rest.resize(m.n_vertices());
+      std::vector<double> area(m.n_vertices(), 0.);
+      barrier_products(x, pv, rest, area, &constraints, &dJ_du);
+      m.add_area_gradient(area, rest);
+      dJ_du.compress(VectorOperation::add);
+    }
+
+
+
+    template <int dim>
+    void
     IpcContact<dim>::adjoint_products(
       const Vector_t                  &u,
       const Vector_t                  &p,
@@ -997,71 +1185,11 @@ namespace forma
       const std::vector<Vec> pv = displacements(p);
       out.rest.resize(m.n_vertices());
       out.friction.resize(source_values.size(), 0.);
-      std::vector<double> area(m.n_vertices(), 0.);
-
-      // d eps_x / d rest of the four vertices of an edge pair, times s.
-      const auto add_threshold = [&](const Candidate &c, const double s) {
-        const Vec                ea = m.rest[c.vertex[1]] - m.rest[c.vertex[0]];
-        const Vec                eb = m.rest[c.vertex[3]] - m.rest[c.vertex[2]];
-        const Vec                ga = 2e-3 * s * eb.norm_square() * ea;
-        const Vec                gb = 2e-3 * s * ea.norm_square() * eb;
-        const std::array<Vec, 4> g{{-ga, ga, -gb, gb}};
-        for (unsigned int i = 0; i < 4; ++i)
-          if (!m.fixed(c.vertex[i]))
-            out.rest[c.vertex[i]] += g[i];
-      };
-
-      // Barrier: p^T h^c = p . grad E; its derivative along the positions
-      // x = rest + u is the Hessian times p, plus the explicit rest terms
-      // (area weight, mollifier threshold).
-      constexpr int N = 3 * dim + (dim == 3 ? 3 : 0);
-      using Inner     = Sacado::Fad::SFad<double, N>;
-      using Outer     = Sacado::Fad::SFad<Inner, N + 1>;
-      // Per-pair buffers, reused.
-      std::vector<unsigned int>            used;
-      std::vector<double>                  pl, values;
+      std::vector<double>                  area(m.n_vertices(), 0.);
+      std::vector<double>                  values;
       std::vector<types::global_dof_index> dofs;
-      for (unsigned int k = 0; k < candidates.size(); ++k)
-        {
-          if (!mine(k))
-            continue;
-          const Candidate         &c  = candidates[k];
-          const std::array<Vec, 4> X  = pair_positions(c, x);
-          const PairGeometry       pg = pair_geometry(c, X);
-          if (pg.distance <= 0 || pg.distance >= dhat)
-            continue;
-          barrier_variables(c, pg, used);
-          const unsigned int n       = dim * used.size();
-          const bool         mollify = pg.mollifier < 1;
-          const auto y = seeded_positions<dim, Outer, Inner>(X, used, N + 1, N);
-          Outer      eps = pg.eps_x;
-          if (mollify)
-            eps = Outer(N + 1, N, Inner(pg.eps_x));
-          const Outer  e     = barrier_term(pg.stencil, y, mollify, eps, dhat);
-          const double scale = kappa * pg.weight;
-          pl.resize(n);
-          for (unsigned int i = 0; i < n; ++i)
-            pl[i] = pv[c.vertex[used[i / dim]]][i % dim];
-          double pF = 0;
-          for (unsigned int i = 0; i < n; ++i)
-            pF += scale * e.val().dx(i) * pl[i];
-          for (unsigned int j = 0; j < n; ++j)
-            {
-              double Hp = 0;
-              for (unsigned int i = 0; i < n; ++i)
-                Hp += e.dx(j).dx(i) * pl[i];
-              out.rest[c.vertex[used[j / dim]]][j % dim] += scale * Hp;
-            }
-          if (mollify)
-            {
-              double s = 0;
-              for (unsigned int i = 0; i < n; ++i)
-                s += e.dx(N).dx(i) * pl[i];
-              add_threshold(c, scale * s);
-            }
-          for (const auto &[v, coefficient] : pg.weight_terms)
-            area[v] += coefficient * pF / pg.weight;
-        }
+
+      barrier_products(x, pv, out.rest, area, nullptr, nullptr);
 
       // Lagged friction (eqs. 3.26-3.29): p^T h^f = M fy (p~ . P s) with
       // M = kappa A m |b'(d)| mu, the slip s = sum_a w_a (u_a - u_a^start),
@@ -1138,7 +1266,7 @@ namespace forma
               for (const auto &[v, coefficient] : pg.weight_terms)
                 area[v] += coefficient * mu * pF1.val() / pg.weight;
               if (mollify)
-                add_threshold(c, mu * pF1.dx(12));
+                add_threshold_gradient(c, mu * pF1.dx(12), out.rest);
 
               // Lagged positions x = rest + u_lagged: both gradients.
               dofs.clear();

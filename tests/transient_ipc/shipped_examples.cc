@@ -204,4 +204,18 @@ main()
         0.9 * s["optimization"]["initial_state"]["max_von_mises_stress"]
                 .get<double>());
   }
+  {
+    const auto s = run_example("transient_ipc", "hook_stress");
+    check("von Mises L8 norm of the hook down at least 25%",
+          final_term(s, "von mises") < 0.75 * first_term(s, "von mises"));
+    const double area =
+      s["optimization"]["final_state"]["volume"].get<double>();
+    check("area within 0.1% of its target (1.584)",
+          std::abs(area - 1.584) < 1.584e-3);
+    check(
+      "max von Mises stress down at least 30%",
+      s["optimization"]["final_state"]["max_von_mises_stress"].get<double>() <
+        0.7 * s["optimization"]["initial_state"]["max_von_mises_stress"]
+                .get<double>());
+  }
 }

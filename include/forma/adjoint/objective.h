@@ -120,6 +120,17 @@ namespace forma
     Regularization regularization = Regularization::none;
     double         exponent       = 2; ///< p of boundary smoothing
 
+    /**
+     * `contact force : p=2[, material=id]` (IPC runs): |R|^p at every step,
+     * integrated in time like the other terms, R the resultant of the
+     * barrier (normal) contact forces on the body `material` (all bodies:
+     * the obstacles' push, as pairs between bodies cancel). Evaluated by
+     * the simulator from its IPC contact, with `exponent` p; no integrals.
+     */
+    bool contact_force = false;
+    /// The body of a contact force term; empty: all.
+    std::set<dealii::types::material_id> contact_bodies;
+
     const std::string name;
     const double      weight;
   };

@@ -208,6 +208,30 @@ namespace forma
                        AdjointProducts                         &out);
 
       /**
+       * @name The resultant of the barrier forces (a contact force objective)
+       * R = -sum over the collision vertices of the bodies `bodies` (material
+       * ids; empty: all, where pairs between bodies cancel and R is the
+       * obstacles' push) of grad E, at state u after update_candidates(u).
+       */
+      //@{
+      /// R (collective).
+      dealii::Tensor<1, dim>
+      barrier_resultant(const Vector_t                             &u,
+                        const std::set<dealii::types::material_id> &bodies);
+      /// For an objective J(R), given dJ/dR: adds dJ/du (the barrier Hessian
+      /// times the bodies' indicator) to `dJ_du` through `constraints`
+      /// (collective) and dJ/d rest positions of the collision vertices (this
+      /// rank's pairs) to `rest`.
+      void
+      barrier_resultant_products(
+        const Vector_t                             &u,
+        const dealii::Tensor<1, dim>               &dJ_dR,
+        const std::set<dealii::types::material_id> &bodies,
+        const dealii::AffineConstraints<double>    &constraints,
+        Vector_t                                   &dJ_du,
+        std::vector<Vec>                           &rest);
+      //@}
+      /**
        * Lagged friction: normal forces, tangent bases and closest points of
        * the pairs active at `u_lagged`; slip is measured from `u_start`
        * (the previous step), smoothed below `eta` (eq. 3.26). Collective.
@@ -280,6 +304,27 @@ namespace forma
       positions(const Vector_t &u);
       std::vector<Vec>
       displacements(const Vector_t &u);
+      /// Call f(candidate, geometry, moving slots, e) for this rank's pairs
+      /// within dhat at positions x, e = kappa A_k b(d_k) m_k as nested AD
+      /// over the moving coordinates (and the mollifier threshold).
+      template <typename F>
+      void
+      for_each_barrier_pair(const std::vector<Vec> &x, const F &f) const;
+      /// Add the derivatives of p^T grad E (p per vertex in `pv`) with
+      /// respect to the rest positions to `rest` (through x = rest + u) and
+      /// `area` (vertex area weights); if `hessian_p`, add H p there.
+      void
+      barrier_products(const std::vector<Vec>                  &x,
+                       const std::vector<Vec>                  &pv,
+                       std::vector<Vec>                        &rest,
+                       std::vector<double>                     &area,
+                       const dealii::AffineConstraints<double> *constraints,
+                       Vector_t *hessian_p) const;
+      /// Add s d eps_x / d rest (edge-edge mollifier threshold) to `rest`.
+      void
+      add_threshold_gradient(const Candidate  &c,
+                             const double      s,
+                             std::vector<Vec> &rest) const;
       /// Fill `candidates` for the segment u + s du (or the state u).
       void
       collect_candidates(const Vector_t &u, const Vector_t *du);
