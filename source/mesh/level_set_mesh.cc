@@ -606,124 +606,115 @@ namespace forma
                              std::to_string(parameters.boundary_size) +
                              ", element size " +
                              std::to_string(parameters.size) + ")"));
-      std::string      msh, error;
-      LevelSetMeshInfo local_info;
-      if (Utilities::MPI::this_mpi_process(comm) == 0)
-        try
-          {
-            Tracer       tracer(phi, box, parameters.grid);
-            const double spacing = std::max(box[0], box[1]) / parameters.grid;
-            std::vector<std::vector<Point<2>>> outer, holes;
-            for (const auto &loop : tracer.loops())
-              {
-                const bool touches =
-                  std::any_of(loop.begin(),
-                              loop.end(),
-                              [](const LoopVertex &v) { return v.fixed; });
-                std::vector<Point<2>> polygon =
-                  resample(loop, phi, box, parameters.boundary_size, spacing);
-                const double a = signed_area(polygon);
-                AssertThrow(periodic || !touches,
-                            ExcMessage(context + ": the material reaches the "
-                                                 "sides of its box"));
-                if (touches || (!periodic && a > 0))
-                  outer.push_back(std::move(polygon));
-                else if (a > 0)
-                  ++local_info.dropped_islands;
-                else if (-a < std::pow(parameters.boundary_size, 2))
-                  ++local_info.dropped_holes;
-                else
-                  holes.push_back(std::move(polygon));
-              }
-            AssertThrow(!outer.empty(),
-                        ExcMessage(context +
-                                   (periodic ?
-                                      ": the material does not reach the sides "
-                                      "of the cell, so it cannot form a "
-                                      "periodic structure" :
-                                      ": there is no material to mesh")));
-            // Resampled contours of features near the boundary element size
-            // may touch: a small hole that does is filled, anything else is
-            // an error that names the cause.
+      LevelSetMeshInfo  local_info;
+      const std::string msh =
+        internal::gmsh_on_root(comm, "forma-level-set-mesh", context, [&]() {
+          Tracer       tracer(phi, box, parameters.grid);
+          const double spacing = std::max(box[0], box[1]) / parameters.grid;
+          std::vector<std::vector<Point<2>>> outer, holes;
+          for (const auto &loop : tracer.loops())
             {
-              std::vector<std::vector<Point<2>>> all = outer;
-              all.insert(all.end(), holes.begin(), holes.end());
-              const auto crossed       = crossing_loops(all);
-              const auto outer_crossed = crossing_loops(outer);
-              for (unsigned int k = 0; k < outer.size(); ++k)
-                AssertThrow(!outer_crossed[k],
-                            ExcMessage(
-                              context +
-                              ": the resampled material boundary "
-                              "crosses itself: a gap or a joint is "
-                              "thinner than the boundary element "
-                              "size " +
-                              std::to_string(parameters.boundary_size)));
-              std::vector<std::vector<Point<2>>> kept;
-              for (unsigned int k = 0; k < holes.size(); ++k)
-                if (!crossed[outer.size() + k])
-                  kept.push_back(std::move(holes[k]));
-                else
-                  {
-                    AssertThrow(-signed_area(holes[k]) <
-                                  16 * std::pow(parameters.boundary_size, 2),
-                                ExcMessage(
-                                  context +
-                                  ": a hole's resampled boundary "
-                                  "crosses the material's boundary: "
-                                  "a wall is thinner than the "
-                                  "boundary element size " +
-                                  std::to_string(parameters.boundary_size)));
-                    ++local_info.dropped_holes;
-                  }
-              holes = std::move(kept);
+              const bool touches =
+                std::any_of(loop.begin(), loop.end(), [](const LoopVertex &v) {
+                  return v.fixed;
+                });
+              std::vector<Point<2>> polygon =
+                resample(loop, phi, box, parameters.boundary_size, spacing);
+              const double a = signed_area(polygon);
+              AssertThrow(periodic || !touches,
+                          ExcMessage(context + ": the material reaches the "
+                                               "sides of its box"));
+              if (touches || (!periodic && a > 0))
+                outer.push_back(std::move(polygon));
+              else if (a > 0)
+                ++local_info.dropped_islands;
+              else if (-a < std::pow(parameters.boundary_size, 2))
+                ++local_info.dropped_holes;
+              else
+                holes.push_back(std::move(polygon));
             }
-            std::vector<int> owner(holes.size(), -1);
+          AssertThrow(!outer.empty(),
+                      ExcMessage(context +
+                                 (periodic ?
+                                    ": the material does not reach the sides "
+                                    "of the cell, so it cannot form a "
+                                    "periodic structure" :
+                                    ": there is no material to mesh")));
+          // Resampled contours of features near the boundary element size
+          // may touch: a small hole that does is filled, anything else is
+          // an error that names the cause.
+          {
+            std::vector<std::vector<Point<2>>> all = outer;
+            all.insert(all.end(), holes.begin(), holes.end());
+            const auto crossed       = crossing_loops(all);
+            const auto outer_crossed = crossing_loops(outer);
+            for (unsigned int k = 0; k < outer.size(); ++k)
+              AssertThrow(!outer_crossed[k],
+                          ExcMessage(context +
+                                     ": the resampled material boundary "
+                                     "crosses itself: a gap or a joint is "
+                                     "thinner than the boundary element "
+                                     "size " +
+                                     std::to_string(parameters.boundary_size)));
+            std::vector<std::vector<Point<2>>> kept;
             for (unsigned int k = 0; k < holes.size(); ++k)
+              if (!crossed[outer.size() + k])
+                kept.push_back(std::move(holes[k]));
+              else
+                {
+                  AssertThrow(-signed_area(holes[k]) <
+                                16 * std::pow(parameters.boundary_size, 2),
+                              ExcMessage(
+                                context +
+                                ": a hole's resampled boundary "
+                                "crosses the material's boundary: "
+                                "a wall is thinner than the "
+                                "boundary element size " +
+                                std::to_string(parameters.boundary_size)));
+                  ++local_info.dropped_holes;
+                }
+            holes = std::move(kept);
+          }
+          std::vector<int> owner(holes.size(), -1);
+          for (unsigned int k = 0; k < holes.size(); ++k)
+            {
+              for (unsigned int o = 0; o < outer.size(); ++o)
+                if (inside(outer[o], holes[k][0]))
+                  owner[k] = o;
+              AssertThrow(owner[k] >= 0,
+                          ExcMessage(context +
+                                     ": a hole of the material lies in no "
+                                     "piece of it (inconsistent contours)"));
+            }
+          local_info.boundary_loops = outer.size() + holes.size();
+          // Frontal-Delaunay, and plain Delaunay if that cannot recover a
+          // boundary edge (it happens at near-touching contours), each on
+          // a fresh model.
+          for (const int algorithm : {6, 5})
+            try
               {
-                for (unsigned int o = 0; o < outer.size(); ++o)
-                  if (inside(outer[o], holes[k][0]))
-                    owner[k] = o;
-                AssertThrow(owner[k] >= 0,
-                            ExcMessage(context +
-                                       ": a hole of the material lies in no "
-                                       "piece of it (inconsistent contours)"));
+                if (algorithm != 6)
+                  {
+                    gmsh::clear();
+                    gmsh::model::add("forma-level-set-mesh");
+                  }
+                return generate(outer, holes, owner, parameters, algorithm);
               }
-            local_info.boundary_loops = outer.size() + holes.size();
-            // Frontal-Delaunay, and plain Delaunay if that cannot recover a
-            // boundary edge (it happens at near-touching contours).
-            std::lock_guard<std::mutex> lock(internal::gmsh_mutex());
-            for (const int algorithm : {6, 5})
-              try
-                {
-                  internal::GmshSession session("forma-level-set-mesh");
-                  msh   = generate(outer, holes, owner, parameters, algorithm);
-                  error = "";
-                  break;
-                }
-              catch (const std::string &message) // what the Gmsh API throws
-                {
-                  error =
-                    internal::gmsh_error(context, "failed (" + message + ")");
-                }
-              catch (const std::exception &e)
-                {
-                  error = error_message(e) +
-                          " (is a gap or a joint of the structure thinner than "
-                          "the boundary element size?)";
-                }
-          }
-        catch (const std::exception &e)
-          {
-            error = error_message(e);
-          }
-        catch (...)
-          {
-            error = context + ": meshing failed with an unknown error";
-          }
-      std::tie(msh, error) =
-        Utilities::MPI::broadcast(comm, std::make_pair(msh, error));
-      AssertThrow(error.empty(), ExcMessage(error));
+            catch (const std::string &) // what the Gmsh API throws
+              {
+                if (algorithm == 5)
+                  throw;
+              }
+            catch (const std::exception &e)
+              {
+                AssertThrow(algorithm != 5,
+                            ExcMessage(
+                              error_message(e) +
+                              " (is a gap or a joint of the structure "
+                              "thinner than the boundary element size?)"));
+              }
+          return std::string();
+        });
       Triangulation<2>   read;
       std::istringstream in(msh);
       GridIn<2>          grid_in(read);
