@@ -218,4 +218,18 @@ main()
         0.7 * s["optimization"]["initial_state"]["max_von_mises_stress"]
                 .get<double>());
   }
+  {
+    const auto s = run_example("transient_ipc", "hanger_stress_3d");
+    check("von Mises L8 norm of the hanger down at least 5%",
+          final_term(s, "von mises") < 0.95 * first_term(s, "von mises"));
+    const double volume =
+      s["optimization"]["final_state"]["volume"].get<double>();
+    check("volume within 0.2% of its target (1.6376)",
+          std::abs(volume - 1.6376) < 1.6376 * 2e-3);
+    check(
+      "max von Mises stress down at least 10%",
+      s["optimization"]["final_state"]["max_von_mises_stress"].get<double>() <
+        0.9 * s["optimization"]["initial_state"]["max_von_mises_stress"]
+                .get<double>());
+  }
 }
