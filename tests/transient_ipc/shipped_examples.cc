@@ -219,6 +219,16 @@ main()
                 .get<double>());
   }
   {
+    const auto s = run_example("transient_ipc", "soft_landing");
+    check("time integral of |R|^4 of the landing down at least 40%",
+          final_term(s, "contact force") <
+            0.6 * first_term(s, "contact force"));
+    const double area =
+      s["optimization"]["final_state"]["volume"].get<double>();
+    check("area within 0.2% of its target (0.08)",
+          std::abs(area - 0.08) < 0.08 * 2e-3);
+  }
+  {
     const auto s = run_example("transient_ipc", "hanger_stress_3d");
     check("von Mises L8 norm of the hanger down at least 5%",
           final_term(s, "von mises") < 0.95 * first_term(s, "von mises"));
