@@ -584,7 +584,9 @@ namespace forma
     };
 
 
-    /// The contact force term (see ObjectiveTerm::contact_force).
+    /// The contact force term (see ObjectiveTerm::contact_force): no
+    /// integrals like the regularization terms, but a function of the state
+    /// at every step (not a regularization).
     template <int dim>
     class ContactForceTerm : public RegularizationTerm<dim>
     {

@@ -1663,9 +1663,6 @@ namespace forma
       any |= t->contact_force;
     if (!any || sw == 0)
       return values;
-    AssertThrow(ipc_contact,
-                ExcMessage("Objective/Terms: 'contact force' measures IPC "
-                           "contact forces: set IPC/Enabled = true."));
     set_step_state(i);
     if (ipc_contact->update_candidates(u, nullptr))
       build_jacobian_pattern();
@@ -1758,6 +1755,25 @@ namespace forma
   ElasticitySimulator<dim>::set_objective(
     const std::shared_ptr<const Objective<dim>> &J)
   {
+    for (const auto &t : J->terms())
+      if (t->contact_force)
+        {
+          AssertThrow(impl->ipc_contact,
+                      ExcMessage("Objective/Terms: 'contact force' measures "
+                                 "IPC barrier forces: it needs "
+                                 "forma-transient-ipc with IPC/Enabled = "
+                                 "true."));
+          std::vector<types::material_id> ids;
+          for (const auto &cell : impl->tria->active_cell_iterators())
+            if (cell->is_locally_owned())
+              ids.push_back(cell->material_id());
+          ids = Utilities::MPI::compute_set_union(ids, impl->comm);
+          for (const auto id : t->contact_bodies)
+            AssertThrow(std::find(ids.begin(), ids.end(), id) != ids.end(),
+                        ExcMessage("Objective/Terms, term 'contact force': "
+                                   "no body has material id " +
+                                   std::to_string(id) + "."));
+        }
     impl->objective = J;
     impl->reference_states.clear();
     if (!J->needs_reference_run())

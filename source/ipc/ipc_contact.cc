@@ -1065,6 +1065,7 @@ namespace forma
       // p^T grad E; its derivative along the positions x = rest + u is the
       // Hessian times p, plus the explicit rest terms (area weight,
       // mollifier threshold).
+      Assert(!hessian_p || constraints, ExcInternalError());
       constexpr int                        N = n_pair_variables<dim>;
       const auto                          &m = *collision_mesh;
       std::vector<double>                  pl, Hp;

@@ -141,6 +141,17 @@ main()
                  base + gradient +
                    "subsection Design\n set Parameters = friction\nend\n",
                  good);
+  expect_failure("contact_force_without_ipc",
+                 base + gradient +
+                   "subsection Objective\n set Terms = contact force\nend\n"
+                   "subsection Design\n set Parameters = material\nend\n",
+                 good);
+  expect_failure("contact_force_unknown_body",
+                 base + ipc + gradient +
+                   "subsection Objective\n set Terms = contact force : "
+                   "material=7\nend\n"
+                   "subsection Design\n set Parameters = material\nend\n",
+                 good);
   expect_failure("design_start_count",
                  base + gradient +
                    "subsection Design\n set Parameters = material\n"

@@ -118,7 +118,8 @@ namespace forma
       material_smoothing
     };
     Regularization regularization = Regularization::none;
-    double         exponent       = 2; ///< p of boundary smoothing
+    /// p of boundary smoothing and of the contact force
+    double exponent = 2;
 
     /**
      * `contact force : p=2[, material=id]` (IPC runs): |R|^p at every step,

@@ -219,7 +219,7 @@ namespace forma
       barrier_resultant(const Vector_t                             &u,
                         const std::set<dealii::types::material_id> &bodies);
       /// For an objective J(R), given dJ/dR: adds dJ/du (the barrier Hessian
-      /// times the bodies' indicator) to `dJ_du` through `constraints`
+      /// times -dJ/dR on the bodies' DoFs) to `dJ_du` through `constraints`
       /// (collective) and dJ/d rest positions of the collision vertices (this
       /// rank's pairs) to `rest`.
       void
