@@ -257,6 +257,12 @@ namespace forma
       {
         return false;
       }
+      void
+      cap_volume_bound(const double volume) override
+      {
+        if (!std::isnan(bound) && !two_sided)
+          bound = std::min(bound, volume);
+      }
       template <typename N>
       N
       j(unsigned int,
@@ -286,8 +292,8 @@ namespace forma
       }
 
     private:
-      const double bound; ///< NaN: the plain volume
-      const bool   two_sided;
+      double     bound; ///< NaN: the plain volume
+      const bool two_sided;
     };
 
     // int |x + u - x_trg|^2 over the volume or the boundary (eq. 3.37).

@@ -187,7 +187,33 @@ namespace forma
   {
     nlohmann::json s = cases[0]->adjoint_statistics();
     if (cases.size() > 1)
-      s["load_cases"] = cases.size();
+      {
+        // Every case solves and differentiates: the times add up.
+        for (const char *key : {"forward_seconds",
+                                "adjoint_seconds",
+                                "adjoint_solve_seconds",
+                                "derivative_products_seconds"})
+          {
+            double sum = 0;
+            for (const auto &c : cases)
+              sum += double(c->adjoint_statistics()[key]);
+            s[key] = sum;
+          }
+        unsigned int solves = 0, gradients = 0;
+        for (const auto &c : cases)
+          {
+            const auto a = c->adjoint_statistics();
+            solves += static_cast<unsigned int>(a["forward_solves"]);
+            gradients += static_cast<unsigned int>(a["gradients"]);
+          }
+        s["forward_solves"] = solves;
+        s["gradients"]      = gradients;
+        s["seconds_per_forward_solve"] =
+          double(s["forward_seconds"]) / std::max(1u, solves);
+        s["seconds_per_gradient"] =
+          double(s["adjoint_seconds"]) / std::max(1u, gradients);
+        s["load_cases"] = cases.size();
+      }
     return s;
   }
 
@@ -217,6 +243,42 @@ namespace forma
   LoadCases<dim>::remesh_improves(std::string &reason)
   {
     return cases[0]->remesh_improves(reason);
+  }
+
+  template <int dim>
+  void
+  LoadCases<dim>::cap_volume_bounds(const double volume)
+  {
+    for (auto &c : cases)
+      c->cap_volume_bounds(volume);
+  }
+
+  template <int dim>
+  std::vector<double>
+  LoadCases<dim>::cell_mean_stress() const
+  {
+    auto stress = cases[0]->cell_mean_stress();
+    for (unsigned int k = 1; k < cases.size(); ++k)
+      {
+        const auto other = cases[k]->cell_mean_stress();
+        for (unsigned int c = 0; c < stress.size(); ++c)
+          stress[c] = std::max(stress[c], other[c]);
+      }
+    return stress;
+  }
+
+  template <int dim>
+  std::string
+  LoadCases<dim>::remesh_without(const std::string         &file_stem,
+                                 const std::vector<bool>   &removed,
+                                 dealii::types::boundary_id open_id)
+  {
+    AssertThrow(!file_stem.empty(), dealii::ExcInternalError());
+    const std::string line =
+      cases[0]->remesh_without(file_stem, removed, open_id);
+    for (unsigned int k = 1; k < cases.size(); ++k)
+      cases[k]->load_remeshed(file_stem);
+    return line;
   }
 
   template <int dim>

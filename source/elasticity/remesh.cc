@@ -7,6 +7,7 @@
 #include <deal.II/distributed/shared_tria.h>
 #include <deal.II/distributed/tria.h>
 #include <deal.II/fe/fe_values.h>
+#include <deal.II/hp/fe_values.h>
 #include <deal.II/numerics/vector_tools_evaluate.h>
 
 #include <forma/base/application.h>
@@ -16,6 +17,7 @@
 
 #include "simulator_impl.h"
 
+#include <algorithm>
 #include <fstream>
 
 namespace forma
@@ -70,7 +72,9 @@ namespace forma
 
   template <int dim>
   RegionBoundaries<dim>
-  ElasticitySimulator<dim>::Impl::region_boundaries() const
+  ElasticitySimulator<dim>::Impl::region_boundaries(
+    const std::vector<bool> *removed,
+    const types::boundary_id open_id) const
   {
     // Facets of the locally owned cells, vertices named by their first
     // shape DoF (global, the same on every rank): boundary faces, and
@@ -79,8 +83,11 @@ namespace forma
     std::vector<types::global_dof_index> keys;
     std::vector<double>                  x;
     std::vector<unsigned int>            ids; // inside, outside, boundary
+    const auto                           gone = [&](const auto &c) {
+      return removed && (*removed)[c->active_cell_index()];
+    };
     for (const auto &cell : shape_dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
+      if (cell->is_locally_owned() && !gone(cell))
         for (const auto f : cell->face_indices())
           {
             const auto         face    = cell->face(f);
@@ -88,6 +95,8 @@ namespace forma
             types::boundary_id id      = 0;
             if (face->at_boundary())
               id = face->boundary_id();
+            else if (gone(cell->neighbor(f)))
+              id = open_id; // a face the removed cells leave open
             else
               {
                 if (face->has_children())
@@ -260,9 +269,10 @@ namespace forma
 
   template <int dim>
   std::string
-  ElasticitySimulator<dim>::Impl::new_mesh()
+  ElasticitySimulator<dim>::Impl::new_mesh(const std::vector<bool> *removed,
+                                           const types::boundary_id open_id)
   {
-    if (!pending_mesh.empty() && pending_design == design &&
+    if (!removed && !pending_mesh.empty() && pending_design == design &&
         pending_size == tria->n_global_active_cells())
       return pending_mesh;
     AssertThrow(dim == 2 || simplex,
@@ -272,7 +282,7 @@ namespace forma
                            "remeshing."));
     const double before   = Utilities::MPI::min(min_scaled_jacobian(), comm);
     const bool   root     = Utilities::MPI::this_mpi_process(comm) == 0;
-    const auto   boundary = region_boundaries();
+    const auto   boundary = region_boundaries(removed, open_id);
     std::string  msh, error;
     if (root)
       try
@@ -307,6 +317,8 @@ namespace forma
                 ExcMessage("remeshing: the new mesh has a cell of scaled "
                            "Jacobian " +
                            fmt(after, 3) + " < Design/Min scaled Jacobian."));
+    if (removed)
+      return msh;
     pending_mesh    = msh;
     pending_design  = design;
     pending_quality = {before, after};
@@ -352,11 +364,92 @@ namespace forma
   std::string
   ElasticitySimulator<dim>::remesh(const std::string &file_stem)
   {
-    auto             &s        = *impl;
-    const double      before   = mesh_quality();
-    const auto        n_before = s.tria->n_global_active_cells();
-    const bool        root     = Utilities::MPI::this_mpi_process(s.comm) == 0;
-    const std::string msh      = s.new_mesh();
+    return remesh_without(file_stem, {}, 0);
+  }
+
+  template <int dim>
+  std::vector<double>
+  ElasticitySimulator<dim>::cell_mean_stress() const
+  {
+    auto &m = *impl;
+    AssertThrow(
+      !dynamic_cast<const parallel::distributed::Triangulation<dim> *>(
+        m.tria.get()),
+      ExcMessage("Optimization/Element removal needs every cell on every "
+                 "rank: run it on one MPI rank or with separated interfaces "
+                 "(a shared mesh)."));
+    m.set_step_state(m.u_states.size() - 1);
+    hp::FEValues<dim>           hp_fv(m.mapping,
+                            m.fe,
+                            m.quadrature,
+                            update_gradients | update_JxW_values);
+    std::vector<Tensor<2, dim>> grads;
+    std::vector<double>         stress(m.tria->n_active_cells(), 0.);
+    for (const auto &cell : m.dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          hp_fv.reinit(cell);
+          const auto &fv = hp_fv.get_present_fe_values();
+          grads.resize(fv.n_quadrature_points);
+          fv[FEValuesExtractors::Vector(0)].get_function_gradients(m.u_ghost,
+                                                                   grads);
+          const Material<dim> mat = m.cell_material(cell);
+          double              sum = 0, volume = 0;
+          for (unsigned int q = 0; q < grads.size(); ++q)
+            {
+              sum += mat.cauchy_stress(grads[q]).norm() * fv.JxW(q);
+              volume += fv.JxW(q);
+            }
+          stress[cell->active_cell_index()] = sum / volume;
+        }
+    Utilities::MPI::sum(stress, m.comm, stress);
+    return stress;
+  }
+
+  template <int dim>
+  std::set<types::boundary_id>
+  ElasticitySimulator<dim>::holding_boundaries() const
+  {
+    std::set<types::boundary_id> ids;
+    for (const auto &d : impl->dirichlet)
+      ids.insert(d.id);
+    for (const auto *laws :
+         {&impl->p.contact.rigid, &impl->p.contact.deformable})
+      for (const auto &[id, law] : *laws)
+        ids.insert(id);
+    return ids;
+  }
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::cap_volume_bounds(const double volume)
+  {
+    if (impl->objective)
+      for (const auto &t : impl->objective->terms())
+        t->cap_volume_bound(volume);
+  }
+
+  template <int dim>
+  const Triangulation<dim, dim> &
+  ElasticitySimulator<dim>::triangulation() const
+  {
+    return *impl->tria;
+  }
+
+  template <int dim>
+  std::string
+  ElasticitySimulator<dim>::remesh_without(const std::string       &file_stem,
+                                           const std::vector<bool> &removed,
+                                           const types::boundary_id open_id)
+  {
+    auto        &s        = *impl;
+    const double before   = mesh_quality();
+    const auto   n_before = s.tria->n_global_active_cells();
+    const bool   root     = Utilities::MPI::this_mpi_process(s.comm) == 0;
+    AssertThrow(removed.empty() || removed.size() == s.tria->n_active_cells(),
+                ExcInternalError());
+    const std::string msh =
+      removed.empty() ? s.new_mesh() : s.new_mesh(&removed, open_id);
     s.pending_mesh.clear();
     Triangulation<dim> serial;
     read_regions_mesh(msh, serial);
@@ -379,6 +472,12 @@ namespace forma
     s.replace_mesh(serial, X);
     if (s.objective)
       set_objective(s.objective); // the reference run on the new mesh
+    if (!removed.empty())
+      return "removed " +
+             std::to_string(std::count(removed.begin(), removed.end(), true)) +
+             " low-stress cells and remeshed: " + std::to_string(n_before) +
+             " -> " + std::to_string(s.tria->n_global_active_cells()) +
+             " cells, min scaled Jacobian " + fmt(mesh_quality(), 3);
     return "remeshed (min scaled Jacobian " + fmt(before, 3) +
            "): " + std::to_string(n_before) + " -> " +
            std::to_string(s.tria->n_global_active_cells()) +
@@ -451,6 +550,15 @@ namespace forma
   template double      ElasticitySimulator<dim>::mesh_quality() const;           \
   template bool        ElasticitySimulator<dim>::remesh_improves(std::string &); \
   template std::string ElasticitySimulator<dim>::remesh(const std::string &);    \
+  template std::string ElasticitySimulator<dim>::remesh_without(                 \
+    const std::string &, const std::vector<bool> &, types::boundary_id);         \
+  template std::vector<double> ElasticitySimulator<dim>::cell_mean_stress()      \
+    const;                                                                       \
+  template void ElasticitySimulator<dim>::cap_volume_bounds(double);             \
+  template std::set<types::boundary_id>                                          \
+  ElasticitySimulator<dim>::holding_boundaries() const;                          \
+  template const Triangulation<dim, dim>                                         \
+               &ElasticitySimulator<dim>::triangulation() const;                 \
   template void ElasticitySimulator<dim>::load_remeshed(const std::string &);    \
   template std::vector<double> ElasticitySimulator<dim>::material_offsets()      \
     const;                                                                       \

@@ -332,17 +332,22 @@ namespace forma
     /// points of the current shape (and where, on the mesh as read).
     double
     min_scaled_jacobian(Point<dim> *where = nullptr) const;
+    /// Without the `removed` cells (by active cell index), whose faces
+    /// to kept cells become boundary `open_id`.
     RegionBoundaries<dim>
-    region_boundaries() const;
+    region_boundaries(const std::vector<bool> *removed = nullptr,
+                      types::boundary_id       open_id = 0) const;
     /// Material coordinates at points of the current shape.
     std::vector<Point<dim>>
     material_points(const std::vector<Point<dim>> &x) const;
     /// A Gmsh mesh of the current design that passes Design/Min scaled
     /// Jacobian (else throws); kept for the design it was made for.
+    /// With `removed` cells: a one-off mesh, not kept.
     std::string
-                              new_mesh();
-    std::string               pending_mesh;
-    std::vector<double>       pending_design;
+                        new_mesh(const std::vector<bool> *removed = nullptr,
+                                 types::boundary_id       open_id = 0);
+    std::string         pending_mesh;
+    std::vector<double> pending_design;
     std::pair<double, double> pending_quality; ///< min scaled J: now, new
     types::global_cell_index  pending_size = 0;
     /// Take over `serial` (a mesh_regions() mesh as read) whose vertices
@@ -409,6 +414,7 @@ namespace forma
     double                           memory_of_states = 0;
     std::vector<double> term_values; ///< weighted terms of the last J
     double              adjoint_seconds = 0, forward_seconds = 0;
+    double              adjoint_solve_seconds = 0; ///< part of adjoint_seconds
     unsigned int        forward_solves = 0, gradients = 0;
 
     LinearSolver linear_solver;

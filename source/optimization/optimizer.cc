@@ -69,6 +69,23 @@ namespace forma
                       "10",
                       Patterns::Integer(0),
                       "Remeshes at most in one run.");
+    prm.declare_entry("Element removal",
+                      "0",
+                      Patterns::Double(0, 1),
+                      "ESO-like topology step (thesis ch. 2.7.1, tower "
+                      "crane): once the shape optimization has stopped, "
+                      "remove the cells whose stress (cell mean, averaged "
+                      "with the face neighbours) is below this fraction of "
+                      "the largest, remesh with the holes and optimize on; "
+                      "a volume bound then holds the volume left. Cells on "
+                      "supports, loads, contacts and interfaces stay. 0: "
+                      "never.");
+    prm.declare_entry("Element removal boundary",
+                      "-1",
+                      Patterns::Integer(-1, 255),
+                      "Boundary id of the holes that Element removal "
+                      "makes: a free (designable) id; cells on it may go, "
+                      "cells on any other boundary id stay.");
     prm.declare_entry("Resume",
                       "false",
                       Patterns::Bool(),
@@ -83,15 +100,27 @@ namespace forma
   OptimizationParameters::parse(ParameterHandler &prm)
   {
     prm.enter_subsection("Optimization");
-    max_iterations     = prm.get_integer("Max iterations");
-    relative_decrease  = prm.get_double("Relative decrease");
-    decrease_window    = prm.get_integer("Decrease window");
-    gradient_tolerance = prm.get_double("Gradient tolerance");
-    memory             = prm.get_integer("Memory");
-    normalize          = prm.get_bool("Normalize objective");
-    resume             = prm.get_bool("Resume");
-    remesh_quality     = prm.get_double("Remesh quality");
-    max_remeshes       = prm.get_integer("Max remeshes");
+    max_iterations           = prm.get_integer("Max iterations");
+    relative_decrease        = prm.get_double("Relative decrease");
+    decrease_window          = prm.get_integer("Decrease window");
+    gradient_tolerance       = prm.get_double("Gradient tolerance");
+    memory                   = prm.get_integer("Memory");
+    normalize                = prm.get_bool("Normalize objective");
+    resume                   = prm.get_bool("Resume");
+    remesh_quality           = prm.get_double("Remesh quality");
+    max_remeshes             = prm.get_integer("Max remeshes");
+    element_removal          = prm.get_double("Element removal");
+    element_removal_boundary = prm.get_integer("Element removal boundary");
+    AssertThrow(element_removal == 0 || element_removal_boundary >= 0,
+                ExcMessage("Optimization/Element removal needs 'Element "
+                           "removal boundary': the boundary "
+                           "id the holes get (a free, designable id)."));
+    AssertThrow(element_removal < 1,
+                ExcMessage("Optimization/Element removal must be below 1 "
+                           "(a fraction of the largest cell stress)."));
+    AssertThrow(element_removal == 0 || !resume,
+                ExcMessage("Optimization/Resume is not available with "
+                           "Element removal (the removal would run again)."));
     prm.leave_subsection();
   }
 
@@ -266,7 +295,8 @@ namespace forma
           run.stop_reason = "gradient tolerance";
         else if (state.iter > 0 && state.snorm <= 1e-12)
           run.stop_reason = "the step vanished";
-        else if (h.size() > run.parameters.decrease_window &&
+        else if (h.size() > run.parameters.decrease_window_start +
+                              run.parameters.decrease_window &&
                  h[h.size() - 1 - run.parameters.decrease_window] - h.back() <
                    run.parameters.relative_decrease * std::abs(h.front()))
           run.stop_reason = "relative decrease below " +

@@ -87,6 +87,14 @@ main()
                  good);
   expect_failure("materials_not_adjacent", separated("1-3 : 10", ""), good);
   expect_failure("bad_cut_syntax", separated("1 : 10", ""), good);
+  expect_failure("element_removal_without_boundary",
+                 contact(" set Rigid-deformable = 2 : alpha=1e-3\n") +
+                   "set Mode = optimize\n"
+                   "subsection Design\n set Parameters = shape\nend\n"
+                   "subsection Objective\n set Terms = stress : p=4\nend\n"
+                   "subsection Optimization\n set Element removal = 0.1\n"
+                   "end\n",
+                 good);
   expect_failure("transient",
                  contact(" set Rigid-deformable = 2 : alpha=1e-3\n") +
                    "subsection Time\n set Problem = transient\nend\n",

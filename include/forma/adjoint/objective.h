@@ -97,6 +97,12 @@ namespace forma
     restrict_to_material(const dealii::types::material_id)
     {}
 
+    /// A one-sided volume bound above `volume` comes down to it (element
+    /// removal keeps the volume it reached); other terms ignore this.
+    virtual void
+    cap_volume_bound(const double /*volume*/)
+    {}
+
     /// Whether the term depends on the state u (false: on the design
     /// alone, e.g. volume; such terms count once over several load cases).
     virtual bool

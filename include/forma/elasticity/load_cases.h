@@ -91,6 +91,15 @@ namespace forma
     remesh(const std::string &file_stem);
     void
     load_remeshed(const std::string &file_stem);
+    void
+    cap_volume_bounds(double volume);
+    /// The largest mean cell stress over the cases.
+    std::vector<double>
+    cell_mean_stress() const;
+    std::string
+    remesh_without(const std::string         &file_stem,
+                   const std::vector<bool>   &removed,
+                   dealii::types::boundary_id open_id);
     std::vector<double>
     material_offsets() const;
     unsigned int

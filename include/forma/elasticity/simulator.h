@@ -14,8 +14,15 @@
 
 #include <functional>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
+
+namespace dealii
+{
+  template <int dim, int spacedim>
+  class Triangulation;
+}
 
 namespace forma
 {
@@ -222,6 +229,33 @@ namespace forma
     /// Continue on a mesh written by remesh().
     void
     load_remeshed(const std::string &file_stem);
+
+    /// Mean Frobenius stress of every active cell in the last state, by
+    /// active cell index, on every rank (needs every cell on every rank).
+    std::vector<double>
+    cell_mean_stress() const;
+
+    /// Boundary ids that hold the bodies: Dirichlet conditions and
+    /// contacts.
+    std::set<dealii::types::boundary_id>
+    holding_boundaries() const;
+
+    /// Lower every one-sided volume bound of the objective to `volume`.
+    void
+    cap_volume_bounds(double volume);
+
+    /// The current mesh (as read or last remeshed; the design moves its
+    /// vertices through the mapping, not here).
+    const dealii::Triangulation<dim, dim> &
+    triangulation() const;
+
+    /// remesh() without the cells flagged in `removed` (by active cell
+    /// index, e.g. from select_low_stress_cells()); the faces they leave
+    /// open get boundary id `open_id`.
+    std::string
+    remesh_without(const std::string         &file_stem,
+                   const std::vector<bool>   &removed,
+                   dealii::types::boundary_id open_id);
 
     /// Per design entry: for shape entries, the shape design that puts the
     /// vertex back at its material position (zero before any remesh), the

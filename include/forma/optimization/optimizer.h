@@ -24,9 +24,20 @@ namespace forma
     bool         resume             = false;
     double       remesh_quality     = 0; ///< remesh below this; 0: never
     unsigned int max_remeshes       = 10;
+    /// ESO-like removal of cells below this fraction of the largest
+    /// (filtered) cell stress once the shape has converged, then on with
+    /// the holes (thesis ch. 2.7.1); 0: never.
+    double element_removal = 0;
+    /// Boundary id of the holes (-1: not set).
+    int element_removal_boundary = -1;
     /// Stop once J <= this (inverse problems with a reachable target; not
     /// a parameter-file entry).
     double value_target = -std::numeric_limits<double>::infinity();
+    /// The decrease window (thesis ch. 2.5) looks at iterations from this
+    /// one on: a run continued on a changed problem (element removal)
+    /// must not compare with values before the change (not a
+    /// parameter-file entry).
+    unsigned int decrease_window_start = 0;
     /// Iteration lines to the screen (true) or to the log only.
     bool print_iterations = true;
     /// Write the resume checkpoint (false for many small runs, e.g. one

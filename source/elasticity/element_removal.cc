@@ -1,0 +1,203 @@
+#include <deal.II/base/exceptions.h>
+#include <deal.II/grid/grid_tools.h>
+#include <deal.II/grid/tria.h>
+
+#include <forma/elasticity/element_removal.h>
+
+#include <algorithm>
+#include <set>
+
+namespace forma
+{
+  using namespace dealii;
+
+  template <int dim>
+  std::vector<bool>
+  select_low_stress_cells(const Triangulation<dim, dim>      &tria,
+                          const std::vector<double>          &cell_stress,
+                          const double                        ratio,
+                          const types::boundary_id            open_id,
+                          const std::set<types::boundary_id> &holding)
+  {
+    const unsigned int n = tria.n_active_cells();
+    AssertThrow(cell_stress.size() == n,
+                ExcMessage("element removal: one stress value per cell is "
+                           "needed (" +
+                           std::to_string(cell_stress.size()) + " for " +
+                           std::to_string(n) + " cells)."));
+    AssertThrow(ratio > 0 && ratio < 1,
+                ExcMessage("element removal: the stress ratio must lie in "
+                           "(0, 1)."));
+
+    // Filtered stress and the cells that must stay.
+    std::vector<double> filtered(n, 0.);
+    std::vector<bool>   anchored(n, false), held(n, false);
+    double              max_filtered = 0;
+    for (const auto &cell : tria.active_cell_iterators())
+      {
+        const unsigned int c     = cell->active_cell_index();
+        double             sum   = cell_stress[c];
+        unsigned int       count = 1;
+        for (const auto f : cell->face_indices())
+          if (cell->at_boundary(f))
+            {
+              const auto id = cell->face(f)->boundary_id();
+              anchored[c]   = anchored[c] || id != open_id;
+              held[c]       = held[c] || holding.count(id) > 0;
+            }
+          else
+            {
+              sum += cell_stress[cell->neighbor(f)->active_cell_index()];
+              ++count;
+            }
+        filtered[c]  = sum / count;
+        max_filtered = std::max(max_filtered, filtered[c]);
+      }
+    std::vector<bool> remove(n, false);
+    for (unsigned int c = 0; c < n; ++c)
+      remove[c] = !anchored[c] && filtered[c] < ratio * max_filtered;
+
+    const auto vertex_cells = GridTools::vertex_to_cell_map(tria);
+    using cell_iterator     = typename Triangulation<dim>::active_cell_iterator;
+
+    // Face-connected fans of the given cells around one vertex.
+    const auto count_fans = [](const std::vector<cell_iterator> &cells) {
+      std::vector<bool> reached(cells.size(), false);
+      unsigned int      fans = 0;
+      for (unsigned int s = 0; s < cells.size(); ++s)
+        {
+          if (reached[s])
+            continue;
+          ++fans;
+          std::vector<unsigned int> stack = {s};
+          reached[s]                      = true;
+          while (!stack.empty())
+            {
+              const auto a = cells[stack.back()];
+              stack.pop_back();
+              for (unsigned int k = 0; k < cells.size(); ++k)
+                if (!reached[k])
+                  for (const auto f : a->face_indices())
+                    if (!a->at_boundary(f) && a->neighbor(f) == cells[k])
+                      {
+                        reached[k] = true;
+                        stack.push_back(k);
+                        break;
+                      }
+            }
+        }
+      return fans;
+    };
+    // A vertex can join cells through itself alone in the mesh as given
+    // (where a cut interface ends): only fans the removal adds are pinches.
+    std::vector<unsigned int> fans_as_given(vertex_cells.size());
+    for (unsigned int v = 0; v < vertex_cells.size(); ++v)
+      fans_as_given[v] =
+        count_fans(std::vector<cell_iterator>(vertex_cells[v].begin(),
+                                              vertex_cells[v].end()));
+
+    // Pinches: removal must not split the kept cells around a vertex into
+    // more fans than the mesh has there; otherwise the removed cells there
+    // come back. Returns whether any did.
+    const auto restore_pinches = [&]() {
+      bool restored = false;
+      for (unsigned int v = 0; v < vertex_cells.size(); ++v)
+        {
+          std::vector<cell_iterator> kept;
+          bool                       any_removed = false;
+          for (const auto &cell : vertex_cells[v])
+            if (remove[cell->active_cell_index()])
+              any_removed = true;
+            else
+              kept.push_back(cell);
+          if (!any_removed || kept.size() < 2 ||
+              count_fans(kept) <= fans_as_given[v])
+            continue;
+          for (const auto &cell : vertex_cells[v])
+            remove[cell->active_cell_index()] = false;
+          restored = true;
+        }
+      return restored;
+    };
+
+    // Pieces: one that touches a support or contact stays; one that touches
+    // only the open boundary would float and goes whole; one that carries a
+    // load or another condition but is cut off from every support gets its
+    // removed neighbours back (layer by layer it joins its part again).
+    const auto settle_pieces = [&]() {
+      std::vector<int>          piece(n, -1);
+      std::vector<unsigned int> drop, back;
+      for (const auto &seed : tria.active_cell_iterators())
+        {
+          if (remove[seed->active_cell_index()] ||
+              piece[seed->active_cell_index()] >= 0)
+            continue;
+          const int                  id      = seed->active_cell_index();
+          std::vector<cell_iterator> members = {seed}, stack = {seed};
+          piece[id]    = id;
+          bool is_held = false, is_anchored = false;
+          while (!stack.empty())
+            {
+              const auto cell = stack.back();
+              stack.pop_back();
+              is_held     = is_held || held[cell->active_cell_index()];
+              is_anchored = is_anchored || anchored[cell->active_cell_index()];
+              for (const auto f : cell->face_indices())
+                if (!cell->at_boundary(f))
+                  {
+                    const auto nb = cell->neighbor(f);
+                    const auto k  = nb->active_cell_index();
+                    if (!remove[k] && piece[k] < 0)
+                      {
+                        piece[k] = id;
+                        stack.push_back(nb);
+                        members.push_back(nb);
+                      }
+                  }
+            }
+          if (is_held)
+            continue;
+          for (const auto &cell : members)
+            if (!is_anchored)
+              drop.push_back(cell->active_cell_index());
+            else
+              for (const auto f : cell->face_indices())
+                if (!cell->at_boundary(f) &&
+                    remove[cell->neighbor(f)->active_cell_index()])
+                  back.push_back(cell->neighbor(f)->active_cell_index());
+        }
+      // Applied after the pass: the flood above reads one state.
+      for (const auto c : drop)
+        remove[c] = true;
+      for (const auto c : back)
+        remove[c] = false;
+      return !back.empty();
+    };
+
+    // Restoring joins fans and pieces; a restored cell joins a piece that
+    // is held or anchored and stays. The cap guards against a cycle.
+    unsigned int rounds = 0;
+    for (bool changed = true; changed; ++rounds)
+      {
+        AssertThrow(rounds < n + 2,
+                    ExcMessage("element removal: the choice of cells does "
+                               "not settle."));
+        changed = restore_pinches();
+        changed = settle_pieces() || changed;
+      }
+    return remove;
+  }
+
+  template std::vector<bool>
+  select_low_stress_cells(const Triangulation<2, 2> &,
+                          const std::vector<double> &,
+                          double,
+                          types::boundary_id,
+                          const std::set<types::boundary_id> &);
+  template std::vector<bool>
+  select_low_stress_cells(const Triangulation<3, 3> &,
+                          const std::vector<double> &,
+                          double,
+                          types::boundary_id,
+                          const std::set<types::boundary_id> &);
+} // namespace forma
