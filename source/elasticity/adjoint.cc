@@ -4,6 +4,7 @@
 
 #include <deal.II/base/numbers.h>
 #include <deal.II/base/timer.h>
+#include <deal.II/distributed/tria.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/mapping_fe_field.h>
 #include <deal.II/grid/grid_tools.h>
@@ -1876,39 +1877,48 @@ namespace forma
   }
 
   template <int dim>
-  nlohmann::json
-  ElasticitySimulator<dim>::state_statistics() const
+  void
+  ElasticitySimulator<dim>::Impl::for_each_stress(
+    const std::function<void(const typename DoFHandler<dim>::cell_iterator &,
+                             const Tensor<2, dim> &,
+                             double)> &f)
   {
-    auto &m = *impl;
-    m.set_step_state(m.u_states.size() - 1);
-    hp::FEValues<dim>                    hp_fv(m.mapping,
-                            m.fe,
-                            m.quadrature,
+    set_step_state(u_states.size() - 1);
+    hp::FEValues<dim>           hp_fv(mapping,
+                            fe,
+                            quadrature,
                             update_gradients | update_JxW_values);
-    std::vector<Tensor<2, dim>>          grads;
-    double                               vm = 0, frobenius = 0, volume = 0;
-    std::map<types::material_id, double> by_material;
-    for (const auto id : m.all_ids)
-      by_material[id] = 0;
-    for (const auto &cell : m.dof_handler.active_cell_iterators())
+    std::vector<Tensor<2, dim>> grads;
+    for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
           hp_fv.reinit(cell);
           const auto &fv = hp_fv.get_present_fe_values();
           grads.resize(fv.n_quadrature_points);
-          fv[FEValuesExtractors::Vector(0)].get_function_gradients(m.u_ghost,
+          fv[FEValuesExtractors::Vector(0)].get_function_gradients(u_ghost,
                                                                    grads);
-          const Material<dim> mat = m.cell_material(cell);
+          const Material<dim> mat = cell_material(cell);
           for (unsigned int q = 0; q < grads.size(); ++q)
-            {
-              const auto s = mat.cauchy_stress(grads[q]);
-              vm           = std::max(vm, von_mises(s));
-              frobenius    = std::max(frobenius, s.norm());
-              by_material[cell->material_id()] =
-                std::max(by_material[cell->material_id()], s.norm());
-              volume += fv.JxW(q);
-            }
+            f(cell, mat.cauchy_stress(grads[q]), fv.JxW(q));
         }
+  }
+
+  template <int dim>
+  nlohmann::json
+  ElasticitySimulator<dim>::state_statistics() const
+  {
+    auto                                &m  = *impl;
+    double                               vm = 0, frobenius = 0, volume = 0;
+    std::map<types::material_id, double> by_material;
+    for (const auto id : m.all_ids)
+      by_material[id] = 0;
+    m.for_each_stress([&](const auto &cell, const auto &s, const double JxW) {
+      vm        = std::max(vm, von_mises(s));
+      frobenius = std::max(frobenius, s.norm());
+      by_material[cell->material_id()] =
+        std::max(by_material[cell->material_id()], s.norm());
+      volume += JxW;
+    });
     nlohmann::json j;
     j["max_von_mises_stress"] = Utilities::MPI::max(vm, m.comm);
     j["max_stress"]           = Utilities::MPI::max(frobenius, m.comm);
@@ -1920,6 +1930,30 @@ namespace forma
     if (m.contact.active())
       j["contact"] = m.contact.statistics(m.mapping, m.u_ghost, m.comm);
     return j;
+  }
+
+  template <int dim>
+  std::vector<double>
+  ElasticitySimulator<dim>::cell_mean_stress() const
+  {
+    auto &m = *impl;
+    AssertThrow(
+      !dynamic_cast<const parallel::distributed::Triangulation<dim> *>(
+        m.tria.get()),
+      ExcMessage("Optimization/Element removal needs every cell on every "
+                 "rank: run it on one MPI rank or with separated interfaces "
+                 "(a shared mesh)."));
+    std::vector<double> stress(m.tria->n_active_cells(), 0.);
+    std::vector<double> volume(m.tria->n_active_cells(), 0.);
+    m.for_each_stress([&](const auto &cell, const auto &s, const double JxW) {
+      stress[cell->active_cell_index()] += s.norm() * JxW;
+      volume[cell->active_cell_index()] += JxW;
+    });
+    for (unsigned int c = 0; c < stress.size(); ++c)
+      if (volume[c] > 0)
+        stress[c] /= volume[c];
+    Utilities::MPI::sum(stress, m.comm, stress);
+    return stress;
   }
 
   template <int dim>
@@ -2028,6 +2062,10 @@ namespace forma
   ElasticitySimulator<2>::state_statistics() const;
   template nlohmann::json
   ElasticitySimulator<3>::state_statistics() const;
+  template std::vector<double>
+  ElasticitySimulator<2>::cell_mean_stress() const;
+  template std::vector<double>
+  ElasticitySimulator<3>::cell_mean_stress() const;
   template double
   ElasticitySimulator<2>::max_shape_offset() const;
   template double

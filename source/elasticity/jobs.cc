@@ -334,22 +334,40 @@ namespace
             // optimize on, the volume bound holding the volume left.
             removal_done = true;
             ensure(result.design);
-            const auto removed =
-              forma::select_low_stress_cells(simulator[0].triangulation(),
-                                             simulator.cell_mean_stress(),
-                                             settings.element_removal,
-                                             settings.element_removal_boundary,
-                                             simulator[0].holding_boundaries());
+            const std::string at =
+              "[iteration " + std::to_string(result.history.size() - 1) + "] ";
             const std::string stem =
               "optimization.mesh_" + std::to_string(result.history.size() - 1);
-            const std::string line =
-              simulator.remesh_without(directory + "/" + stem,
-                                       removed,
-                                       settings.element_removal_boundary);
+            std::string line;
+            try
+              {
+                dealii::Timer remesh_timer;
+                const auto    removed = forma::select_low_stress_cells(
+                  simulator[0].triangulation(),
+                  simulator.cell_mean_stress(),
+                  settings.element_removal,
+                  settings.element_removal_boundary,
+                  simulator[0].holding_boundaries());
+                line =
+                  simulator.remesh_without(directory + "/" + stem,
+                                           removed,
+                                           settings.element_removal_boundary);
+                remesh_seconds += remesh_timer.wall_time();
+              }
+            catch (const std::exception &e)
+              {
+                // The shape-optimized design stands; the simulator is
+                // unchanged when the remesh fails.
+                line = "element removal failed, keeping the design: " +
+                       forma::error_message(e);
+                context.print(at + line);
+                remeshes.push_back({{"iteration", result.history.size() - 1},
+                                    {"description", line},
+                                    {"element_removal", false}});
+                break;
+              }
             mesh = stem;
-            context.print("[iteration " +
-                          std::to_string(result.history.size() - 1) + "] " +
-                          line);
+            context.print(at + line);
             solved.clear();
             ensure(simulator.design());
             const double volume = simulator.state_statistics()["volume"];

@@ -7,7 +7,6 @@
 #include <deal.II/distributed/shared_tria.h>
 #include <deal.II/distributed/tria.h>
 #include <deal.II/fe/fe_values.h>
-#include <deal.II/hp/fe_values.h>
 #include <deal.II/numerics/vector_tools_evaluate.h>
 
 #include <forma/base/application.h>
@@ -368,45 +367,6 @@ namespace forma
   }
 
   template <int dim>
-  std::vector<double>
-  ElasticitySimulator<dim>::cell_mean_stress() const
-  {
-    auto &m = *impl;
-    AssertThrow(
-      !dynamic_cast<const parallel::distributed::Triangulation<dim> *>(
-        m.tria.get()),
-      ExcMessage("Optimization/Element removal needs every cell on every "
-                 "rank: run it on one MPI rank or with separated interfaces "
-                 "(a shared mesh)."));
-    m.set_step_state(m.u_states.size() - 1);
-    hp::FEValues<dim>           hp_fv(m.mapping,
-                            m.fe,
-                            m.quadrature,
-                            update_gradients | update_JxW_values);
-    std::vector<Tensor<2, dim>> grads;
-    std::vector<double>         stress(m.tria->n_active_cells(), 0.);
-    for (const auto &cell : m.dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
-        {
-          hp_fv.reinit(cell);
-          const auto &fv = hp_fv.get_present_fe_values();
-          grads.resize(fv.n_quadrature_points);
-          fv[FEValuesExtractors::Vector(0)].get_function_gradients(m.u_ghost,
-                                                                   grads);
-          const Material<dim> mat = m.cell_material(cell);
-          double              sum = 0, volume = 0;
-          for (unsigned int q = 0; q < grads.size(); ++q)
-            {
-              sum += mat.cauchy_stress(grads[q]).norm() * fv.JxW(q);
-              volume += fv.JxW(q);
-            }
-          stress[cell->active_cell_index()] = sum / volume;
-        }
-    Utilities::MPI::sum(stress, m.comm, stress);
-    return stress;
-  }
-
-  template <int dim>
   std::set<types::boundary_id>
   ElasticitySimulator<dim>::holding_boundaries() const
   {
@@ -552,8 +512,6 @@ namespace forma
   template std::string ElasticitySimulator<dim>::remesh(const std::string &);    \
   template std::string ElasticitySimulator<dim>::remesh_without(                 \
     const std::string &, const std::vector<bool> &, types::boundary_id);         \
-  template std::vector<double> ElasticitySimulator<dim>::cell_mean_stress()      \
-    const;                                                                       \
   template void ElasticitySimulator<dim>::cap_volume_bounds(double);             \
   template std::set<types::boundary_id>                                          \
   ElasticitySimulator<dim>::holding_boundaries() const;                          \

@@ -31,6 +31,7 @@
 
 #include <array>
 #include <deque>
+#include <functional>
 #include <limits>
 #include <map>
 #include <set>
@@ -332,6 +333,13 @@ namespace forma
     /// points of the current shape (and where, on the mesh as read).
     double
     min_scaled_jacobian(Point<dim> *where = nullptr) const;
+    /// f(cell, Cauchy stress, JxW) at every quadrature point of the locally
+    /// owned cells in the last state.
+    void
+    for_each_stress(
+      const std::function<void(const typename DoFHandler<dim>::cell_iterator &,
+                               const Tensor<2, dim> &,
+                               double)> &f);
     /// Without the `removed` cells (by active cell index), whose faces
     /// to kept cells become boundary `open_id`.
     RegionBoundaries<dim>
