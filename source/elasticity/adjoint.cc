@@ -1933,13 +1933,27 @@ namespace forma
   }
 
   template <int dim>
+  void
+  ElasticitySimulator<dim>::cap_volume_bounds()
+  {
+    auto &m = *impl;
+    if (!m.objective)
+      return;
+    const auto I = m.objective_integrals(*m.objective, m.u_states.size() - 1);
+    for (unsigned int t = 0; t < I.size(); ++t)
+      if (!I[t].empty())
+        m.objective->terms()[t]->cap_volume_bound(I[t][0]);
+  }
+
+  template <int dim>
   std::vector<double>
   ElasticitySimulator<dim>::cell_mean_stress() const
   {
     auto &m = *impl;
     AssertThrow(
-      !dynamic_cast<const parallel::distributed::Triangulation<dim> *>(
-        m.tria.get()),
+      Utilities::MPI::n_mpi_processes(m.comm) == 1 ||
+        !dynamic_cast<const parallel::distributed::Triangulation<dim> *>(
+          m.tria.get()),
       ExcMessage("Optimization/Element removal needs every cell on every "
                  "rank: run it on one MPI rank or with separated interfaces "
                  "(a shared mesh)."));
@@ -2064,6 +2078,10 @@ namespace forma
   ElasticitySimulator<3>::state_statistics() const;
   template std::vector<double>
   ElasticitySimulator<2>::cell_mean_stress() const;
+  template void
+  ElasticitySimulator<2>::cap_volume_bounds();
+  template void
+  ElasticitySimulator<3>::cap_volume_bounds();
   template std::vector<double>
   ElasticitySimulator<3>::cell_mean_stress() const;
   template double

@@ -47,6 +47,9 @@ namespace forma
             }
           else
             {
+              // A glued (uncut) interface between materials stays too.
+              anchored[c] = anchored[c] || cell->neighbor(f)->material_id() !=
+                                             cell->material_id();
               sum += cell_stress[cell->neighbor(f)->active_cell_index()];
               ++count;
             }

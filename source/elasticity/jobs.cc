@@ -16,6 +16,7 @@
 #include <forma/elasticity/taylor_test.h>
 #include <forma/optimization/optimizer.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -205,13 +206,30 @@ namespace
             simulator.load_remeshed(directory + "/" + mesh);
           }
       }
-    if (settings.remesh_quality > 0)
+    if (settings.remesh_quality > 0 || settings.element_removal > 0)
       for (const auto &b : layout.blocks)
         AssertThrow(b.name != "cell material" &&
                       b.name.find("field") == std::string::npos,
                     dealii::ExcMessage(
-                      "Optimization/Remesh quality: the design block '" +
-                      b.name + "' lives on the mesh and cannot be remeshed."));
+                      std::string(settings.remesh_quality > 0 ?
+                                    "Optimization/Remesh quality" :
+                                    "Optimization/Element removal") +
+                      ": the design block '" + b.name +
+                      "' lives on the mesh and cannot be remeshed."));
+    if (settings.element_removal > 0)
+      {
+        AssertThrow(dim == 2,
+                    dealii::ExcMessage(
+                      "Optimization/Element removal is available in 2D "
+                      "only (in 3D, holes can also pinch along edges)."));
+        AssertThrow(
+          !simulator[0].holding_boundaries().count(
+            settings.element_removal_boundary),
+          dealii::ExcMessage(
+            "Optimization/Element removal boundary = " +
+            std::to_string(settings.element_removal_boundary) +
+            " is a support or contact boundary; the holes need a free id."));
+      }
 
     // The constraint's penalty in units of the starting objective.
     double penalty_scale = 0;
@@ -272,17 +290,22 @@ namespace
     // Remesh when the quality falls below the threshold and clearly below
     // what the last remesh achieved (the boundary, which remeshing keeps,
     // can limit it: remeshing again would not help).
-    bool   remesh_allowed   = settings.remesh_quality > 0;
-    bool   removal_done     = false;
-    double remeshed_quality = 1;
-    model.remesh_needed     = [&]() {
+    dealii::Timer wall_timer;
+    double        remesh_seconds   = 0;
+    bool          remesh_allowed   = settings.remesh_quality > 0;
+    bool          removal_done     = false;
+    double        remeshed_quality = 1;
+    model.remesh_needed            = [&]() {
       const double q = simulator.mesh_quality();
       if (!remesh_allowed || simulator.n_remeshes() >= settings.max_remeshes ||
           q >= settings.remesh_quality || q >= remeshed_quality - 0.05)
         return false;
       // Try it first: a remesh that cannot help must not restart L-BFGS.
-      std::string reason;
-      if (simulator.remesh_improves(reason))
+      std::string   reason;
+      dealii::Timer mesh_timer; // Gmsh runs here; remesh() reuses its mesh
+      const bool    improves = simulator.remesh_improves(reason);
+      remesh_seconds += mesh_timer.wall_time();
+      if (improves)
         return true;
       context.print("  no remesh, continuing on the current mesh: " + reason);
       remesh_allowed = false;
@@ -291,9 +314,7 @@ namespace
 
     // One run of the optimizer per mesh: a remesh ends a run, the next one
     // continues the history on the new mesh.
-    dealii::Timer        wall_timer;
-    double               remesh_seconds = 0;
-    const nlohmann::json state0         = [&] {
+    const nlohmann::json state0 = [&] {
       ensure(simulator.design());
       return simulator.state_statistics();
     }();
@@ -348,6 +369,14 @@ namespace
                   settings.element_removal,
                   settings.element_removal_boundary,
                   simulator[0].holding_boundaries());
+                if (std::find(removed.begin(), removed.end(), true) ==
+                    removed.end())
+                  {
+                    context.print(at + "element removal: no cell below " +
+                                  significant(settings.element_removal, 3) +
+                                  " of the largest stress");
+                    break;
+                  }
                 line =
                   simulator.remesh_without(directory + "/" + stem,
                                            removed,
@@ -356,8 +385,9 @@ namespace
               }
             catch (const std::exception &e)
               {
-                // The shape-optimized design stands; the simulator is
-                // unchanged when the remesh fails.
+                // The shape-optimized design stands: the remesh fails
+                // before it replaces the mesh (Gmsh, quality; the design
+                // blocks were checked above).
                 line = "element removal failed, keeping the design: " +
                        forma::error_message(e);
                 context.print(at + line);
@@ -371,7 +401,7 @@ namespace
             solved.clear();
             ensure(simulator.design());
             const double volume = simulator.state_statistics()["volume"];
-            simulator.cap_volume_bounds(volume);
+            simulator.cap_volume_bounds();
             context.print("  volume bounds lowered to the volume left, " +
                           significant(volume, 5));
             remeshes.push_back({{"iteration", result.history.size() - 1},
@@ -381,7 +411,10 @@ namespace
             history_so_far                       = result.history;
             stage_settings.resume                = false;
             stage_settings.decrease_window_start = result.history.size() - 1;
-            remeshed_quality                     = simulator.mesh_quality();
+            // The stage with the holes gets its own iteration budget.
+            stage_settings.max_iterations =
+              result.history.size() - 1 + settings.max_iterations;
+            remeshed_quality = simulator.mesh_quality();
             continue;
           }
         ensure(result.design);

@@ -247,10 +247,10 @@ namespace forma
 
   template <int dim>
   void
-  LoadCases<dim>::cap_volume_bounds(const double volume)
+  LoadCases<dim>::cap_volume_bounds()
   {
     for (auto &c : cases)
-      c->cap_volume_bounds(volume);
+      c->cap_volume_bounds();
   }
 
   template <int dim>

@@ -94,12 +94,12 @@ namespace forma
             types::boundary_id id      = 0;
             if (face->at_boundary())
               id = face->boundary_id();
+            else if (face->has_children())
+              continue;
             else if (gone(cell->neighbor(f)))
               id = open_id; // a face the removed cells leave open
             else
               {
-                if (face->has_children())
-                  continue;
                 const auto neighbor = cell->neighbor(f);
                 if (neighbor->material_id() == cell->material_id() ||
                     (!cell->neighbor_is_coarser(f) &&
@@ -381,15 +381,6 @@ namespace forma
   }
 
   template <int dim>
-  void
-  ElasticitySimulator<dim>::cap_volume_bounds(const double volume)
-  {
-    if (impl->objective)
-      for (const auto &t : impl->objective->terms())
-        t->cap_volume_bound(volume);
-  }
-
-  template <int dim>
   const Triangulation<dim, dim> &
   ElasticitySimulator<dim>::triangulation() const
   {
@@ -512,7 +503,6 @@ namespace forma
   template std::string ElasticitySimulator<dim>::remesh(const std::string &);    \
   template std::string ElasticitySimulator<dim>::remesh_without(                 \
     const std::string &, const std::vector<bool> &, types::boundary_id);         \
-  template void ElasticitySimulator<dim>::cap_volume_bounds(double);             \
   template std::set<types::boundary_id>                                          \
   ElasticitySimulator<dim>::holding_boundaries() const;                          \
   template const Triangulation<dim, dim>                                         \

@@ -95,6 +95,14 @@ main()
                    "subsection Optimization\n set Element removal = 0.1\n"
                    "end\n",
                  good);
+  expect_failure("element_removal_on_support",
+                 contact(" set Rigid-deformable = 2 : alpha=1e-3\n") +
+                   "set Mode = optimize\n"
+                   "subsection Design\n set Parameters = shape\nend\n"
+                   "subsection Objective\n set Terms = stress : p=4\nend\n"
+                   "subsection Optimization\n set Element removal = 0.1\n"
+                   " set Element removal boundary = 2\nend\n",
+                 good);
   expect_failure("transient",
                  contact(" set Rigid-deformable = 2 : alpha=1e-3\n") +
                    "subsection Time\n set Problem = transient\nend\n",

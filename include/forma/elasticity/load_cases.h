@@ -92,7 +92,7 @@ namespace forma
     void
     load_remeshed(const std::string &file_stem);
     void
-    cap_volume_bounds(double volume);
+    cap_volume_bounds();
     /// The largest mean cell stress over the cases.
     std::vector<double>
     cell_mean_stress() const;

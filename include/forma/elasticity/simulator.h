@@ -240,9 +240,10 @@ namespace forma
     std::set<dealii::types::boundary_id>
     holding_boundaries() const;
 
-    /// Lower every one-sided volume bound of the objective to `volume`.
+    /// Lower every one-sided volume bound of the objective to the volume
+    /// it measures now (its own material restriction included).
     void
-    cap_volume_bounds(double volume);
+    cap_volume_bounds();
 
     /// The current mesh (as read or last remeshed; the design moves its
     /// vertices through the mapping, not here).
