@@ -1879,9 +1879,10 @@ namespace forma
   template <int dim>
   void
   ElasticitySimulator<dim>::Impl::for_each_stress(
-    const std::function<void(const typename DoFHandler<dim>::cell_iterator &,
-                             const Tensor<2, dim> &,
-                             double)> &f)
+    const std::function<
+      void(const typename DoFHandler<dim>::active_cell_iterator &,
+           const Tensor<2, dim> &,
+           double)> &f)
   {
     set_step_state(u_states.size() - 1);
     hp::FEValues<dim>           hp_fv(mapping,

@@ -7,6 +7,7 @@
 #include <forma/elasticity/simulator.h>
 
 #include <algorithm>
+#include <cstdint>
 
 namespace forma
 {
@@ -188,30 +189,30 @@ namespace forma
     nlohmann::json s = cases[0]->adjoint_statistics();
     if (cases.size() > 1)
       {
-        // Every case solves and differentiates: the times add up.
-        for (const char *key : {"forward_seconds",
-                                "adjoint_seconds",
-                                "adjoint_solve_seconds",
-                                "derivative_products_seconds"})
+        // Every case solves and differentiates: counts, times and stored
+        // states add up.
+        const char *const sums[] = {"forward_solves",
+                                    "gradients",
+                                    "forward_seconds",
+                                    "adjoint_seconds",
+                                    "adjoint_solve_seconds",
+                                    "derivative_products_seconds",
+                                    "stored_state_bytes"};
+        for (unsigned int k = 1; k < cases.size(); ++k)
           {
-            double sum = 0;
-            for (const auto &c : cases)
-              sum += double(c->adjoint_statistics()[key]);
-            s[key] = sum;
+            const nlohmann::json a = cases[k]->adjoint_statistics();
+            for (const char *key : sums)
+              if (s[key].is_number_integer())
+                s[key] =
+                  s[key].get<std::int64_t>() + a[key].get<std::int64_t>();
+              else
+                s[key] = double(s[key]) + double(a[key]);
           }
-        unsigned int solves = 0, gradients = 0;
-        for (const auto &c : cases)
-          {
-            const auto a = c->adjoint_statistics();
-            solves += static_cast<unsigned int>(a["forward_solves"]);
-            gradients += static_cast<unsigned int>(a["gradients"]);
-          }
-        s["forward_solves"] = solves;
-        s["gradients"]      = gradients;
         s["seconds_per_forward_solve"] =
-          double(s["forward_seconds"]) / std::max(1u, solves);
+          double(s["forward_seconds"]) /
+          std::max(1., double(s["forward_solves"]));
         s["seconds_per_gradient"] =
-          double(s["adjoint_seconds"]) / std::max(1u, gradients);
+          double(s["adjoint_seconds"]) / std::max(1., double(s["gradients"]));
         s["load_cases"] = cases.size();
       }
     return s;

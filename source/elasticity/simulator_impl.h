@@ -336,10 +336,10 @@ namespace forma
     /// f(cell, Cauchy stress, JxW) at every quadrature point of the locally
     /// owned cells in the last state.
     void
-    for_each_stress(
-      const std::function<void(const typename DoFHandler<dim>::cell_iterator &,
-                               const Tensor<2, dim> &,
-                               double)> &f);
+    for_each_stress(const std::function<
+                    void(const typename DoFHandler<dim>::active_cell_iterator &,
+                         const Tensor<2, dim> &,
+                         double)> &f);
     /// Without the `removed` cells (by active cell index), whose faces
     /// to kept cells become boundary `open_id`.
     RegionBoundaries<dim>
