@@ -92,6 +92,7 @@ namespace forma
       const double smoothing = prm.get_double("Smoothing");
       const std::string  map_file = prm.get("Map file");
       const unsigned int n_checks = prm.get_integer("Accuracy checks");
+      const double height_weight  = prm.get_double("Coverage height weight");
       prm.leave_subsection();
       AssertThrow(controls.size() == 3 &&
                     std::all_of(controls.begin(),
@@ -338,6 +339,7 @@ namespace forma
               std::max(worst_fit,
                        std::abs(map.parameters[i].value(x[k]) - y[k]));
         }
+      map.fit_coverage_polygons(height_weight);
       if (context.is_root())
         {
           map.write(context.path(map_file));
@@ -453,6 +455,12 @@ namespace forma
               s.size  = 5 - std::min<int>(a, 3);
               s.label = "alpha = " + sig(angles[a]);
               series.push_back(s);
+              // D(alpha), the coverage polygon (Fig. 4.14).
+              PlotSeries outline;
+              outline.points = map.polygons[a].outline();
+              outline.line   = true;
+              outline.color  = s.color;
+              series.push_back(outline);
             }
           write_xy_plot(context.path("map_coverage.png"),
                         series,

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <numeric>
 
 namespace forma
 {
@@ -171,41 +172,56 @@ namespace forma
 
 
 
-    namespace
+    void
+    MaterialMap::fit_coverage_polygons(const double height_weight)
     {
-      // The convex hull of the points, counterclockwise (Andrew's monotone
-      // chain); fewer than 3 points: empty.
-      std::vector<std::array<double, 2>>
-      convex_hull(std::vector<std::array<double, 2>> p)
-      {
-        if (p.size() < 3)
-          return {};
-        std::sort(p.begin(), p.end());
-        const auto cross = [](const std::array<double, 2> &o,
-                              const std::array<double, 2> &a,
-                              const std::array<double, 2> &b) {
-          return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
-        };
-        std::vector<std::array<double, 2>> hull(2 * p.size());
-        std::size_t                        k = 0;
-        for (std::size_t i = 0; i < p.size(); ++i)
-          {
-            while (k >= 2 && cross(hull[k - 2], hull[k - 1], p[i]) <= 0)
-              --k;
-            hull[k++] = p[i];
-          }
-        for (std::size_t i = p.size() - 1, t = k + 1; i > 0; --i)
-          {
-            while (k >= t && cross(hull[k - 2], hull[k - 1], p[i - 1]) <= 0)
-              --k;
-            hull[k++] = p[i - 1];
-          }
-        hull.resize(k - 1);
-        if (hull.size() < 3)
-          return {};
-        return hull;
-      }
-    } // namespace
+      polygons.clear();
+      for (const auto &c : covered)
+        polygons.push_back(fit_coverage_polygon(E, nu, c, height_weight));
+      fit_polygon_splines();
+    }
+
+
+
+    void
+    MaterialMap::fit_polygon_splines()
+    {
+      // Angles from the largest down while the polygons last.
+      std::vector<unsigned int> order(angles.size());
+      std::iota(order.begin(), order.end(), 0u);
+      std::sort(order.begin(),
+                order.end(),
+                [&](unsigned int i, unsigned int k) {
+                  return angles[i] > angles[k];
+                });
+      std::vector<unsigned int> used;
+      for (const auto a : order)
+        if (polygons[a].E_min < polygons[a].E_max)
+          used.push_back(a);
+        else if (!used.empty())
+          break;
+      polygon_angles = {{1, 0}};
+      if (used.empty())
+        return;
+      polygon_angles = {{angles[used.back()], angles[used.front()]}};
+      if (used.size() == 1)
+        return; // one angle: its polygon as it is
+      // Nearly interpolating cubic splines (as many control points as
+      // angles, at least 4; the tiny penalty decides the rest).
+      const unsigned int n = std::max<unsigned int>(4, used.size());
+      std::vector<std::vector<double>> x;
+      for (const auto a : used)
+        x.push_back({angles[a]});
+      for (unsigned int k = 0; k < CoveragePolygon::n_coefficients; ++k)
+        {
+          polygon_splines[k] =
+            TensorSpline({polygon_angles[0]}, {polygon_angles[1]}, {n});
+          std::vector<double> y;
+          for (const auto a : used)
+            y.push_back(polygons[a].coefficients()[k]);
+          polygon_splines[k].fit(x, y, 1e-10);
+        }
+    }
 
 
 
@@ -213,54 +229,36 @@ namespace forma
     MaterialMap::coverage(const double alpha_degrees,
                           const double base_nu) const
     {
-      const double lo = *std::min_element(angles.begin(), angles.end()),
-                   hi = *std::max_element(angles.begin(), angles.end());
-      if (alpha_degrees < lo - 1e-9 || alpha_degrees > hi + 1e-9)
+      if (alpha_degrees < polygon_angles[0] - 1e-9 ||
+          alpha_degrees > polygon_angles[1] + 1e-9)
         return {};
-      // The covered nodes at the nearest angles (above and below).
-      std::vector<unsigned int> near;
-      {
-        unsigned int best = 0;
-        for (unsigned int a = 1; a < angles.size(); ++a)
-          if (std::abs(angles[a] - alpha_degrees) <
-              std::abs(angles[best] - alpha_degrees))
-            best = a;
-        near.push_back(best);
-        for (unsigned int a = 0; a < angles.size(); ++a)
-          if (a != best &&
-              (angles[a] - alpha_degrees) * (angles[best] - alpha_degrees) <
-                0 &&
-              (near.size() == 1 || std::abs(angles[a] - alpha_degrees) <
-                                     std::abs(angles[near[1]] - alpha_degrees)))
-            {
-              if (near.size() == 1)
-                near.push_back(a);
-              else
-                near[1] = a;
-            }
-      }
-      std::vector<HalfPlane> region;
-      for (const unsigned int a : near)
+      CoveragePolygon polygon;
+      if (polygon_angles[0] == polygon_angles[1])
         {
-          std::vector<std::array<double, 2>> points; // (nu, E) of the map
-          for (unsigned int i = 0; i < this->E.size(); ++i)
-            for (unsigned int j = 0; j < this->nu.size(); ++j)
-              if (covered[a][i * this->nu.size() + j])
-                points.push_back({{this->nu[j], this->E[i]}});
-          const auto hull = convex_hull(points);
-          if (hull.empty())
-            return {};
-          // Edge e = b - a of the counterclockwise hull in (nu_map, E) with
-          // nu_map = nu - base_nu E: inside where e x (x - a) >= 0.
-          for (std::size_t k = 0; k < hull.size(); ++k)
-            {
-              const auto  &p = hull[k], &q = hull[(k + 1) % hull.size()];
-              const double e0 = q[0] - p[0], e1 = q[1] - p[1];
-              // -(e0 + e1 base_nu) E + e1 nu <= e1 nu_a - e0 E_a
-              HalfPlane    h{-(e0 + e1 * base_nu), e1, e1 * p[0] - e0 * p[1]};
-              const double n = std::hypot(h.c_E, h.c_nu);
-              region.push_back({h.c_E / n, h.c_nu / n, h.d / n});
-            }
+          for (unsigned int a = 0; a < angles.size(); ++a)
+            if (angles[a] == polygon_angles[0])
+              polygon = polygons[a];
+        }
+      else
+        {
+          std::array<double, CoveragePolygon::n_coefficients> c;
+          for (unsigned int k = 0; k < c.size(); ++k)
+            c[k] = polygon_splines[k].value({alpha_degrees});
+          // The splines may overshoot the grid between angles; the grid's
+          // extent is what the samples speak for.
+          c[0]    = std::max(c[0], E.front());
+          c[1]    = std::min(c[1], E.back());
+          c[2]    = std::max(c[2], nu.front());
+          c[3]    = std::min(c[3], nu.back());
+          polygon = CoveragePolygon::from_coefficients(c, E.front(), E.back());
+        }
+      // In (E, nu_map) with nu_map = nu - base_nu E (eq. 4.11 backwards).
+      std::vector<HalfPlane> region;
+      for (const auto &h : polygon.half_planes())
+        {
+          const HalfPlane s{h[0] - base_nu * h[1], h[1], h[2]};
+          const double    n = std::hypot(s.c_E, s.c_nu);
+          region.push_back({s.c_E / n, s.c_nu / n, s.d / n});
         }
       return region;
     }
@@ -348,6 +346,8 @@ namespace forma
       for (const auto &p : parameters)
         j["parameters"].push_back(p.to_json());
       j["samples"] = samples;
+      for (const auto &p : polygons)
+        j["coverage_polygons"].push_back(p.coefficients());
       std::ofstream out(file_name);
       AssertThrow(out, ExcMessage("cannot write the map '" + file_name + "'"));
       out << j.dump() << '\n';
@@ -392,6 +392,24 @@ namespace forma
             AssertThrow(spline.at("control_points").size() == 3,
                         ExcMessage("the map's splines must be functions of "
                                    "(E, nu, alpha)"));
+          AssertThrow(map.E.size() >= 2 && map.nu.size() >= 2,
+                      ExcMessage("the map's (E, nu) grid needs 2 x 2 nodes"));
+          if (j.contains("coverage_polygons"))
+            {
+              const auto c =
+                j.at("coverage_polygons")
+                  .get<std::vector<
+                    std::array<double, CoveragePolygon::n_coefficients>>>();
+              AssertThrow(c.size() == map.angles.size(),
+                          ExcMessage("the map's coverage polygons do not "
+                                     "match its angles"));
+              for (const auto &k : c)
+                map.polygons.push_back(CoveragePolygon::from_coefficients(
+                  k, map.E.front(), map.E.back()));
+              map.fit_polygon_splines();
+            }
+          else // a map written before the polygons
+            map.fit_coverage_polygons();
         }
       catch (const nlohmann::json::exception &e)
         {

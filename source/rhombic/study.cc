@@ -360,6 +360,14 @@ namespace forma
                         Patterns::Integer(0, 10000),
                         "build map: points between the samples queried and "
                         "homogenized to measure the map's accuracy.");
+      prm.declare_entry("Coverage height weight",
+                        "0",
+                        Patterns::Double(0),
+                        "build map: the coverage polygon D(alpha) (thesis "
+                        "Fig. 4.13-4.14) maximizes its area plus this "
+                        "weight times its largest E, both relative to the "
+                        "grid: larger values favour stiff materials over a "
+                        "wide nu range.");
       prm.leave_subsection();
 
       prm.enter_subsection("Query");

@@ -2,6 +2,7 @@
 #define forma_rhombic_material_map_h
 
 #include <forma/microstructure/rhombic_structure.h>
+#include <forma/rhombic/coverage_polygon.h>
 
 #include <nlohmann/json.hpp>
 
@@ -82,12 +83,29 @@ namespace forma
       double                         blending = 0.01;
       /// The samples the splines were fitted to: E, nu, angle, p1..p8.
       std::vector<std::array<double, 11>> samples;
+      /// The coverage polygon at each angle (empty where fewer than 2 x 2
+      /// nodes are covered), and its 8 coefficients as 1D splines over the
+      /// angles from the largest down to the last one with a polygon.
+      std::vector<CoveragePolygon>                              polygons;
+      std::array<TensorSpline, CoveragePolygon::n_coefficients> polygon_splines;
+      std::array<double, 2> polygon_angles = {{1, 0}}; ///< empty if lo > hi
+
+      /**
+       * Fit the coverage polygons to `covered` (fit_coverage_polygon() per
+       * angle, `height_weight` as there) and spline their coefficients.
+       */
+      void
+      fit_coverage_polygons(const double height_weight = 0);
+
+      /// Only the splines, from the polygons as they are (a map read).
+      void
+      fit_polygon_splines();
 
       /**
        * The structure for (E, nu) relative to a base of Poisson's ratio
        * `base_nu` (E relative to the base's modulus) at `alpha_degrees`.
-       * `inside` tells whether the point lies in the covered region (the
-       * convex hull of the covered nodes at the nearest angles).
+       * `inside` tells whether the point lies in the covered region
+       * (coverage()).
        */
       RhombicStructure
       query(const double E,
@@ -105,9 +123,10 @@ namespace forma
 
       /**
        * The covered region D(alpha) for a base of Poisson's ratio `base_nu`
-       * (thesis ch. 4.6.3): the intersection of the convex hulls of the
-       * covered nodes at the nearest angles above and below, as half-planes
-       * (empty outside the map's angles or without coverage). query()'s
+       * (thesis ch. 4.6.2-4.6.3): the coverage polygon whose 8 coefficients
+       * the angle's splines give, as half-planes sheared by eq. 4.11 (empty
+       * outside the polygons' angles). It is smooth in alpha and, at the
+       * construction's angles, inscribed in the covered nodes. query()'s
        * `inside` is membership in this region.
        */
       std::vector<HalfPlane>
