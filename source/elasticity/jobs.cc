@@ -297,7 +297,10 @@ namespace
     double        remeshed_quality = 1;
     model.remesh_needed            = [&]() {
       const double q = simulator.mesh_quality();
-      if (!remesh_allowed || simulator.n_remeshes() >= settings.max_remeshes ||
+      // The element removal's remesh does not count against the limit.
+      const unsigned int n_quality_remeshes =
+        simulator.n_remeshes() - (removal_done ? 1 : 0);
+      if (!remesh_allowed || n_quality_remeshes >= settings.max_remeshes ||
           q >= settings.remesh_quality || q >= remeshed_quality - 0.05)
         return false;
       // Try it first: a remesh that cannot help must not restart L-BFGS.
@@ -422,7 +425,9 @@ namespace
           "[iteration " + std::to_string(result.history.size() - 1) + "] ";
         const std::string next =
           "optimization.mesh_" + std::to_string(result.history.size() - 1);
-        std::string line;
+        std::string        line;
+        const unsigned int remeshes_before = simulator.n_remeshes();
+        const auto        *mesh_before     = &simulator[0].triangulation();
         try
           {
             dealii::Timer remesh_timer;
@@ -433,6 +438,16 @@ namespace
           }
         catch (const std::exception &e)
           {
+            // A failure once the mesh is replaced (the reference run of a
+            // target objective on the new mesh, say) leaves no valid
+            // design to go on with: the run stops with the reason.
+            AssertThrow(simulator.n_remeshes() == remeshes_before &&
+                          &simulator[0].triangulation() == mesh_before,
+                        dealii::ExcMessage(
+                          iteration + "the design was remeshed (" + next +
+                          ".msh in the output directory) but setting it up "
+                          "on the new mesh failed: " +
+                          forma::error_message(e)));
             // The current mesh is still valid: go on without remeshing.
             line = "remeshing failed, continuing on the current mesh: " +
                    forma::error_message(e);

@@ -68,7 +68,8 @@ namespace forma
     prm.declare_entry("Max remeshes",
                       "10",
                       Patterns::Integer(0),
-                      "Remeshes at most in one run.");
+                      "Remeshes for mesh quality at most in one run (the "
+                      "remesh of Element removal is not one of them).");
     prm.declare_entry("Element removal",
                       "0",
                       Patterns::Double(0, 1),
