@@ -278,6 +278,15 @@ namespace forma
         "Reuse the samples of an interrupted sweep from "
         "<Output directory>/sweep_progress.csv (written after every "
         "batch, removed when the sweep completes).");
+      prm.declare_entry(
+        "Redundancy threshold",
+        "0.9",
+        Patterns::Double(0, 1),
+        "The redundant-parameter test (thesis ch. 4.6.2, Fig. 4.9) on the "
+        "isotropic samples at the largest angle: parameters are fixed at "
+        "a sweep value, one after the other, while the samples left keep "
+        "at least this share of the isotropic coverage (occupied cells of "
+        "a 12 x 12 grid over the (nu, E) range).");
       prm.leave_subsection();
 
       prm.enter_subsection("Inverse");

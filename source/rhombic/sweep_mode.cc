@@ -5,6 +5,7 @@
 #include <forma/base/application.h>
 #include <forma/base/plot.h>
 #include <forma/base/run_context.h>
+#include <forma/rhombic/redundant_parameters.h>
 #include <forma/rhombic/study.h>
 
 #include <boost/serialization/map.hpp>
@@ -139,7 +140,9 @@ namespace forma
           parse_values(prm.get(RhombicStructure::parameter_name(i)),
                        "Sweep/" + RhombicStructure::parameter_name(i)));
       values.push_back(parse_values(prm.get("Angles"), "Sweep/Angles"));
-      const bool resume = prm.get_bool("Resume");
+      const bool   resume = prm.get_bool("Resume");
+      const double redundancy_threshold =
+        prm.get_double("Redundancy threshold");
       prm.leave_subsection();
 
       std::vector<RhombicStructure> structures;
@@ -269,6 +272,9 @@ namespace forma
       std::vector<std::array<double, 2>> isotropic, near_isotropic, anisotropic;
       const double near_isotropy = std::max(0.1, setup.isotropy_tolerance);
       double       E_min = 1e300, E_max = 0, nu_min = 1, nu_max = -1;
+      const double top_angle =
+        *std::max_element(values.back().begin(), values.back().end());
+      std::vector<SweepPoint> isotropic_at_top; // for the redundancy test
       for (const auto &line : lines)
         {
           const auto parts = Utilities::split_string_list(line, ',');
@@ -290,6 +296,14 @@ namespace forma
             {
               ++n_isotropic;
               isotropic.push_back({{nu, E}});
+              if (std::abs(std::stod(parts[8]) - top_angle) < 1e-9)
+                {
+                  SweepPoint point;
+                  for (unsigned int i = 0; i < 8; ++i)
+                    point.p[i] = std::stod(parts[i]);
+                  point.nu = nu, point.E = E;
+                  isotropic_at_top.push_back(point);
+                }
               E_min = std::min(E_min, E), E_max = std::max(E_max, E);
               nu_min = std::min(nu_min, nu), nu_max = std::max(nu_max, nu);
             }
@@ -348,6 +362,60 @@ namespace forma
         context.print("isotropic coverage: E/E_b in [" + sig(E_min) + ", " +
                       sig(E_max) + "], nu in [" + sig(nu_min) + ", " +
                       sig(nu_max) + "]");
+      // The redundant-parameter test (thesis ch. 4.6.2, Fig. 4.9): which
+      // parameters can be fixed without losing coverage.
+      const auto fixings =
+        find_redundant_parameters(isotropic_at_top, 12, redundancy_threshold);
+      if (!isotropic_at_top.empty())
+        {
+          std::string line =
+            "redundant parameters at " + sig(top_angle) +
+            " degrees (coverage kept >= " + sig(redundancy_threshold) + "):";
+          for (const auto &f : fixings)
+            line += " " + RhombicStructure::parameter_name(f.index) + " = " +
+                    sig(f.value) + " (" + sig(f.coverage, 3) + ", " +
+                    std::to_string(f.samples) + " samples)";
+          context.print(fixings.empty() ? line + " none" : line);
+        }
+      if (context.is_root() && !fixings.empty())
+        {
+          // The coverage of the expanding sets of fixed parameters.
+          std::vector<PlotSeries> series(fixings.size() + 1);
+          std::vector<SweepPoint> left = isotropic_at_top;
+          const std::array<std::array<std::uint8_t, 3>, 4> colors = {
+            {{{120, 60, 160}},
+             {{40, 140, 60}},
+             {{31, 90, 180}},
+             {{200, 30, 30}}}};
+          for (unsigned int k = 0; k <= fixings.size(); ++k)
+            {
+              if (k > 0)
+                {
+                  std::vector<SweepPoint> slice;
+                  for (const auto &s : left)
+                    if (s.p[fixings[k - 1].index] == fixings[k - 1].value)
+                      slice.push_back(s);
+                  left = std::move(slice);
+                }
+              for (const auto &s : left)
+                series[k].points.push_back({{s.nu, s.E}});
+              series[k].color = colors[std::min<std::size_t>(k, 3)];
+              series[k].size  = 4 - std::min<int>(k, 2);
+              series[k].label =
+                k == 0 ?
+                  "all parameters" :
+                  "+ " +
+                    RhombicStructure::parameter_name(fixings[k - 1].index) +
+                    " = " + sig(fixings[k - 1].value);
+            }
+          write_xy_plot(context.path("redundancy.png"),
+                        series,
+                        "Coverage with fixed parameters",
+                        "Poisson's ratio",
+                        "E / E_b",
+                        {{nu_min - 0.05, nu_max + 0.05}},
+                        {{0, 1.1 * E_max}});
+        }
       nlohmann::json &S    = context.summary;
       S["samples"]         = structures.size();
       S["skipped"]         = skipped;
@@ -359,6 +427,12 @@ namespace forma
                                 {"E_max", E_max},
                                 {"nu_min", nu_min},
                                 {"nu_max", nu_max}};
+      for (const auto &f : fixings)
+        S["redundant_parameters"].push_back(
+          {{"parameter", RhombicStructure::parameter_name(f.index)},
+           {"value", f.value},
+           {"coverage", f.coverage},
+           {"samples", f.samples}});
       // Complete: the progress file has served its purpose.
       if (context.is_root())
         std::filesystem::remove(progress);
