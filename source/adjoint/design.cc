@@ -49,6 +49,13 @@ namespace forma
                         "",
                         Patterns::List(Patterns::Integer(0), 0),
                         "Boundary ids whose vertices the shape may not move.");
+      prm.declare_entry("Fixed bodies",
+                        "",
+                        Patterns::List(Patterns::Integer(0, 255), 0),
+                        "Material ids of parts the shape may not change "
+                        "(thesis Fig. 2.12, right: only some parts of an "
+                        "assembly are optimized): every vertex of their "
+                        "cells stays, interfaces with them included.");
       prm.declare_entry("Symmetry planes",
                         "",
                         Patterns::Anything(),
@@ -119,6 +126,7 @@ namespace forma
         }
       young_poisson       = prm.get("Material parameterization") == "E-nu";
       fixed_boundaries    = prm.get("Fixed boundaries");
+      fixed_bodies        = prm.get("Fixed bodies");
       symmetry_planes     = prm.get("Symmetry planes");
       shape_perturbation  = prm.get("Shape perturbation");
       min_scaled_jacobian = prm.get_double("Min scaled Jacobian");

@@ -1910,15 +1910,16 @@ namespace forma
   {
     auto                                &m  = *impl;
     double                               vm = 0, frobenius = 0, volume = 0;
-    std::map<types::material_id, double> by_material;
+    std::map<types::material_id, double> by_material, volume_by_material;
     for (const auto id : m.all_ids)
-      by_material[id] = 0;
+      by_material[id] = volume_by_material[id] = 0;
     m.for_each_stress([&](const auto &cell, const auto &s, const double JxW) {
       vm        = std::max(vm, von_mises(s));
       frobenius = std::max(frobenius, s.norm());
       by_material[cell->material_id()] =
         std::max(by_material[cell->material_id()], s.norm());
       volume += JxW;
+      volume_by_material[cell->material_id()] += JxW;
     });
     nlohmann::json j;
     j["max_von_mises_stress"] = Utilities::MPI::max(vm, m.comm);
@@ -1928,6 +1929,10 @@ namespace forma
       for (const auto &[id, value] : by_material)
         j["max_stress_by_material"][std::to_string(id)] =
           Utilities::MPI::max(value, m.comm);
+    if (volume_by_material.size() > 1)
+      for (const auto &[id, value] : volume_by_material)
+        j["volume_by_material"][std::to_string(id)] =
+          Utilities::MPI::sum(value, m.comm);
     if (m.contact.active())
       j["contact"] = m.contact.statistics(m.mapping, m.u_ghost, m.comm);
     return j;

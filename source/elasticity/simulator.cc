@@ -281,6 +281,31 @@ namespace forma
       constrain(Utilities::string_to_int(id),
                 std::vector<bool>(dim, true),
                 "Design/Fixed boundaries");
+    {
+      std::set<types::material_id> fixed_bodies;
+      for (const auto &id :
+           Utilities::split_string_list(p.design.fixed_bodies, ','))
+        fixed_bodies.insert(Utilities::string_to_int(id));
+      std::set<types::material_id> mesh_materials;
+      for (const auto &cell : tria->active_cell_iterators())
+        if (!cell->is_artificial())
+          mesh_materials.insert(cell->material_id());
+      mesh_materials = Utilities::MPI::compute_set_union(mesh_materials, comm);
+      for (const auto m : fixed_bodies)
+        AssertThrow(mesh_materials.count(m),
+                    ExcMessage("'Design/Fixed bodies': the mesh has no "
+                               "material id " +
+                               std::to_string(m) + "."));
+      for (const auto &cell : shape_dof_handler.active_cell_iterators())
+        if (!cell->is_artificial() && fixed_bodies.count(cell->material_id()))
+          for (const auto v : cell->vertex_indices())
+            for (unsigned int d = 0; d < dim; ++d)
+              {
+                const auto i = cell->vertex_dof_index(v, d);
+                if (!shape_constraints.is_constrained(i))
+                  shape_constraints.add_line(i);
+              }
+    }
     for (const auto &r :
          parse_records(p.design.symmetry_planes, 1, "Design/Symmetry planes"))
       constrain(r.id,

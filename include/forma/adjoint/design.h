@@ -43,6 +43,7 @@ namespace forma
     std::vector<std::string> blocks;
     bool                     young_poisson = true; ///< (E, nu), else Lame
     std::string              fixed_boundaries;
+    std::string              fixed_bodies; ///< material ids, comma-separated
     std::string              symmetry_planes;
     std::string              shape_perturbation;
     double                   min_scaled_jacobian = 1e-3;
