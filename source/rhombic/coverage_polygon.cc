@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <optional>
 
@@ -200,6 +201,10 @@ namespace forma
       AssertThrow(nE >= 2 && nn >= 2 && covered.size() == nE * nn,
                   ExcMessage("coverage polygon: the coverage does not match "
                              "an (E, nu) grid of at least 2 x 2 nodes"));
+      AssertThrow(std::is_sorted(E.begin(), E.end(), std::less_equal<>()) &&
+                    std::is_sorted(nu.begin(), nu.end(), std::less_equal<>()),
+                  ExcMessage("coverage polygon: the grid's E and nu values "
+                             "must increase"));
       CoveragePolygon best;
       best.E_0   = E.front();
       best.E_1   = E.back();
