@@ -51,37 +51,43 @@ main()
   }
 
   // Every row of the polygon at a construction angle lies in the covered
-  // run of that row (the polygon is inscribed), and the region is smooth
-  // in between.
-  for (unsigned int a = 0; a < map.angles.size(); ++a)
-    {
-      const auto   region = map.coverage(map.angles[a], 0);
-      double       worst  = -1e300;
-      unsigned int n = 0, inside = 0;
-      for (unsigned int i = 0; i < map.E.size(); ++i)
-        for (unsigned int j = 0; j < map.nu.size(); ++j)
-          {
-            const bool   c = map.covered[a][i * map.nu.size() + j];
-            const double v = violation(region, map.E[i], map.nu[j]);
-            n += c;
-            inside += c && v <= 1e-6;
-            if (!c)
-              worst = std::max(worst, -v); // > 0: an uncovered node inside
-          }
-      deallog << "angle " << map.angles[a] << ": " << region.size()
-              << " half-planes, " << inside << " of " << n
-              << " covered nodes inside"
-              << (region.empty() ? " (no region)" :
-                  worst < 1e-6   ? ", no uncovered node inside" :
-                                   ", an uncovered node inside!")
-              << std::endl;
-      if (!region.empty())
-        deallog << "  E/E_b = 0.2 inside: "
-                << (violation(region, 0.2, 0.2) <= 0 ? "yes" : "no")
-                << ", nu = -0.3 inside: "
-                << (violation(region, 0.05, -0.3) <= 0 ? "yes" : "no")
+  // run of that row (the polygon is inscribed), for the shipped map and
+  // the full-size one.
+  const auto inscribed = [&](const MaterialMap &m) {
+    for (unsigned int a = 0; a < m.angles.size(); ++a)
+      {
+        const auto   region = m.coverage(m.angles[a], 0);
+        double       worst  = -1e300;
+        unsigned int n = 0, inside = 0;
+        for (unsigned int i = 0; i < m.E.size(); ++i)
+          for (unsigned int j = 0; j < m.nu.size(); ++j)
+            {
+              const bool   c = m.covered[a][i * m.nu.size() + j];
+              const double v = violation(region, m.E[i], m.nu[j]);
+              n += c;
+              inside += c && v <= 1e-6;
+              if (!c)
+                worst = std::max(worst, -v); // > 0: an uncovered node inside
+            }
+        deallog << "angle " << m.angles[a] << ": " << region.size()
+                << " half-planes, " << inside << " of " << n
+                << " covered nodes inside"
+                << (region.empty() ? " (no region)" :
+                    worst < 1e-6   ? ", no uncovered node inside" :
+                                     ", an uncovered node inside!")
                 << std::endl;
-    }
+        if (!region.empty())
+          deallog << "  E/E_b = 0.2 inside: "
+                  << (violation(region, 0.2, 0.2) <= 0 ? "yes" : "no")
+                  << ", nu = -0.3 inside: "
+                  << (violation(region, 0.05, -0.3) <= 0 ? "yes" : "no")
+                  << std::endl;
+      }
+  };
+  inscribed(map);
+  deallog << "full-size map:" << std::endl;
+  inscribed(MaterialMap::read(std::string(FORMA_SOURCE_DIR) +
+                              "/contrib/rhombic/map_full.json"));
   deallog << "polygon coefficients over the angle (E_min, E_max, nu_min, "
              "nu_max, s_l at E_0, E_1, s_r at E_0, E_1):"
           << std::endl;
