@@ -3,6 +3,7 @@
 #include <deal.II/base/utilities.h>
 
 #include <forma/base/application.h>
+#include <forma/base/parameter_override.h>
 
 #include <filesystem>
 #include <iostream>
@@ -142,29 +143,20 @@ namespace forma
     for (int k = 2; k + 1 < argc; k += 2)
       {
         const std::string flag = argv[k], assignment = argv[k + 1];
-        const auto        eq = assignment.find('=');
-        if (flag != "--set" || eq == std::string::npos)
+        if (flag != "--set" || assignment.find('=') == std::string::npos)
           {
             report("expected --set 'Section/Entry=value' after the "
                    "parameter file, got '" +
                    flag + " " + assignment + "'.");
             return 1;
           }
-        auto path =
-          dealii::Utilities::split_string_list(assignment.substr(0, eq), '/');
-        const std::string value =
-          dealii::Utilities::trim(assignment.substr(eq + 1));
         try
           {
-            for (unsigned int i = 0; i + 1 < path.size(); ++i)
-              prm.enter_subsection(path[i]);
-            prm.set(path.back(), value);
-            for (unsigned int i = 0; i + 1 < path.size(); ++i)
-              prm.leave_subsection();
+            set_entry(prm, assignment);
           }
         catch (const std::exception &exc)
           {
-            report("--set '" + assignment + "': " + error_message(exc));
+            report("--set " + error_message(exc));
             return 1;
           }
       }

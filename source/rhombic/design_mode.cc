@@ -8,6 +8,7 @@
 
 #include <forma/adjoint/design.h>
 #include <forma/base/application.h>
+#include <forma/base/parameter_override.h>
 #include <forma/base/plot.h>
 #include <forma/base/records.h>
 #include <forma/base/run_context.h>
@@ -165,7 +166,9 @@ namespace forma
 
       /// The macro problem's parameters: a forma-transient-ipc file.
       ElasticityParameters
-      read_macro_problem(const std::string &file, ParameterHandler &macro)
+      read_macro_problem(const std::string &file,
+                         const std::string &settings,
+                         ParameterHandler  &macro)
       {
         macro.declare_entry("Dimension", "2", Patterns::Integer(2, 3));
         macro.declare_entry("Output directory", "", Patterns::Anything());
@@ -186,6 +189,18 @@ namespace forma
                         ExcMessage("Two-scale/Macro problem '" + file +
                                    "': " + error_message(e)));
           }
+        for (const auto &assignment :
+             Utilities::split_string_list(settings, '|'))
+          try
+            {
+              set_entry(macro, assignment);
+            }
+          catch (const std::exception &e)
+            {
+              AssertThrow(false,
+                          ExcMessage("Two-scale/Macro settings: " +
+                                     error_message(e)));
+            }
         ElasticityParameters p;
         p.parse(macro,
                 std::filesystem::path(file).parent_path().string(),
@@ -382,11 +397,12 @@ namespace forma
                           RunContext        &context)
     {
       prm.enter_subsection("Two-scale");
-      std::string  macro_file      = prm.get("Macro problem");
-      const double coverage_weight = prm.get_double("Coverage weight");
-      const bool   fine_check      = prm.get_bool("Fine-scale check");
-      const double fine_size       = prm.get_double("Fine element size");
-      const double fine_boundary_size =
+      std::string       macro_file      = prm.get("Macro problem");
+      const std::string macro_settings  = prm.get("Macro settings");
+      const double      coverage_weight = prm.get_double("Coverage weight");
+      const bool        fine_check      = prm.get_bool("Fine-scale check");
+      const double      fine_size       = prm.get_double("Fine element size");
+      const double      fine_boundary_size =
         prm.get_double("Fine boundary element size");
       const int compared_boundary = prm.get_integer("Compared boundary");
       const std::string constant_material = prm.get("Constant material");
@@ -466,7 +482,8 @@ namespace forma
 
       // 2. Per-cell materials for the macro problem (ch. 4.8).
       ParameterHandler     macro;
-      ElasticityParameters parameters = read_macro_problem(macro_file, macro);
+      ElasticityParameters parameters =
+        read_macro_problem(macro_file, macro_settings, macro);
       AssertThrow(parameters.dim == 2 && parameters.plane_stress,
                   ExcMessage("Two-scale/Macro problem: the homogenized "
                              "moduli are 2D; set Dimension = 2 and "

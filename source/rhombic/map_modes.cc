@@ -9,6 +9,7 @@
 #include <forma/optimization/optimizer.h>
 #include <forma/rhombic/inverse_problem.h>
 #include <forma/rhombic/material_map.h>
+#include <forma/rhombic/transversal_map.h>
 
 #include <boost/serialization/array.hpp>
 #include <boost/serialization/utility.hpp>
@@ -93,6 +94,21 @@ namespace forma
       const std::string  map_file = prm.get("Map file");
       const unsigned int n_checks = prm.get_integer("Accuracy checks");
       const double height_weight  = prm.get_double("Coverage height weight");
+      const bool   transversal    = prm.get("Initial map") == "transversal";
+      TransversalMapParameters transversal_parameters;
+      if (transversal)
+        {
+          transversal_parameters.fixed =
+            TransversalMapParameters::parse_fixed(prm.get("Fixed parameters"),
+                                                  "Map/Fixed parameters");
+          transversal_parameters.ranges =
+            TransversalMapParameters::parse_ranges(prm.get("Sampling ranges"),
+                                                   "Map/Sampling ranges");
+          transversal_parameters.subspace_samples =
+            prm.get_integer("Subspace samples");
+          transversal_parameters.grid_samples =
+            prm.get_integer("Transversal grid samples");
+        }
       prm.leave_subsection();
       AssertThrow(controls.size() == 3 &&
                     std::all_of(controls.begin(),
@@ -145,12 +161,19 @@ namespace forma
             RhombicStructure s = seed;
             s.alpha            = angle * M_PI / 180;
             s.p                = jobs[k].start;
-            const auto ranges  = RhombicStructure::ranges();
+            // Within the bounds InverseProblem sets (node 2 kept inside
+            // its triangle when both of its offsets vary).
+            const auto ranges = RhombicStructure::ranges();
+            const bool offsets_free =
+              std::count_if(base.free.begin(),
+                            base.free.end(),
+                            [](const unsigned int i) { return i < 2; }) == 2;
             for (unsigned int i = 0; i < s.p.size(); ++i)
-              s.p[i] =
-                std::clamp(s.p[i],
-                           ranges[i][0],
-                           i < 2 ? std::min(ranges[i][1], 0.49) : ranges[i][1]);
+              s.p[i] = std::clamp(s.p[i],
+                                  ranges[i][0],
+                                  i < 2 && offsets_free ?
+                                    std::min(ranges[i][1], 0.49) :
+                                    ranges[i][1]);
             try
               {
                 const auto r =
@@ -211,7 +234,36 @@ namespace forma
               }
             return reached;
           };
-          if (a == 0)
+          if (a == 0 && transversal)
+            {
+              // The thesis's initial map (ch. 4.6.2): the simplex inverse
+              // of H on the transversal subspace gives every target it
+              // covers a start, polished by an inverse solve.
+              std::vector<std::pair<double, double>> targets;
+              for (unsigned int n = 0; n < n_nodes; ++n)
+                targets.push_back({node_E(n), node_nu(n)});
+              RhombicStructure s = seed;
+              s.alpha            = angles[0] * M_PI / 180;
+              const auto starts  = transversal_initial_map(
+                transversal_parameters, targets, s, setup, context);
+              std::vector<Job> jobs;
+              for (unsigned int n = 0; n < n_nodes; ++n)
+                if (starts[n])
+                  jobs.push_back({n, *starts[n]});
+              AssertThrow(!jobs.empty(),
+                          ExcMessage(
+                            "build map: the image of the transversal subspace "
+                            "contains none of the (E, nu) targets; move the "
+                            "grid into its coverage (see the log) or sample "
+                            "V more densely"));
+              const unsigned int reached = take(solve(angles[0], jobs));
+              context.print("map: angle " + sig(angles[0]) + ": " +
+                            std::to_string(reached) + " of " +
+                            std::to_string(jobs.size()) +
+                            " starts from the transversal map reached");
+              context.summary["transversal"]["targets_reached"] = reached;
+            }
+          else if (a == 0)
             {
               // Seed: the nodes nearest the seed structure's isotropic fit,
               // a rank's worth at a time, until one is reached.

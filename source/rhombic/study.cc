@@ -369,6 +369,44 @@ namespace forma
                         Patterns::Integer(0, 10000),
                         "build map: points between the samples queried and "
                         "homogenized to measure the map's accuracy.");
+      prm.declare_entry(
+        "Initial map",
+        "continuation",
+        Patterns::Selection("continuation|transversal"),
+        "build map, at the first angle: continuation (outward from the "
+        "Structure section's seed) or transversal (the thesis's ch. 4.6.2: "
+        "H linearized on the parameters left by 'Fixed parameters', "
+        "restricted to the subspace V transversal to its level sets, "
+        "sampled on a grid and inverted by simplices at every target; each "
+        "start is polished by an inverse solve). Both then grow outward by "
+        "optimization and continue over the angles.");
+      prm.declare_entry(
+        "Fixed parameters",
+        "p1 = 0.25, p2 = 0.225, p5 = 0.23",
+        Patterns::Anything(),
+        "Initial map = transversal: the redundant parameters and their "
+        "values. The default is where the continuation map's structures "
+        "sit at 90 degrees (p1, p2, p5 vary by under 0.06 there); the "
+        "thesis's p1 = 0.5, p2 = 0.25, p5 = 0.3 give forma's geometry "
+        "E/E_b mostly above 0.2. A dense sweep's redundant_parameters is "
+        "the principled choice.");
+      prm.declare_entry("Sampling ranges",
+                        "",
+                        Patterns::Anything(),
+                        "Initial map = transversal: narrower ranges of free "
+                        "parameters for the samples on V' and V, e.g. "
+                        "'p7 = 0.05:0.15' (default: the sweep ranges): the "
+                        "samples go where the targets' structures are.");
+      prm.declare_entry("Subspace samples",
+                        "4",
+                        Patterns::Integer(2, 50),
+                        "Initial map = transversal: samples per free "
+                        "parameter for the linear model (thesis: 15).");
+      prm.declare_entry("Transversal grid samples",
+                        "6",
+                        Patterns::Integer(2, 50),
+                        "Initial map = transversal: samples per coordinate "
+                        "of the grid on V that is inverted.");
       prm.declare_entry("Coverage height weight",
                         "0",
                         Patterns::Double(0),
@@ -450,6 +488,14 @@ namespace forma
         "Optimization section; its Mesh is replaced by the rhombic mesh, "
         "whose boundary ids come from the Quad mesh file. Materials are "
         "absolute: the base has Base material/Young's modulus.");
+      prm.declare_entry(
+        "Macro settings",
+        "",
+        Patterns::Anything(),
+        "Overrides of Macro problem entries, 'Section/Entry=value' as "
+        "--set on the command line, several separated by '|' (e.g. "
+        "'Optimization/Max iterations=8'): variants without a copy of the "
+        "file.");
       prm.declare_entry("Coverage weight",
                         "10",
                         Patterns::Double(0),

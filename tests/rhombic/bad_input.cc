@@ -83,6 +83,12 @@ main()
                  two_scale + "subsection Two-scale\n set Macro problem = "
                              "macro_per_body.prm\nend\n",
                  good);
+  expect_failure("macro_settings_unknown_entry",
+                 two_scale + "subsection Two-scale\n set Macro problem = "
+                             "macro_per_body.prm\n set Macro settings = "
+                             "Optimization/Max iterations=8 | "
+                             "Optimization/Max iteration=8\nend\n",
+                 good);
   expect_failure("pointwise_table_not_given",
                  two_scale + "subsection Two-scale\n set Macro problem = "
                              "macro_per_body.prm\n set Baselines = pointwise "
