@@ -227,6 +227,16 @@ namespace forma
                     parameters.grid_samples >= 2,
                   ExcMessage("Map: at least 2 subspace and grid samples per "
                              "parameter needed"));
+      // Each sample is a homogenization (about 0.5 s): refuse runs of weeks.
+      const double n_samples =
+        std::pow(parameters.subspace_samples, free.size()) +
+        std::pow(parameters.grid_samples, m);
+      AssertThrow(n_samples <= 1e6,
+                  ExcMessage(
+                    "Map: Subspace samples^" + std::to_string(free.size()) +
+                    " + Transversal grid samples^4 = " + sig(n_samples, 3) +
+                    " homogenizations; at most 1e6 (narrow the "
+                    "Sampling ranges instead)"));
       const auto with = [&](const std::vector<double> &x) {
         RhombicStructure s = structure;
         for (unsigned int i = 0; i < s.p.size(); ++i)
