@@ -1,7 +1,6 @@
 #include <deal.II/base/exceptions.h>
 #include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/lapack_full_matrix.h>
-#include <deal.II/lac/vector.h>
 
 #include <forma/rhombic/transversal_subspace.h>
 
@@ -22,8 +21,7 @@ namespace forma
       double
       invert(std::vector<double> &a, const unsigned int n)
       {
-        std::vector<double>       b(n * n, 0.);
-        std::vector<unsigned int> row(n);
+        std::vector<double> b(n * n, 0.);
         for (unsigned int i = 0; i < n; ++i)
           b[i * n + i] = 1;
         double det = 1;
