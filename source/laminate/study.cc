@@ -4,10 +4,17 @@
 #include <deal.II/base/timer.h>
 #include <deal.II/base/utilities.h>
 
+#include <forma/base/rank_strided.h>
 #include <forma/base/run_context.h>
 #include <forma/laminate/study.h>
 
+#include <boost/serialization/array.hpp>
+#include <boost/serialization/string.hpp>
+#include <boost/serialization/utility.hpp>
+#include <boost/serialization/vector.hpp>
+
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -231,66 +238,71 @@ namespace forma
                    const unsigned int                    ny,
                    RunContext                           &context)
     {
-      const unsigned int nx      = grid_nx(ny);
-      const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(
-                           context.communicator()),
-                         rank = Utilities::MPI::this_mpi_process(
-                           context.communicator());
+      const unsigned int nx = grid_nx(ny);
+      const unsigned int n_ranks =
+        Utilities::MPI::n_mpi_processes(context.communicator());
       const auto cell = family_grid(MPI_COMM_SELF, setup, ny);
       context.print(
         "sweep: " + std::to_string(structures.size()) + " structures on a " +
         std::to_string(nx) + " x " + std::to_string(ny) + " grid" +
         (cell->n_cells() < nx * ny ? " (the primitive half cell)" : ""));
       std::vector<double> table(structures.size() * n_fields, 0.);
-      std::string         error;
-      const unsigned int  batch =
+      // The fields of one structure, or why it failed.
+      using Result = std::pair<std::array<double, n_fields>, std::string>;
+      const unsigned int batch =
         std::max<unsigned int>(n_ranks, structures.size() / 10 + 1);
       for (unsigned int start = 0; start < structures.size(); start += batch)
         {
           const unsigned int end =
             std::min<unsigned int>(structures.size(), start + batch);
-          for (unsigned int k = start; k < end; ++k)
-            if (k % n_ranks == rank && error.empty())
+          const auto results = rank_strided<Result>(
+            context.communicator(), end - start, [&](const unsigned int i) {
+              const unsigned int k = start + i;
+              Result             result{};
               try
                 {
                   const auto material = pixel_material(
                     structures[k], setup.base, setup.weak, setup.gray, nx, ny);
                   const Sample      r = evaluate(*cell, material, setup);
                   const VoigtMatrix V = to_voigt(r.C);
-                  const double      f[n_fields] = {
-                         structures[k].volume_fraction_formula(),
-                         r.phi,
-                         r.fit.E,
-                         r.fit.nu,
-                         r.fit.kappa,
-                         r.fit.mu,
-                         r.anisotropy.a1,
-                         r.anisotropy.a2,
-                         r.anisotropy.residual,
-                         r.hs_violation,
-                         V[0][0],
-                         V[0][1],
-                         V[1][1],
-                         V[2][2],
-                         structures[k].min_feature_size() * ny /
-                           HexagonalLaminate::height};
-                  std::copy(f, f + n_fields, table.begin() + k * n_fields);
+                  result.first = {{structures[k].volume_fraction_formula(),
+                                   r.phi,
+                                   r.fit.E,
+                                   r.fit.nu,
+                                   r.fit.kappa,
+                                   r.fit.mu,
+                                   r.anisotropy.a1,
+                                   r.anisotropy.a2,
+                                   r.anisotropy.residual,
+                                   r.hs_violation,
+                                   V[0][0],
+                                   V[0][1],
+                                   V[1][1],
+                                   V[2][2],
+                                   structures[k].min_feature_size() * ny /
+                                     HexagonalLaminate::height}};
                 }
               catch (const std::exception &e)
                 {
-                  // Finish the batch collectively, then fail on every rank.
-                  error = "structure " + std::to_string(k + 1) + " (" +
-                          structures[k].family_name() +
-                          ", p1 = " + sig(structures[k].p1) + "): " + e.what();
+                  result.second = "structure " + std::to_string(k + 1) + " (" +
+                                  structures[k].family_name() +
+                                  ", p1 = " + sig(structures[k].p1) +
+                                  "): " + e.what();
                 }
-          const auto errors =
-            Utilities::MPI::all_gather(context.communicator(), error);
-          for (const auto &e : errors)
-            AssertThrow(e.empty(), ExcMessage("sweep: " + e));
+              return result;
+            });
+          // The batch finishes on every rank; the first failure stops all.
+          for (unsigned int i = 0; i < results.size(); ++i)
+            {
+              AssertThrow(results[i].second.empty(),
+                          ExcMessage("sweep: " + results[i].second));
+              std::copy(results[i].first.begin(),
+                        results[i].first.end(),
+                        table.begin() + (start + i) * n_fields);
+            }
           context.print("sweep: " + std::to_string(end) + "/" +
                         std::to_string(structures.size()) + " structures");
         }
-      Utilities::MPI::sum(table, context.communicator(), table);
       return table;
     }
 

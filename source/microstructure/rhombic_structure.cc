@@ -69,6 +69,20 @@ namespace forma
 
 
 
+  unsigned int
+  RhombicStructure::parameter_index(const std::string &name,
+                                    const std::string &entry)
+  {
+    for (unsigned int i = 0; i < n_parameters; ++i)
+      if (parameter_name(i) == name)
+        return i;
+    AssertThrow(false,
+                ExcMessage(entry + ": '" + name + "' is not one of p1 ... p8"));
+    return n_parameters;
+  }
+
+
+
   void
   RhombicStructure::check() const
   {

@@ -55,13 +55,8 @@ namespace forma
       prm.leave_subsection();
       for (const auto &name : names)
         {
-          unsigned int i = 0;
-          while (i < RhombicStructure::n_parameters &&
-                 RhombicStructure::parameter_name(i) != name)
-            ++i;
-          AssertThrow(i < RhombicStructure::n_parameters,
-                      ExcMessage("Inverse/Free parameters: '" + name +
-                                 "' is not one of p1 ... p8"));
+          const unsigned int i =
+            RhombicStructure::parameter_index(name, "Inverse/Free parameters");
           if (std::find(problem.free.begin(), problem.free.end(), i) ==
               problem.free.end())
             problem.free.push_back(i);

@@ -5,6 +5,7 @@
 
 #include <forma/base/application.h>
 #include <forma/base/plot.h>
+#include <forma/base/rank_strided.h>
 #include <forma/base/run_context.h>
 #include <forma/optimization/optimizer.h>
 #include <forma/rhombic/inverse_problem.h>
@@ -139,14 +140,12 @@ namespace forma
       const auto node_nu = [&](const unsigned int n) {
         return nus[n % nus.size()];
       };
-      const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(comm),
-                         rank    = Utilities::MPI::this_mpi_process(comm);
+      const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(comm);
 
       // Solve jobs at one angle, shared among the ranks.
       const auto solve = [&](const double angle, const std::vector<Job> &jobs) {
-        std::vector<Outcome> mine;
-        for (unsigned int k = rank; k < jobs.size(); k += n_ranks)
-          {
+        return rank_strided<Outcome>(
+          comm, jobs.size(), [&](const unsigned int k) {
             Outcome o;
             o.node                 = jobs[k].node;
             InverseProblem problem = base;
@@ -189,12 +188,8 @@ namespace forma
                 context.log("map: node " + std::to_string(o.node) +
                             " failed: " + error_message(e));
               }
-            mine.push_back(o);
-          }
-        std::vector<Outcome> all;
-        for (const auto &from : Utilities::MPI::all_gather(comm, mine))
-          all.insert(all.end(), from.begin(), from.end());
-        return all;
+            return o;
+          });
       };
 
       MaterialMap map;
@@ -426,44 +421,43 @@ namespace forma
             every.push_back(checks[k * checks.size() / n_checks]);
           checks = every;
         }
-      std::vector<std::pair<unsigned int, std::array<double, 3>>> mine;
-      for (unsigned int k = rank; k < checks.size(); k += n_ranks)
-        {
+      const auto achieved = rank_strided<std::array<double, 3>>(
+        comm, checks.size(), [&](const unsigned int k) {
           bool       inside;
           const auto s =
             map.query(checks[k][0], checks[k][1], checks[k][2], 0, inside);
           try
             {
               const Sample r = evaluate(s, setup, MPI_COMM_SELF);
-              mine.push_back({k,
-                              {{r.fit.E / setup.base.E,
-                                r.fit.nu,
-                                std::max(r.anisotropy.a1, r.anisotropy.a2)}}});
+              return std::array<double, 3>{
+                {r.fit.E / setup.base.E,
+                 r.fit.nu,
+                 std::max(r.anisotropy.a1, r.anisotropy.a2)}};
             }
           catch (const std::exception &)
             {
-              mine.push_back({k, {{0., 0., 1e300}}});
+              return std::array<double, 3>{{0., 0., 1e300}};
             }
-        }
+        });
       nlohmann::json accuracy = nlohmann::json::array();
       double         max_dE = 0, max_dnu = 0, sum_dE = 0, sum_dnu = 0;
       unsigned int   n_ok = 0;
-      for (const auto &from : Utilities::MPI::all_gather(comm, mine))
-        for (const auto &[k, r] : from)
-          {
-            if (r[2] > 1e299)
-              continue;
-            const double dE  = std::abs(r[0] / checks[k][0] - 1),
-                         dnu = std::abs(r[1] - checks[k][1]);
-            max_dE = std::max(max_dE, dE), max_dnu = std::max(max_dnu, dnu);
-            sum_dE += dE, sum_dnu += dnu, ++n_ok;
-            accuracy.push_back({{"E", checks[k][0]},
-                                {"nu", checks[k][1]},
-                                {"angle", checks[k][2]},
-                                {"E_achieved", r[0]},
-                                {"nu_achieved", r[1]},
-                                {"anisotropy", r[2]}});
-          }
+      for (unsigned int k = 0; k < checks.size(); ++k)
+        {
+          const auto &r = achieved[k];
+          if (r[2] > 1e299)
+            continue;
+          const double dE  = std::abs(r[0] / checks[k][0] - 1),
+                       dnu = std::abs(r[1] - checks[k][1]);
+          max_dE = std::max(max_dE, dE), max_dnu = std::max(max_dnu, dnu);
+          sum_dE += dE, sum_dnu += dnu, ++n_ok;
+          accuracy.push_back({{"E", checks[k][0]},
+                              {"nu", checks[k][1]},
+                              {"angle", checks[k][2]},
+                              {"E_achieved", r[0]},
+                              {"nu_achieved", r[1]},
+                              {"anisotropy", r[2]}});
+        }
       if (n_ok > 0)
         context.print("map accuracy at " + std::to_string(n_ok) +
                       " points between the samples: |E/E* - 1| mean " +

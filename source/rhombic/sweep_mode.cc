@@ -4,6 +4,7 @@
 
 #include <forma/base/application.h>
 #include <forma/base/plot.h>
+#include <forma/base/rank_strided.h>
 #include <forma/base/run_context.h>
 #include <forma/rhombic/redundant_parameters.h>
 #include <forma/rhombic/study.h>
@@ -200,10 +201,8 @@ namespace forma
         }
       done = Utilities::MPI::broadcast(context.communicator(), done);
 
-      const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(
-                           context.communicator()),
-                         rank = Utilities::MPI::this_mpi_process(
-                           context.communicator());
+      const unsigned int n_ranks =
+        Utilities::MPI::n_mpi_processes(context.communicator());
       context.print("sweep: " + std::to_string(structures.size()) +
                     " structures" +
                     (skipped > 0 ? " (" + std::to_string(skipped) +
@@ -230,32 +229,33 @@ namespace forma
         {
           const unsigned int end =
             std::min<unsigned int>(structures.size(), start + batch);
-          std::vector<std::pair<unsigned int, std::string>> mine;
+          std::vector<unsigned int> pending;
           for (unsigned int k = start; k < end; ++k)
-            if (k % n_ranks == rank && lines[k].empty())
-              {
-                Row row;
-                try
-                  {
-                    row.values = sample_fields(
-                      evaluate(structures[k], setup, MPI_COMM_SELF));
-                  }
-                catch (const std::exception &e)
-                  {
-                    // A structure that cannot be homogenized (e.g. the
-                    // material falls apart) is a result, not a failure.
-                    std::string message = error_message(e);
-                    for (char &c : message)
-                      if (c == ',' || c == '\n')
-                        c = ';';
-                    row.status = "failed: " + message;
-                  }
-                mine.emplace_back(k, csv_line(structures[k], row));
-              }
-          for (const auto &from_rank :
-               Utilities::MPI::all_gather(context.communicator(), mine))
-            for (const auto &[k, line] : from_rank)
-              lines[k] = line;
+            if (lines[k].empty())
+              pending.push_back(k);
+          const auto computed = rank_strided<std::string>(
+            context.communicator(), pending.size(), [&](const unsigned int i) {
+              const unsigned int k = pending[i];
+              Row                row;
+              try
+                {
+                  row.values = sample_fields(
+                    evaluate(structures[k], setup, MPI_COMM_SELF));
+                }
+              catch (const std::exception &e)
+                {
+                  // A structure that cannot be homogenized (e.g. the
+                  // material falls apart) is a result, not a failure.
+                  std::string message = error_message(e);
+                  for (char &c : message)
+                    if (c == ',' || c == '\n')
+                      c = ';';
+                  row.status = "failed: " + message;
+                }
+              return csv_line(structures[k], row);
+            });
+          for (unsigned int i = 0; i < pending.size(); ++i)
+            lines[pending[i]] = computed[i];
           if (context.is_root())
             {
               std::ofstream out(progress, std::ios::app);

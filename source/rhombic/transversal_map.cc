@@ -3,6 +3,7 @@
 #include <deal.II/base/utilities.h>
 
 #include <forma/base/application.h>
+#include <forma/base/rank_strided.h>
 #include <forma/base/records.h>
 #include <forma/base/run_context.h>
 #include <forma/rhombic/study.h>
@@ -45,12 +46,8 @@ namespace forma
                      const Setup                         &setup,
                      RunContext                          &context)
       {
-        const MPI_Comm     comm    = context.communicator();
-        const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(comm),
-                           rank    = Utilities::MPI::this_mpi_process(comm);
-        std::vector<std::pair<unsigned int, Moduli>> mine;
-        for (unsigned int k = rank; k < structures.size(); k += n_ranks)
-          {
+        return rank_strided<Moduli>(
+          context.communicator(), structures.size(), [&](const unsigned int k) {
             Moduli m{};
             try
               {
@@ -65,18 +62,12 @@ namespace forma
                 context.log("transversal map: sample " + std::to_string(k) +
                             " failed: " + error_message(e));
               }
-            mine.push_back({k, m});
-            if (mine.size() % 50 == 0)
-              context.log(
-                "transversal map: " + std::to_string(mine.size() * n_ranks) +
-                " of " + std::to_string(structures.size()) +
-                " samples homogenized");
-          }
-        std::vector<Moduli> all(structures.size());
-        for (const auto &from : Utilities::MPI::all_gather(comm, mine))
-          for (const auto &[k, m] : from)
-            all[k] = m;
-        return all;
+            if ((k + 1) % 100 == 0)
+              context.log("transversal map: " + std::to_string(k + 1) + " of " +
+                          std::to_string(structures.size()) +
+                          " samples homogenized");
+            return m;
+          });
       }
 
       /// `n` values over [lo, hi], ends included.
@@ -125,13 +116,8 @@ namespace forma
             AssertThrow(parts.size() == 2,
                         ExcMessage(entry + ": '" + item +
                                    "' is not of the form 'p1 = ...'"));
-            unsigned int i = 0;
-            while (i < RhombicStructure::n_parameters &&
-                   RhombicStructure::parameter_name(i) != parts[0])
-              ++i;
-            AssertThrow(i < RhombicStructure::n_parameters,
-                        ExcMessage(entry + ": '" + parts[0] +
-                                   "' is not one of p1 ... p8"));
+            const unsigned int i =
+              RhombicStructure::parameter_index(parts[0], entry);
             AssertThrow(!result[i],
                         ExcMessage(entry + ": " + parts[0] + " appears twice"));
             result[i] = parts[1];
@@ -405,7 +391,7 @@ namespace forma
             {
               result[t] = with(V.point(*y)).p;
               ++n_found;
-              covered.push_back({targets[t].first, targets[t].second});
+              covered.push_back({{targets[t].first, targets[t].second}});
             }
         }
       context.print("transversal map: " + std::to_string(n_ok) +

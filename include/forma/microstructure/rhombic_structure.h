@@ -66,6 +66,11 @@ namespace forma
     static std::string
     parameter_name(const unsigned int i);
 
+    /// The index of "p1" ... "p8"; anything else is an error naming the
+    /// parameter-file entry it came from.
+    static unsigned int
+    parameter_index(const std::string &name, const std::string &entry);
+
     /// Throws a clear error if a parameter, alpha or the blending is out of
     /// range.
     void
