@@ -7,13 +7,7 @@
 # statistics). Writes results/contact_gradient_cost.csv.
 #   contrib/benchmarks/contact_gradient_cost.sh [build/bin/forma-contact-assembly]
 set -e
-app=$(realpath "${1:-build/bin/forma-contact-assembly}")
-here=$(cd "$(dirname "$0")" && pwd)
-examples=$(cd "$here/../../parameter_files/contact_assembly" && pwd)
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-out="$here/results/contact_gradient_cost.csv"
-mkdir -p "$here/results"
+. "$(dirname "$0")/contact_setup.sh" contact_gradient_cost "$@"
 echo "case,element_size,n_dofs,seconds_per_forward_solve,seconds_per_gradient,ratio" > "$out"
 cd "$work"
 for h in 0.1 0.05 0.025; do

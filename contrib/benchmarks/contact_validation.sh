@@ -15,12 +15,7 @@
 # Writes results/contact_validation.csv and prints it.
 #   contrib/benchmarks/contact_validation.sh [build/bin/forma-contact-assembly]
 set -e
-app=$(realpath "${1:-build/bin/forma-contact-assembly}")
-here=$(cd "$(dirname "$0")" && pwd)
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-out="$here/results/contact_validation.csv"
-mkdir -p "$here/results"
+. "$(dirname "$0")/contact_setup.sh" contact_validation "$@"
 echo "study,parameter,measured,predicted,newton_iterations_last_step" > "$out"
 cd "$work"
 

@@ -435,6 +435,9 @@ namespace
             remesh_seconds += remesh_timer.wall_time();
             mesh             = next;
             remeshed_quality = simulator.mesh_quality();
+            // J jumps where the new mesh resolves the stress peaks
+            // differently: the decrease window restarts on the new mesh.
+            stage_settings.decrease_window_start = result.history.size() - 1;
           }
         catch (const std::exception &e)
           {

@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <sstream>
 
 namespace forma
 {
@@ -306,16 +307,25 @@ namespace forma
                      quadrature[k],
                      update_jacobians);
     double             after = 1;
+    Point<dim>         worst;
     for (const auto &cell : serial.active_cell_iterators())
       {
         fv.reinit(cell);
         for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
-          after = std::min(after, scaled_jacobian<dim>(fv.jacobian(q)));
+          {
+            const double sj = scaled_jacobian<dim>(fv.jacobian(q));
+            if (sj < after)
+              after = sj, worst = cell->center();
+          }
       }
+    std::ostringstream at;
+    at << worst;
     AssertThrow(after >= p.design.min_scaled_jacobian,
                 ExcMessage("remeshing: the new mesh has a cell of scaled "
                            "Jacobian " +
-                           fmt(after, 3) + " < Design/Min scaled Jacobian."));
+                           fmt(after, 3) +
+                           " < Design/Min scaled Jacobian (at " + at.str() +
+                           ")."));
     if (removed)
       return msh;
     pending_mesh    = msh;

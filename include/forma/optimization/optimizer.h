@@ -34,8 +34,8 @@ namespace forma
     /// a parameter-file entry).
     double value_target = -std::numeric_limits<double>::infinity();
     /// The decrease window (thesis ch. 2.5) looks at iterations from this
-    /// one on: a run continued on a changed problem (element removal)
-    /// must not compare with values before the change (not a
+    /// one on: a run continued on a changed problem (element removal, a
+    /// remesh) must not compare with values before the change (not a
     /// parameter-file entry).
     unsigned int decrease_window_start = 0;
     /// Iteration lines to the screen (true) or to the log only.

@@ -2,11 +2,13 @@
 // cap (material 2) whose peg fills the slot; they share the slot walls, the
 // slot bottom and the base top under the cap. Triangles.
 // gmsh -2 -format msh2 connector_2d.geo -o connector_2d.msh
-DefineConstant[ h = 0.1 ];  // element size: gmsh -setnumber h 0.05 ...
-Point(1) = {0, 0, 0, h};     Point(2) = {3, 0, 0, h};
-Point(3) = {3, 1, 0, h};     Point(4) = {2.5, 1, 0, h};
-Point(5) = {2, 1, 0, h};     Point(6) = {2, 0.4, 0, h};
-Point(7) = {1, 0.4, 0, h};   Point(8) = {1, 1, 0, h};
+// Element size h, peg width w and slot depth d: gmsh -setnumber h 0.05 ...
+// (w = 1 is the wide peg of doc/contact_assembly.md's comparison).
+DefineConstant[ h = 0.1, w = 0.4, d = 0.6 ];
+Point(1) = {0, 0, 0, h};           Point(2) = {3, 0, 0, h};
+Point(3) = {3, 1, 0, h};           Point(4) = {2.5, 1, 0, h};
+Point(5) = {1.5 + w / 2, 1, 0, h}; Point(6) = {1.5 + w / 2, 1 - d, 0, h};
+Point(7) = {1.5 - w / 2, 1 - d, 0, h}; Point(8) = {1.5 - w / 2, 1, 0, h};
 Point(9) = {0.5, 1, 0, h};   Point(10) = {0, 1, 0, h};
 Point(11) = {2.5, 1.5, 0, h}; Point(12) = {0.5, 1.5, 0, h};
 Line(1) = {1, 2};   Line(2) = {2, 3};   Line(3) = {3, 4};  Line(4) = {4, 5};
