@@ -18,7 +18,6 @@
 
 #include <algorithm>
 #include <fstream>
-#include <sstream>
 
 namespace forma
 {
@@ -318,14 +317,12 @@ namespace forma
               after = sj, worst = cell->center();
           }
       }
-    std::ostringstream at;
-    at << worst;
     AssertThrow(after >= p.design.min_scaled_jacobian,
                 ExcMessage("remeshing: the new mesh has a cell of scaled "
                            "Jacobian " +
-                           fmt(after, 3) +
-                           " < Design/Min scaled Jacobian (at " + at.str() +
-                           ")."));
+                           fmt(after, 3) + " < Design/Min scaled Jacobian = " +
+                           fmt(p.design.min_scaled_jacobian, 3) + " near " +
+                           fmt(Tensor<1, dim>(worst)) + "."));
     if (removed)
       return msh;
     pending_mesh    = msh;

@@ -10,8 +10,6 @@
 
 #include <boost/serialization/array.hpp>
 #include <boost/serialization/string.hpp>
-#include <boost/serialization/utility.hpp>
-#include <boost/serialization/vector.hpp>
 
 #include <algorithm>
 #include <array>

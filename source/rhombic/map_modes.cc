@@ -13,8 +13,6 @@
 #include <forma/rhombic/transversal_map.h>
 
 #include <boost/serialization/array.hpp>
-#include <boost/serialization/utility.hpp>
-#include <boost/serialization/vector.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -423,12 +421,13 @@ namespace forma
         }
       const auto achieved = rank_strided<std::array<double, 3>>(
         comm, checks.size(), [&](const unsigned int k) {
-          bool       inside;
-          const auto s =
-            map.query(checks[k][0], checks[k][1], checks[k][2], 0, inside);
           try
             {
-              const Sample r = evaluate(s, setup, MPI_COMM_SELF);
+              bool         inside;
+              const Sample r = evaluate(
+                map.query(checks[k][0], checks[k][1], checks[k][2], 0, inside),
+                setup,
+                MPI_COMM_SELF);
               return std::array<double, 3>{
                 {r.fit.E / setup.base.E,
                  r.fit.nu,

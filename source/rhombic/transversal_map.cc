@@ -11,8 +11,6 @@
 #include <forma/rhombic/transversal_subspace.h>
 
 #include <boost/serialization/array.hpp>
-#include <boost/serialization/utility.hpp>
-#include <boost/serialization/vector.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -46,6 +44,8 @@ namespace forma
                      const Setup                         &setup,
                      RunContext                          &context)
       {
+        const unsigned int n_ranks =
+          Utilities::MPI::n_mpi_processes(context.communicator());
         return rank_strided<Moduli>(
           context.communicator(), structures.size(), [&](const unsigned int k) {
             Moduli m{};
@@ -62,7 +62,8 @@ namespace forma
                 context.log("transversal map: sample " + std::to_string(k) +
                             " failed: " + error_message(e));
               }
-            if ((k + 1) % 100 == 0)
+            // The log is the root's: it counts its own jobs, every n_ranks-th.
+            if (k % n_ranks == 0 && (k / n_ranks + 1) % 50 == 0)
               context.log("transversal map: " + std::to_string(k + 1) + " of " +
                           std::to_string(structures.size()) +
                           " samples homogenized");

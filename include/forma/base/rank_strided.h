@@ -1,11 +1,16 @@
 #ifndef forma_base_rank_strided_h
 #define forma_base_rank_strided_h
 
+#include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
 
+#include <forma/base/application.h>
+
+#include <boost/serialization/string.hpp>
 #include <boost/serialization/utility.hpp>
 #include <boost/serialization/vector.hpp>
 
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -18,8 +23,9 @@ namespace forma
    * number of ranks. Each job runs on its rank alone (MPI_COMM_SELF
    * solves, e.g. one homogenization); T must be serializable (boost) for
    * the gather (include e.g. boost/serialization/array.hpp for arrays).
-   * Collective: every rank calls it with the same n_jobs, and a job must
-   * not throw (return its failure instead), or the other ranks would wait.
+   * Collective: every rank calls it with the same n_jobs. A job that
+   * throws does not leave the other ranks waiting: all jobs finish, then
+   * every rank throws the error of the first failed job.
    */
   template <typename T, typename Job>
   std::vector<T>
@@ -28,8 +34,21 @@ namespace forma
     const unsigned int n_ranks = dealii::Utilities::MPI::n_mpi_processes(comm),
                        rank    = dealii::Utilities::MPI::this_mpi_process(comm);
     std::vector<std::pair<unsigned int, T>> mine;
+    std::pair<unsigned int, std::string>    error{n_jobs, ""};
     for (unsigned int i = rank; i < n_jobs; i += n_ranks)
-      mine.emplace_back(i, job(i));
+      try
+        {
+          mine.emplace_back(i, job(i));
+        }
+      catch (const std::exception &e)
+        {
+          if (error.first == n_jobs)
+            error = {i, error_message(e)};
+        }
+    for (const auto &e : dealii::Utilities::MPI::all_gather(comm, error))
+      if (e.first < error.first)
+        error = e;
+    AssertThrow(error.first == n_jobs, dealii::ExcMessage(error.second));
     std::vector<T> all(n_jobs);
     for (auto &from : dealii::Utilities::MPI::all_gather(comm, mine))
       for (auto &[i, value] : from)
