@@ -13,6 +13,7 @@
 #include <ROL_StdVector.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -148,6 +149,9 @@ namespace forma
       double                        gnorm0 = 0;
       std::string                   stop_reason;
       std::string                   checkpoint;
+      /// The decrease window's first iteration (parameters', or a resumed
+      /// run's checkpoint's).
+      unsigned int window_start = 0;
 
       std::vector<double>
       design(const std::vector<double> &z) const
@@ -233,11 +237,12 @@ namespace forma
         if (run.context.is_root() && run.parameters.checkpoint)
           {
             nlohmann::json c;
-            c["iteration"]        = k;
-            c["design"]           = run.design(z);
-            c["mesh"]             = run.model.mesh;
-            c["history"]          = run.history;
-            const std::string tmp = run.checkpoint + ".tmp";
+            c["iteration"]             = k;
+            c["design"]                = run.design(z);
+            c["mesh"]                  = run.model.mesh;
+            c["history"]               = run.history;
+            c["decrease_window_start"] = run.window_start;
+            const std::string tmp      = run.checkpoint + ".tmp";
             std::ofstream(tmp) << c.dump();
             std::filesystem::rename(tmp, run.checkpoint);
           }
@@ -296,8 +301,7 @@ namespace forma
           run.stop_reason = "gradient tolerance";
         else if (state.iter > 0 && state.snorm <= 1e-12)
           run.stop_reason = "the step vanished";
-        else if (h.size() > run.parameters.decrease_window_start +
-                              run.parameters.decrease_window &&
+        else if (h.size() > run.window_start + run.parameters.decrease_window &&
                  h[h.size() - 1 - run.parameters.decrease_window] - h.back() <
                    run.parameters.relative_decrease * std::abs(h.front()))
           run.stop_reason = "relative decrease below " +
@@ -379,7 +383,8 @@ namespace forma
                   model.upper.size() == n,
                 ExcInternalError());
     Run run{model, parameters, context, {}, {}, 0, {}, {}};
-    run.checkpoint = checkpoint_file(context);
+    run.checkpoint   = checkpoint_file(context);
+    run.window_start = parameters.decrease_window_start;
     // The previous run's last design is this run's first: its value on
     // the new mesh replaces the old one.
     run.history = previous_history;
@@ -400,6 +405,9 @@ namespace forma
         // again as the first iterate of this run.
         run.history = c.at("history").get<std::vector<double>>();
         run.history.pop_back();
+        // A window restarted by a remesh before the stop stays restarted.
+        run.window_start =
+          std::max(run.window_start, c.value("decrease_window_start", 0u));
         context.print("resuming from iteration " +
                       std::to_string(run.history.size()));
       }
