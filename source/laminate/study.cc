@@ -9,7 +9,6 @@
 #include <forma/laminate/study.h>
 
 #include <boost/serialization/array.hpp>
-#include <boost/serialization/string.hpp>
 
 #include <algorithm>
 #include <array>
@@ -245,59 +244,56 @@ namespace forma
         std::to_string(nx) + " x " + std::to_string(ny) + " grid" +
         (cell->n_cells() < nx * ny ? " (the primitive half cell)" : ""));
       std::vector<double> table(structures.size() * n_fields, 0.);
-      // The fields of one structure, or why it failed.
-      using Result = std::pair<std::array<double, n_fields>, std::string>;
-      const unsigned int batch =
+      const unsigned int  batch =
         std::max<unsigned int>(n_ranks, structures.size() / 10 + 1);
       for (unsigned int start = 0; start < structures.size(); start += batch)
         {
           const unsigned int end =
             std::min<unsigned int>(structures.size(), start + batch);
-          const auto results = rank_strided<Result>(
+          // A failed structure stops the sweep on every rank (rank_strided
+          // rethrows the first failure).
+          const auto results = rank_strided<std::array<double, n_fields>>(
             context.communicator(), end - start, [&](const unsigned int i) {
               const unsigned int k = start + i;
-              Result             result{};
               try
                 {
                   const auto material = pixel_material(
                     structures[k], setup.base, setup.weak, setup.gray, nx, ny);
                   const Sample      r = evaluate(*cell, material, setup);
                   const VoigtMatrix V = to_voigt(r.C);
-                  result.first = {{structures[k].volume_fraction_formula(),
-                                   r.phi,
-                                   r.fit.E,
-                                   r.fit.nu,
-                                   r.fit.kappa,
-                                   r.fit.mu,
-                                   r.anisotropy.a1,
-                                   r.anisotropy.a2,
-                                   r.anisotropy.residual,
-                                   r.hs_violation,
-                                   V[0][0],
-                                   V[0][1],
-                                   V[1][1],
-                                   V[2][2],
-                                   structures[k].min_feature_size() * ny /
-                                     HexagonalLaminate::height}};
+                  return std::array<double, n_fields>{
+                    {structures[k].volume_fraction_formula(),
+                     r.phi,
+                     r.fit.E,
+                     r.fit.nu,
+                     r.fit.kappa,
+                     r.fit.mu,
+                     r.anisotropy.a1,
+                     r.anisotropy.a2,
+                     r.anisotropy.residual,
+                     r.hs_violation,
+                     V[0][0],
+                     V[0][1],
+                     V[1][1],
+                     V[2][2],
+                     structures[k].min_feature_size() * ny /
+                       HexagonalLaminate::height}};
                 }
               catch (const std::exception &e)
                 {
-                  result.second = "structure " + std::to_string(k + 1) + " (" +
-                                  structures[k].family_name() +
-                                  ", p1 = " + sig(structures[k].p1) +
-                                  "): " + e.what();
+                  AssertThrow(false,
+                              ExcMessage("sweep: structure " +
+                                         std::to_string(k + 1) + " (" +
+                                         structures[k].family_name() +
+                                         ", p1 = " + sig(structures[k].p1) +
+                                         "): " + error_message(e)));
+                  return std::array<double, n_fields>{};
                 }
-              return result;
             });
-          // The batch finishes on every rank; the first failure stops all.
           for (unsigned int i = 0; i < results.size(); ++i)
-            {
-              AssertThrow(results[i].second.empty(),
-                          ExcMessage("sweep: " + results[i].second));
-              std::copy(results[i].first.begin(),
-                        results[i].first.end(),
-                        table.begin() + (start + i) * n_fields);
-            }
+            std::copy(results[i].begin(),
+                      results[i].end(),
+                      table.begin() + (start + i) * n_fields);
           context.print("sweep: " + std::to_string(end) + "/" +
                         std::to_string(structures.size()) + " structures");
         }
