@@ -33,7 +33,7 @@ namespace
     else if (mode == "inverse")
       inverse_mode(prm, setup, context);
     else if (mode == "build map")
-      build_map_mode(prm, setup, context);
+      build_map_mode(prm, prm_directory, setup, context);
     else if (mode == "compound cell")
       compound_cell_mode(prm, prm_directory, setup, context);
     else if (mode == "two-scale design")

@@ -61,6 +61,17 @@ namespace forma
 
 
 
+  std::array<std::array<double, 2>, RhombicStructure::n_parameters>
+  RhombicStructure::limits()
+  {
+    std::array<std::array<double, 2>, n_parameters> r;
+    for (unsigned int i = 0; i < n_parameters; ++i)
+      r[i] = {{0.01, i < 4 ? 0.99 : 0.6}};
+    return r;
+  }
+
+
+
   std::string
   RhombicStructure::parameter_name(const unsigned int i)
   {
@@ -90,7 +101,7 @@ namespace forma
     // What the geometry allows; the sweep ranges are narrower.
     for (unsigned int i = 0; i < n_parameters; ++i)
       {
-        const double lo = 0.01, hi = i < 4 ? 0.99 : 0.6;
+        const double lo = limits()[i][0], hi = limits()[i][1];
         AssertThrow(p[i] >= lo && p[i] <= hi,
                     ExcMessage("rhombic structure: " + parameter_name(i) +
                                " = " + std::to_string(p[i]) + " is outside [" +

@@ -6,6 +6,7 @@
 #include <forma/base/run_context.h>
 #include <forma/optimization/optimizer.h>
 #include <forma/rhombic/inverse_problem.h>
+#include <forma/rhombic/parameter_ranges.h>
 
 #include <algorithm>
 #include <map>
@@ -50,6 +51,10 @@ namespace forma
       problem.volume_weight               = prm.get_double("Volume weight");
       problem.proximity_weight            = prm.get_double("Proximity weight");
       problem.tolerance                   = prm.get_double("Tolerance");
+      problem.bounds = parse_parameter_ranges(prm.get("Parameter bounds"),
+                                              "Inverse/Parameter bounds",
+                                              RhombicStructure::ranges(),
+                                              RhombicStructure::limits());
       const auto names =
         Utilities::split_string_list(prm.get("Free parameters"));
       prm.leave_subsection();
@@ -205,7 +210,7 @@ namespace forma
           }
         return it->second;
       };
-      const auto  ranges = RhombicStructure::ranges();
+      const auto &ranges = bounds;
       DesignModel model;
       model.initial = free_values(start);
       for (const unsigned int i : free)

@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 
 namespace forma
 {
@@ -65,9 +66,10 @@ namespace forma
      * (E, nu, alpha) is fitted with Laplacian regularization.
      */
     void
-    build_map_mode(ParameterHandler &prm,
-                   const Setup      &setup,
-                   RunContext       &context)
+    build_map_mode(ParameterHandler  &prm,
+                   const std::string &prm_directory,
+                   const Setup       &setup,
+                   RunContext        &context)
     {
       const MPI_Comm         comm = context.communicator();
       const RhombicStructure seed = read_structure(prm, setup);
@@ -94,6 +96,18 @@ namespace forma
       const unsigned int n_checks = prm.get_integer("Accuracy checks");
       const double height_weight  = prm.get_double("Coverage height weight");
       const bool   transversal    = prm.get("Initial map") == "transversal";
+      // Initial map = file: the map being extended to smaller angles.
+      std::optional<MaterialMap> extended;
+      if (prm.get("Initial map") == "file")
+        {
+          std::string file = prm.get("Initial map file");
+          AssertThrow(!file.empty(),
+                      ExcMessage("Map/Initial map = file needs Map/Initial "
+                                 "map file"));
+          if (file[0] != '/')
+            file = prm_directory + "/" + file;
+          extended = MaterialMap::read(file);
+        }
       TransversalMapParameters transversal_parameters;
       if (transversal)
         {
@@ -131,6 +145,49 @@ namespace forma
                       list->end(),
                     ExcMessage("Map: the Young's moduli, Poisson's ratios "
                                "and angles must not repeat a value"));
+      if (extended)
+        {
+          const auto same = [](const std::vector<double> &a,
+                               const std::vector<double> &b) {
+            return a.size() == b.size() &&
+                   std::equal(a.begin(),
+                              a.end(),
+                              b.begin(),
+                              [](const double x, const double y) {
+                                return std::abs(x - y) < 1e-9;
+                              });
+          };
+          AssertThrow(same(extended->E, Es) && same(extended->nu, nus),
+                      ExcMessage("Map/Initial map file: its (E, nu) grid "
+                                 "differs from Map/Young's moduli and "
+                                 "Poisson's ratios; an extension keeps the "
+                                 "grid"));
+          AssertThrow(std::abs(extended->blending - setup.blending) < 1e-12,
+                      ExcMessage("Map/Initial map file: built with blending " +
+                                 sig(extended->blending) +
+                                 ", Structure/Blending is " +
+                                 sig(setup.blending)));
+          // Trailing angles that cover nothing (where an earlier build
+          // gave up) are dropped: the extension retries below the last
+          // covered one.
+          while (!extended->covered.empty() &&
+                 std::none_of(extended->covered.back().begin(),
+                              extended->covered.back().end(),
+                              [](const bool b) { return b; }))
+            {
+              extended->covered.pop_back();
+              extended->angles.pop_back();
+            }
+          AssertThrow(!extended->angles.empty(),
+                      ExcMessage("Map/Initial map file: the map covers no "
+                                 "node at any angle, nothing to continue "
+                                 "from"));
+          AssertThrow(angles.front() < extended->angles.back(),
+                      ExcMessage("Map/Angles: an extension continues below "
+                                 "the map's smallest covered angle, " +
+                                 sig(extended->angles.back()) +
+                                 " degrees; every angle must be smaller"));
+        }
       const unsigned int n_nodes = Es.size() * nus.size();
       const auto         node_E  = [&](const unsigned int n) {
         return Es[n / nus.size()];
@@ -160,8 +217,8 @@ namespace forma
             s.p                = jobs[k].start;
             // Within the bounds InverseProblem sets (node 2 kept inside
             // its triangle when both of its offsets vary).
-            const auto ranges = RhombicStructure::ranges();
-            const bool offsets_free =
+            const auto &ranges = base.bounds;
+            const bool  offsets_free =
               std::count_if(base.free.begin(),
                             base.free.end(),
                             [](const unsigned int i) { return i < 2; }) == 2;
@@ -195,10 +252,36 @@ namespace forma
       map.nu       = nus;
       map.angles   = angles;
       map.blending = setup.blending;
-      std::vector<std::vector<bool>> attempted;
-      std::vector<Parameters>        previous(n_nodes);
-      std::vector<bool>              previous_solved(n_nodes, false);
-      unsigned int                   n_solves = 0;
+      std::vector<Parameters> previous(n_nodes);
+      std::vector<bool>       previous_solved(n_nodes, false);
+      unsigned int            n_solves = 0;
+      // An extension keeps the map's angles and samples; its smallest
+      // angle's samples are where the continuation starts.
+      const unsigned int n_kept = extended ? extended->angles.size() : 0;
+      if (extended)
+        {
+          map.angles = extended->angles;
+          map.angles.insert(map.angles.end(), angles.begin(), angles.end());
+          map.covered = extended->covered;
+          map.samples = extended->samples;
+          for (const auto &s : extended->samples)
+            if (s[2] == extended->angles.back())
+              for (unsigned int n = 0; n < n_nodes; ++n)
+                if (std::abs(node_E(n) - s[0]) < 1e-9 &&
+                    std::abs(node_nu(n) - s[1]) < 1e-9)
+                  {
+                    previous_solved[n] = true;
+                    std::copy(s.begin() + 3, s.end(), previous[n].begin());
+                  }
+          context.print("map: extending a map of " +
+                        std::to_string(map.samples.size()) +
+                        " samples at angles " + sig(map.angles.front()) +
+                        " ... " + sig(extended->angles.back()) + " from " +
+                        std::to_string(std::count(previous_solved.begin(),
+                                                  previous_solved.end(),
+                                                  true)) +
+                        " nodes");
+        }
       for (unsigned int a = 0; a < angles.size(); ++a)
         {
           std::vector<bool>       solved(n_nodes, false), tried(n_nodes, false);
@@ -256,7 +339,7 @@ namespace forma
                             " starts from the transversal map reached");
               context.summary["transversal"]["targets_reached"] = reached;
             }
-          else if (a == 0)
+          else if (a == 0 && !extended)
             {
               // Seed: the nodes nearest the seed structure's isotropic fit,
               // a rank's worth at a time, until one is reached.
@@ -352,6 +435,8 @@ namespace forma
           previous        = p;
           previous_solved = solved;
         }
+      // From here on, every angle of the map (an extension's old ones too).
+      angles = map.angles;
       AssertThrow(map.samples.size() >= 4,
                   ExcMessage("build map: only " +
                              std::to_string(map.samples.size()) +
@@ -398,9 +483,9 @@ namespace forma
                     " coefficients; largest fit residual " + sig(worst_fit, 2));
 
       // Accuracy off the samples (Fig. 4.33): midpoints between covered
-      // neighbours, queried and homogenized.
+      // neighbours, queried and homogenized (an extension's new angles).
       std::vector<std::array<double, 3>> checks;
-      for (unsigned int a = 0; a < angles.size(); ++a)
+      for (unsigned int a = n_kept; a < angles.size(); ++a)
         for (unsigned int n = 0; n < n_nodes; ++n)
           {
             const unsigned int j = n % nus.size();

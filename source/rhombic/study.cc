@@ -313,8 +313,17 @@ namespace forma
                         "p1, p2, p3, p4, p5, p6, p7, p8",
                         Patterns::Anything(),
                         "Parameters the optimization varies (within the "
-                        "sweep ranges); the others keep the Structure "
-                        "section's values.");
+                        "sweep ranges or Parameter bounds); the others keep "
+                        "the Structure section's values.");
+      prm.declare_entry(
+        "Parameter bounds",
+        "",
+        Patterns::Anything(),
+        "Bounds of the free parameters other than the sweep ranges (thesis "
+        "ch. 4.10.2), e.g. 'p7 = 0.03:0.3, p8 = 0.03:0.3' (inside what the "
+        "geometry allows: offsets [0.01, 0.99], radii [0.01, 0.6]). Below "
+        "55 degrees the map needs thinner nodes 3 and 4 than 0.05 to stay "
+        "isotropic.");
       prm.declare_entry("Volume weight",
                         "0",
                         Patterns::Double(0),
@@ -372,14 +381,23 @@ namespace forma
       prm.declare_entry(
         "Initial map",
         "continuation",
-        Patterns::Selection("continuation|transversal"),
+        Patterns::Selection("continuation|transversal|file"),
         "build map, at the first angle: continuation (outward from the "
-        "Structure section's seed) or transversal (the thesis's ch. 4.6.2: "
+        "Structure section's seed), transversal (the thesis's ch. 4.6.2: "
         "H linearized on the parameters left by 'Fixed parameters', "
         "restricted to the subspace V transversal to its level sets, "
         "sampled on a grid and inverted by simplices at every target; each "
-        "start is polished by an inverse solve). Both then grow outward by "
+        "start is polished by an inverse solve) or file (extend the map "
+        "'Initial map file' to smaller angles: its samples are kept and "
+        "its smallest angle's solutions start the first of 'Angles', which "
+        "must all be smaller; same (E, nu) grid). All then grow outward by "
         "optimization and continue over the angles.");
+      prm.declare_entry("Initial map file",
+                        "",
+                        Patterns::Anything(),
+                        "Initial map = file: the map to extend (relative to "
+                        "the .prm file), e.g. "
+                        "../../contrib/rhombic/map_full.json.");
       prm.declare_entry(
         "Fixed parameters",
         "p1 = 0.25, p2 = 0.225, p5 = 0.23",

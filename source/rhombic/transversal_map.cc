@@ -6,6 +6,7 @@
 #include <forma/base/rank_strided.h>
 #include <forma/base/records.h>
 #include <forma/base/run_context.h>
+#include <forma/rhombic/parameter_ranges.h>
 #include <forma/rhombic/study.h>
 #include <forma/rhombic/transversal_map.h>
 #include <forma/rhombic/transversal_subspace.h>
@@ -103,38 +104,12 @@ namespace forma
 
 
 
-    namespace
-    {
-      /// "p1 = a, p5 = b" -> the texts a, b at indices 0, 4.
-      std::array<std::optional<std::string>, RhombicStructure::n_parameters>
-      parse_assignments(const std::string &text, const std::string &entry)
-      {
-        std::array<std::optional<std::string>, RhombicStructure::n_parameters>
-          result;
-        for (const auto &item : Utilities::split_string_list(text))
-          {
-            const auto parts = Utilities::split_string_list(item, '=');
-            AssertThrow(parts.size() == 2,
-                        ExcMessage(entry + ": '" + item +
-                                   "' is not of the form 'p1 = ...'"));
-            const unsigned int i =
-              RhombicStructure::parameter_index(parts[0], entry);
-            AssertThrow(!result[i],
-                        ExcMessage(entry + ": " + parts[0] + " appears twice"));
-            result[i] = parts[1];
-          }
-        return result;
-      }
-    } // namespace
-
-
-
     std::array<std::optional<double>, RhombicStructure::n_parameters>
     TransversalMapParameters::parse_fixed(const std::string &text,
                                           const std::string &entry)
     {
       std::array<std::optional<double>, RhombicStructure::n_parameters> fixed;
-      const auto texts = parse_assignments(text, entry);
+      const auto texts = parse_parameter_assignments(text, entry);
       for (unsigned int i = 0; i < texts.size(); ++i)
         if (texts[i])
           {
@@ -154,38 +129,14 @@ namespace forma
 
 
 
-    std::array<std::array<double, 2>, RhombicStructure::n_parameters>
+    ParameterRanges
     TransversalMapParameters::parse_ranges(const std::string &text,
                                            const std::string &entry)
     {
-      auto       ranges = RhombicStructure::ranges();
-      const auto texts  = parse_assignments(text, entry);
-      for (unsigned int i = 0; i < texts.size(); ++i)
-        if (texts[i])
-          {
-            const auto name  = RhombicStructure::parameter_name(i);
-            const auto parts = Utilities::split_string_list(*texts[i], ':');
-            AssertThrow(parts.size() == 2,
-                        ExcMessage(entry + ": " + name + " = '" + *texts[i] +
-                                   "' is not a range 'lo:hi'"));
-            std::array<double, 2> r;
-            for (unsigned int k = 0; k < 2; ++k)
-              {
-                const auto v = parse_values(parts[k], entry);
-                AssertThrow(v.size() == 1,
-                            ExcMessage(entry + ": " + name + " = '" +
-                                       *texts[i] + "' is not a range 'lo:hi'"));
-                r[k] = v[0];
-              }
-            const auto full = RhombicStructure::ranges()[i];
-            AssertThrow(r[0] < r[1] && r[0] >= full[0] && r[1] <= full[1],
-                        ExcMessage(entry + ": " + name + " = " + sig(r[0]) +
-                                   ":" + sig(r[1]) +
-                                   " is not an increasing range inside [" +
-                                   sig(full[0]) + ", " + sig(full[1]) + "]"));
-            ranges[i] = r;
-          }
-      return ranges;
+      return parse_parameter_ranges(text,
+                                    entry,
+                                    RhombicStructure::ranges(),
+                                    RhombicStructure::ranges());
     }
 
 

@@ -1,4 +1,5 @@
 #include <deal.II/base/exceptions.h>
+#include <deal.II/lac/exceptions.h>
 #include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/lapack_full_matrix.h>
 
@@ -16,46 +17,28 @@ namespace forma
 
     namespace
     {
-      /// Invert the n x n row-major matrix `a` in place (Gauss-Jordan with
-      /// partial pivoting); returns its determinant, 0 if singular.
+      /// Invert the n x n row-major matrix `a` in place (LAPACK's LU);
+      /// returns its determinant, 0 if singular.
       double
       invert(std::vector<double> &a, const unsigned int n)
       {
-        std::vector<double> b(n * n, 0.);
+        LAPACKFullMatrix<double> m(n, n);
         for (unsigned int i = 0; i < n; ++i)
-          b[i * n + i] = 1;
-        double det = 1;
-        for (unsigned int c = 0; c < n; ++c)
+          for (unsigned int j = 0; j < n; ++j)
+            m(i, j) = a[i * n + j];
+        try
           {
-            unsigned int pivot = c;
-            for (unsigned int r = c + 1; r < n; ++r)
-              if (std::abs(a[r * n + c]) > std::abs(a[pivot * n + c]))
-                pivot = r;
-            if (a[pivot * n + c] == 0)
-              return 0;
-            if (pivot != c)
-              {
-                for (unsigned int k = 0; k < n; ++k)
-                  {
-                    std::swap(a[pivot * n + k], a[c * n + k]);
-                    std::swap(b[pivot * n + k], b[c * n + k]);
-                  }
-                det = -det;
-              }
-            const double d = a[c * n + c];
-            det *= d;
-            for (unsigned int k = 0; k < n; ++k)
-              a[c * n + k] /= d, b[c * n + k] /= d;
-            for (unsigned int r = 0; r < n; ++r)
-              if (r != c && a[r * n + c] != 0)
-                {
-                  const double f = a[r * n + c];
-                  for (unsigned int k = 0; k < n; ++k)
-                    a[r * n + k] -= f * a[c * n + k],
-                      b[r * n + k] -= f * b[c * n + k];
-                }
+            m.compute_lu_factorization();
           }
-        a = b;
+        catch (const LACExceptions::ExcSingular &)
+          {
+            return 0;
+          }
+        const double det = m.determinant();
+        m.invert();
+        for (unsigned int i = 0; i < n; ++i)
+          for (unsigned int j = 0; j < n; ++j)
+            a[i * n + j] = m(i, j);
         return det;
       }
     } // namespace

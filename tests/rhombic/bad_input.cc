@@ -102,4 +102,31 @@ main()
                              "table\n set Pointwise table = broken_table.json"
                              "\nend\n",
                  good);
+
+  // Inverse bounds and map extensions.
+  expect_failure("bounds_outside_geometry",
+                 base + "set Mode = inverse\nsubsection Inverse\n"
+                        " set Parameter bounds = p8 = 0.001:0.3\nend\n",
+                 good);
+  expect_failure("bounds_not_a_range",
+                 base + "set Mode = inverse\nsubsection Inverse\n"
+                        " set Parameter bounds = p8 = 0.03\nend\n",
+                 good);
+  const std::string extension =
+    base +
+    "set Mode = build map\nsubsection Map\n set Initial map = file\n"
+    " set Young's moduli = 0.02:0.1:5\n set Poisson's ratios = "
+    "0:0.4:5\n set Initial map file = " +
+    std::string(FORMA_SOURCE_DIR) + "/contrib/rhombic/map.json\n";
+  expect_failure("extension_above_the_map",
+                 extension + " set Angles = 70\nend\n",
+                 good);
+  expect_failure("extension_other_grid",
+                 extension + " set Angles = 55\n set Poisson's ratios = "
+                             "0:0.4:4\nend\n",
+                 good);
+  expect_failure("extension_without_file",
+                 base + "set Mode = build map\nsubsection Map\n"
+                        " set Initial map = file\n set Angles = 55\nend\n",
+                 good);
 }

@@ -2,11 +2,12 @@
 // continuation (2 x 2 isotropic targets on the square cell) reaches every
 // node, writes a loadable map.json with coverage, and a query between its
 // samples gives a structure whose homogenized (E, nu) are within a few
-// percent of the request. The shipped map (contrib/rhombic/map.json) is
-// queried off its samples at an angle between two of its angles, and for a
-// base material with nu = 0.3 (the CLM transform, eq. 4.11), within its
-// documented accuracy (doc/rhombic.md: E to 15% between its sparse
-// samples, nu to 0.03).
+// percent of the request; extended to a smaller angle (Initial map = file)
+// it keeps its samples and covers the new angle too. The shipped map
+// (contrib/rhombic/map.json) is queried off its samples at an angle between two
+// of its angles, and for a base material with nu = 0.3 (the CLM transform,
+// eq. 4.11), within its documented accuracy (doc/rhombic.md: E to 15% between
+// its sparse samples, nu to 0.03).
 
 #include "../tests.h"
 #include <nlohmann/json.hpp>
@@ -77,6 +78,30 @@ main()
                   << ", fit residual < 0.02: "
                   << (s["fit_residual"].get<double>() < 0.02) << std::endl;
   query("query_built", "built/map.json", 0.05, 0.25, 90, 0, 0.05, 0.03);
+
+  // Initial map = file: the built map extended to 85 degrees keeps its 4
+  // samples and continues every node from its 90 degree structure.
+  const int extended = run_app(
+    FORMA_APP,
+    "extend",
+    "set Dimension = 2\nset Mode = build map\nset Output directory = "
+    "extended\n" +
+      mesh +
+      "subsection Inverse\n set Proximity weight = 0.01\n"
+      " set Parameter bounds = p8 = 0.03:0.3\nend\n"
+      "subsection Map\n set Initial map = file\n"
+      " set Initial map file = built/map.json\n"
+      " set Young's moduli = 0.04, 0.06\n set Poisson's ratios = 0.2, 0.3\n"
+      " set Angles = 85\n set Spline control points = 4, 4, 4\n"
+      " set Accuracy checks = 0\nend\n");
+  const auto e = nlohmann::json::parse(read_file("extended/summary.json"));
+  dealii::deallog << "extend map: exit code " << extended << ", samples "
+                  << e["samples"].get<unsigned int>() << ", inverse solves "
+                  << e["inverse_solves"].get<unsigned int>() << ", angles "
+                  << e["covered"].size() << ", covered at 85 degrees "
+                  << e["covered"][1]["nodes"].get<unsigned int>() << " of 4"
+                  << std::endl;
+  query("query_extended", "extended/map.json", 0.05, 0.25, 87.5, 0, 0.05, 0.03);
   query("query_shipped",
         std::string(FORMA_SOURCE_DIR) + "/contrib/rhombic/map.json",
         0.05,

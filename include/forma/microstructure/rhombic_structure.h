@@ -62,6 +62,11 @@ namespace forma
     static std::array<std::array<double, 2>, n_parameters>
     ranges();
 
+    /// What the geometry allows (check()): offsets in [0.01, 0.99], radii
+    /// in [0.01, 0.6].
+    static std::array<std::array<double, 2>, n_parameters>
+    limits();
+
     /// "p1" ... "p8"
     static std::string
     parameter_name(const unsigned int i);

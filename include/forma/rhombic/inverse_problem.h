@@ -35,6 +35,10 @@ namespace forma
       std::array<double, RhombicStructure::n_parameters> start{};
       std::vector<unsigned int>                          free;
       double                                             tolerance = 0.01;
+      /// The parameters' bounds: the sweep ranges unless
+      /// Inverse/Parameter bounds widens or narrows some.
+      std::array<std::array<double, 2>, RhombicStructure::n_parameters> bounds =
+        RhombicStructure::ranges();
       /// Target = structure: the parameters whose C^H is the target.
       std::array<double, RhombicStructure::n_parameters> target_structure{};
 

@@ -125,9 +125,11 @@ namespace forma
                          const Setup              &setup,
                          RunContext               &context);
 
-    /// The material-to-geometry map by continuation -> map.json.
+    /// The material-to-geometry map by continuation -> map.json (or the
+    /// extension of an existing map to smaller angles).
     void
     build_map_mode(dealii::ParameterHandler &prm,
+                   const std::string        &prm_directory,
                    const Setup              &setup,
                    RunContext               &context);
 
