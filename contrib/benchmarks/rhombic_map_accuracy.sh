@@ -9,7 +9,7 @@
 #   (defaults: contrib/rhombic/map_full.json, 87.5,...,57.5)
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
-app=$root/build/bin/forma-rhombic
+app=${FORMA_RHOMBIC:-$root/build/bin/forma-rhombic}
 map=$(realpath "${1:-$root/contrib/rhombic/map_full.json}")
 angles=${2:-87.5,82.5,77.5,72.5,67.5,62.5,57.5}
 out=$root/contrib/benchmarks/results/rhombic_map_accuracy_$(basename "$map" .json).csv

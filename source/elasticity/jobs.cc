@@ -21,6 +21,7 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <set>
 #include <sstream>
 
 namespace
@@ -238,9 +239,39 @@ namespace
         ensure(simulator.design());
         penalty_scale = std::max(std::abs(simulator.objective()), 1e-300);
       }
+    // Hold blocked vertices: per line search (by the iteration it starts
+    // from), the shape entries of the cells that made the quality guard
+    // reject its last rejected trial; the entries held (gradient zeroed)
+    // until the next remesh.
+    std::vector<std::pair<std::size_t, std::vector<unsigned int>>> blocked;
+    std::set<unsigned int>                                         held;
+    unsigned int                                                   n_holds = 0;
+    std::size_t n_accepted = 0; // the last accepted iteration
+    const auto  guarded    = [&](const std::vector<double> &q) {
+      try
+        {
+          ensure(q);
+        }
+      catch (...)
+        {
+          const double threshold = parameters.design.min_scaled_jacobian;
+          if (settings.hold_blocked_vertices &&
+              simulator.mesh_quality() < threshold)
+            {
+              // A line search's trials shrink: its last rejected one is
+              // the step the guard limits, and names the fewest cells.
+              auto entries = simulator.degenerate_shape_entries(threshold);
+              if (!blocked.empty() && blocked.back().first == n_accepted)
+                blocked.back().second = std::move(entries);
+              else
+                blocked.emplace_back(n_accepted, std::move(entries));
+            }
+          throw;
+        }
+    };
     forma::DesignModel model;
     model.value = [&](const std::vector<double> &q) {
-      ensure(q);
+      guarded(q);
       double J = simulator.objective();
       if (penalty_scale > 0)
         {
@@ -251,7 +282,7 @@ namespace
     };
     model.gradient = [&](const std::vector<double> &q,
                          std::vector<double>       &dJ) {
-      ensure(q);
+      guarded(q);
       double J = simulator.gradient(dJ);
       if (penalty_scale > 0)
         {
@@ -260,12 +291,17 @@ namespace
           for (unsigned int i = 0; i < q.size(); ++i)
             dJ[i] += penalty_scale * dP[i];
         }
+      // A fresh L-BFGS run never moves an entry whose gradient is zero.
+      for (const unsigned int i : held)
+        dJ[i] = 0;
       return J;
     };
-    nlohmann::json history = nlohmann::json::array();
+    nlohmann::json history      = nlohmann::json::array();
+    std::string    restart_kind = "remeshed";
     model.accepted =
       [&](const unsigned int k, const std::vector<double> &q, const double J) {
         ensure(q);
+        n_accepted = k;
         simulator.write_state(k, context);
         nlohmann::json entry = {{"iteration", k}, {"objective", J}};
         for (const auto &[name, value] : simulator.objective_terms())
@@ -277,11 +313,12 @@ namespace
           entry["design"] = values;
         if (!text.empty())
           context.log("  design: " + text);
-        // The first design after a remesh replaces the last one before.
+        // The first design after a remesh (or a hold) replaces the last
+        // one before.
         if (!history.empty() && history.back()["iteration"] == k)
           {
-            entry["remeshed"] = true;
-            history.back()    = entry;
+            entry[restart_kind] = true;
+            history.back()      = entry;
           }
         else
           history.push_back(entry);
@@ -324,6 +361,7 @@ namespace
     forma::OptimizationResult result;
     std::vector<double>       history_so_far;
     nlohmann::json            remeshes = nlohmann::json::array();
+    nlohmann::json            holds    = nlohmann::json::array();
     for (;;)
       {
         model.initial = simulator.design();
@@ -349,6 +387,42 @@ namespace
         model.mesh = mesh;
         result =
           forma::optimize(model, stage_settings, context, history_so_far);
+        const std::size_t last = result.history.size() - 1;
+        if (settings.hold_blocked_vertices &&
+            (result.stop_reason == "the step vanished" ||
+             result.stop_reason == "ROL stopped" ||
+             result.stop_reason.find("relative decrease") == 0) &&
+            n_holds < 10)
+          {
+            // The guard blocked the line search in the last window: hold
+            // the cells that blocked it and go on with the rest.
+            std::set<unsigned int> fresh;
+            for (const auto &[k, entries] : blocked)
+              if (k + stage_settings.decrease_window >= last)
+                for (const unsigned int i : entries)
+                  if (!held.count(i))
+                    fresh.insert(i);
+            blocked.clear();
+            if (!fresh.empty())
+              {
+                held.insert(fresh.begin(), fresh.end());
+                ++n_holds;
+                ensure(result.design);
+                context.print("[iteration " + std::to_string(last) +
+                              "] holding " + std::to_string(fresh.size()) +
+                              " more shape entries (" +
+                              std::to_string(held.size()) +
+                              " in all) where the mesh-quality guard blocked "
+                              "the line search; going on with the rest");
+                holds.push_back(
+                  {{"iteration", last}, {"entries", held.size()}});
+                history_so_far                       = result.history;
+                stage_settings.resume                = false;
+                stage_settings.decrease_window_start = last;
+                restart_kind                         = "held";
+                continue;
+              }
+          }
         if (result.stop_reason != forma::remesh_stop)
           {
             if (removal_done || settings.element_removal == 0)
@@ -400,6 +474,8 @@ namespace
                 break;
               }
             mesh = stem;
+            held.clear(), blocked.clear(), n_holds = 0;
+            restart_kind = "remeshed";
             context.print(at + line);
             solved.clear();
             ensure(simulator.design());
@@ -435,6 +511,7 @@ namespace
             remesh_seconds += remesh_timer.wall_time();
             mesh             = next;
             remeshed_quality = simulator.mesh_quality();
+            held.clear(), blocked.clear(), n_holds = 0;
             // J jumps where the new mesh resolves the stress peaks
             // differently: the decrease window restarts on the new mesh.
             stage_settings.decrease_window_start = result.history.size() - 1;
@@ -462,6 +539,7 @@ namespace
         solved.clear();
         history_so_far        = result.history;
         stage_settings.resume = false;
+        restart_kind          = "remeshed";
       }
 
     const double J0 = result.history.front(), J1 = result.history.back();
@@ -498,6 +576,7 @@ namespace
                                        {"initial_state", state0},
                                        {"final_state", state1},
                                        {"remeshes", remeshes},
+                                       {"holds", holds},
                                        {"final_design", final_values}};
     context.summary["adjoint"]      = simulator.adjoint_statistics();
     {

@@ -240,6 +240,13 @@ namespace forma
   }
 
   template <int dim>
+  std::vector<unsigned int>
+  LoadCases<dim>::degenerate_shape_entries(const double threshold) const
+  {
+    return cases[0]->degenerate_shape_entries(threshold);
+  }
+
+  template <int dim>
   bool
   LoadCases<dim>::remesh_improves(std::string &reason)
   {

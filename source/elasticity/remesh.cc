@@ -344,6 +344,49 @@ namespace forma
   }
 
   template <int dim>
+  std::vector<unsigned int>
+  ElasticitySimulator<dim>::degenerate_shape_entries(
+    const double threshold) const
+  {
+    const auto               *b = impl->layout.find("shape");
+    std::vector<unsigned int> entries;
+    if (!b)
+      return entries;
+    const Impl       &I = *impl;
+    hp::FEValues<dim> fv(I.mapping, I.fe, I.quadrature, update_jacobians);
+    std::vector<types::global_dof_index> dofs;
+    for (const auto &cell : I.dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          fv.reinit(cell);
+          const auto &v     = fv.get_present_fe_values();
+          double      worst = 1;
+          for (unsigned int q = 0; q < v.n_quadrature_points; ++q)
+            worst = std::min(worst, scaled_jacobian<dim>(v.jacobian(q)));
+          if (worst >= threshold)
+            continue;
+          const typename DoFHandler<dim>::active_cell_iterator shape_cell(
+            &*I.tria, cell->level(), cell->index(), &I.shape_dof_handler);
+          dofs.resize(shape_cell->get_fe().n_dofs_per_cell());
+          shape_cell->get_dof_indices(dofs);
+          for (const auto i : dofs)
+            {
+              entries.push_back(b->offset + i);
+              // An interface copy follows its partner: hold that one too.
+              if (const auto *c = I.shape_constraints.get_constraint_entries(i))
+                for (const auto &[j, weight] : *c)
+                  entries.push_back(b->offset + j);
+            }
+        }
+    std::vector<unsigned int> all;
+    for (const auto &part : Utilities::MPI::all_gather(I.comm, entries))
+      all.insert(all.end(), part.begin(), part.end());
+    std::sort(all.begin(), all.end());
+    all.erase(std::unique(all.begin(), all.end()), all.end());
+    return all;
+  }
+
+  template <int dim>
   bool
   ElasticitySimulator<dim>::remesh_improves(std::string &reason)
   {
@@ -505,7 +548,9 @@ namespace forma
 #define FORMA_INSTANTIATE(dim)                                                   \
   template double ElasticitySimulator<dim>::Impl::min_scaled_jacobian(           \
     Point<dim> *) const;                                                         \
-  template double      ElasticitySimulator<dim>::mesh_quality() const;           \
+  template double ElasticitySimulator<dim>::mesh_quality() const;                \
+  template std::vector<unsigned int>                                             \
+  ElasticitySimulator<dim>::degenerate_shape_entries(const double) const;        \
   template bool        ElasticitySimulator<dim>::remesh_improves(std::string &); \
   template std::string ElasticitySimulator<dim>::remesh(const std::string &);    \
   template std::string ElasticitySimulator<dim>::remesh_without(                 \

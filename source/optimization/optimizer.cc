@@ -71,6 +71,17 @@ namespace forma
                       Patterns::Integer(0),
                       "Remeshes for mesh quality at most in one run (the "
                       "remesh of Element removal is not one of them).");
+    prm.declare_entry(
+      "Hold blocked vertices",
+      "false",
+      Patterns::Bool(),
+      "When a run would stop (relative decrease, a vanished step or ROL's "
+      "own stop) while the mesh-quality guard (Design/Min scaled Jacobian) "
+      "rejected line search trials in its last decrease window, hold the "
+      "vertices of the cells that blocked each line search's last rejected "
+      "trial (their gradient entries are zeroed) and go on with the rest "
+      "of the shape, at most 10 times per mesh; a remesh releases them. Without it the run stops there, as thesis ch. 2.5 "
+      "does ('step size going to zero for geometric reasons').");
     prm.declare_entry("Element removal",
                       "0",
                       Patterns::Double(0, 1),
@@ -111,6 +122,7 @@ namespace forma
     resume                   = prm.get_bool("Resume");
     remesh_quality           = prm.get_double("Remesh quality");
     max_remeshes             = prm.get_integer("Max remeshes");
+    hold_blocked_vertices    = prm.get_bool("Hold blocked vertices");
     element_removal          = prm.get_double("Element removal");
     element_removal_boundary = prm.get_integer("Element removal boundary");
     AssertThrow(element_removal == 0 || element_removal_boundary >= 0,

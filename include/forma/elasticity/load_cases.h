@@ -85,6 +85,8 @@ namespace forma
     cell_size() const;
     double
     mesh_quality() const;
+    std::vector<unsigned int>
+    degenerate_shape_entries(const double threshold) const;
     bool
     remesh_improves(std::string &reason);
     std::string

@@ -213,6 +213,13 @@ namespace forma
     double
     mesh_quality() const;
 
+    /// Design entries of the shape DoFs (and the DoFs they are constrained
+    /// to) of every cell whose scaled Jacobian in the current shape is
+    /// below `threshold`, sorted, on every rank: where the quality guard
+    /// blocks a design.
+    std::vector<unsigned int>
+    degenerate_shape_entries(const double threshold) const;
+
     /// Whether remesh() would succeed and improve the quality now; if not,
     /// says why. The mesh it makes is kept for remesh().
     bool

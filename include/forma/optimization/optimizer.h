@@ -24,6 +24,9 @@ namespace forma
     bool         resume             = false;
     double       remesh_quality     = 0; ///< remesh below this; 0: never
     unsigned int max_remeshes       = 10;
+    /// Shape optimization: hold the vertices where the mesh-quality guard
+    /// blocks the line search and go on (see the parameter's text).
+    bool hold_blocked_vertices = false;
     /// ESO-like removal of cells below this fraction of the largest
     /// (filtered) cell stress once the shape has converged, then on with
     /// the holes (thesis ch. 2.7.1); 0: never.
