@@ -54,24 +54,37 @@ namespace
                           "LARGE")
                     << std::endl;
   }
+
+
+
+  /// Mode = build map on the 2 x 2 grid into `directory`.
+  int
+  build_map(const std::string &directory,
+            const std::string &inverse,
+            const std::string &map)
+  {
+    return run_app(
+      FORMA_APP,
+      directory,
+      "set Dimension = 2\nset Mode = build map\nset Output directory = " +
+        directory + "\n" + mesh +
+        "subsection Structure\n"
+        " set Parameters = 0.3, 0.15, 0.5, 0.7, 0.17, 0.15, 0.1, 0.05\nend\n"
+        "subsection Inverse\n set Proximity weight = 0.01\n" +
+        inverse +
+        "end\nsubsection Map\n set Young's moduli = 0.04, 0.06\n"
+        " set Poisson's ratios = 0.2, 0.3\n"
+        " set Spline control points = 4, 4, 4\n set Accuracy checks = 0\n" +
+        map + "end\n");
+  }
 } // namespace
 
 int
 main()
 {
   initlog();
-  const int code = run_app(
-    FORMA_APP,
-    "build",
-    "set Dimension = 2\nset Mode = build map\nset Output directory = built\n" +
-      mesh +
-      "subsection Structure\n"
-      " set Parameters = 0.3, 0.15, 0.5, 0.7, 0.17, 0.15, 0.1, 0.05\nend\n"
-      "subsection Inverse\n set Proximity weight = 0.01\nend\n"
-      "subsection Map\n set Young's moduli = 0.04, 0.06\n"
-      " set Poisson's ratios = 0.2, 0.3\n set Angles = 90\n"
-      " set Spline control points = 4, 4, 4\n set Accuracy checks = 0\nend\n");
-  const auto s = nlohmann::json::parse(read_file("built/summary.json"));
+  const int  code = build_map("built", "", " set Angles = 90\n");
+  const auto s    = nlohmann::json::parse(read_file("built/summary.json"));
   dealii::deallog << "build map: exit code " << code << ", samples "
                   << s["samples"].get<unsigned int>() << " of 4, coefficients "
                   << s["coefficients"].get<unsigned int>()
@@ -81,19 +94,11 @@ main()
 
   // Initial map = file: the built map extended to 85 degrees keeps its 4
   // samples and continues every node from its 90 degree structure.
-  const int extended = run_app(
-    FORMA_APP,
-    "extend",
-    "set Dimension = 2\nset Mode = build map\nset Output directory = "
-    "extended\n" +
-      mesh +
-      "subsection Inverse\n set Proximity weight = 0.01\n"
-      " set Parameter bounds = p8 = 0.03:0.3\nend\n"
-      "subsection Map\n set Initial map = file\n"
-      " set Initial map file = built/map.json\n"
-      " set Young's moduli = 0.04, 0.06\n set Poisson's ratios = 0.2, 0.3\n"
-      " set Angles = 85\n set Spline control points = 4, 4, 4\n"
-      " set Accuracy checks = 0\nend\n");
+  const int extended =
+    build_map("extended",
+              " set Parameter bounds = p8 = 0.03:0.3\n",
+              " set Initial map = file\n set Initial map file = "
+              "built/map.json\n set Angles = 85\n");
   const auto e = nlohmann::json::parse(read_file("extended/summary.json"));
   dealii::deallog << "extend map: exit code " << extended << ", samples "
                   << e["samples"].get<unsigned int>() << ", inverse solves "
