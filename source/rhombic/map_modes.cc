@@ -88,7 +88,11 @@ namespace forma
       auto Es = parse_values(prm.get("Young's moduli"), "Map/Young's moduli");
       auto nus =
         parse_values(prm.get("Poisson's ratios"), "Map/Poisson's ratios");
-      auto         angles    = parse_values(prm.get("Angles"), "Map/Angles");
+      // An extension with no new angle refits the map's splines only.
+      const bool refit = prm.get("Initial map") == "file" &&
+                         Utilities::trim(prm.get("Angles")).empty();
+      auto         angles    = refit ? std::vector<double>() :
+                                       parse_values(prm.get("Angles"), "Map/Angles");
       const auto   controls  = parse_values(prm.get("Spline control points"),
                                          "Map/Spline control points");
       const double smoothing = prm.get_double("Smoothing");
@@ -182,7 +186,8 @@ namespace forma
                       ExcMessage("Map/Initial map file: the map covers no "
                                  "node at any angle, nothing to continue "
                                  "from"));
-          AssertThrow(angles.front() < extended->angles.back(),
+          AssertThrow(angles.empty() ||
+                        angles.front() < extended->angles.back(),
                       ExcMessage("Map/Angles: an extension continues below "
                                  "the map's smallest covered angle, " +
                                  sig(extended->angles.back()) +
@@ -483,9 +488,10 @@ namespace forma
                     " coefficients; largest fit residual " + sig(worst_fit, 2));
 
       // Accuracy off the samples (Fig. 4.33): midpoints between covered
-      // neighbours, queried and homogenized (an extension's new angles).
+      // neighbours, queried and homogenized (an extension's new angles;
+      // every angle of a refit).
       std::vector<std::array<double, 3>> checks;
-      for (unsigned int a = n_kept; a < angles.size(); ++a)
+      for (unsigned int a = refit ? 0 : n_kept; a < angles.size(); ++a)
         for (unsigned int n = 0; n < n_nodes; ++n)
           {
             const unsigned int j = n % nus.size();

@@ -390,8 +390,10 @@ namespace forma
         "start is polished by an inverse solve) or file (extend the map "
         "'Initial map file' to smaller angles: its samples are kept and "
         "its smallest angle's solutions start the first of 'Angles', which "
-        "must all be smaller; same (E, nu) grid). All then grow outward by "
-        "optimization and continue over the angles.");
+        "must all be smaller; same (E, nu) grid; with 'Angles' empty the "
+        "splines are only refitted, e.g. with other 'Spline control "
+        "points'). All then grow outward by optimization and continue over "
+        "the angles.");
       prm.declare_entry("Initial map file",
                         "",
                         Patterns::Anything(),
