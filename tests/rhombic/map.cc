@@ -107,6 +107,19 @@ main()
                   << e["covered"][1]["nodes"].get<unsigned int>() << " of 4"
                   << std::endl;
   query("query_extended", "extended/map.json", 0.05, 0.25, 87.5, 0, 0.05, 0.03);
+
+  // With no new angle the extension only refits the splines.
+  build_map("refit",
+            "",
+            " set Initial map = file\n set Initial map file = "
+            "extended/map.json\n set Angles =\n"
+            " set Spline control points = 5, 5, 4\n");
+  const auto r = nlohmann::json::parse(read_file("refit/summary.json"));
+  dealii::deallog << "refit map: samples " << r["samples"].get<unsigned int>()
+                  << ", inverse solves "
+                  << r["inverse_solves"].get<unsigned int>()
+                  << ", coefficients " << r["coefficients"].get<unsigned int>()
+                  << std::endl;
   query("query_shipped",
         std::string(FORMA_SOURCE_DIR) + "/contrib/rhombic/map.json",
         0.05,
