@@ -172,26 +172,32 @@ namespace forma
                                  ", Structure/Blending is " +
                                  sig(setup.blending)));
           // Trailing angles that cover nothing (where an earlier build
-          // gave up) are dropped: the extension retries below the last
-          // covered one.
+          // gave up), and those at or below the first new angle, are
+          // dropped with their samples: the extension redoes them from
+          // the last angle kept.
           while (!extended->covered.empty() &&
-                 std::none_of(extended->covered.back().begin(),
-                              extended->covered.back().end(),
-                              [](const bool b) { return b; }))
+                 (std::none_of(extended->covered.back().begin(),
+                               extended->covered.back().end(),
+                               [](const bool b) { return b; }) ||
+                  (!angles.empty() &&
+                   extended->angles.back() <= angles.front() + 1e-9)))
             {
+              const double dropped = extended->angles.back();
               extended->covered.pop_back();
               extended->angles.pop_back();
+              extended->samples.erase(std::remove_if(extended->samples.begin(),
+                                                     extended->samples.end(),
+                                                     [&](const auto &sample) {
+                                                       return std::abs(
+                                                                sample[2] -
+                                                                dropped) < 1e-9;
+                                                     }),
+                                      extended->samples.end());
             }
           AssertThrow(!extended->angles.empty(),
                       ExcMessage("Map/Initial map file: the map covers no "
-                                 "node at any angle, nothing to continue "
-                                 "from"));
-          AssertThrow(angles.empty() ||
-                        angles.front() < extended->angles.back(),
-                      ExcMessage("Map/Angles: an extension continues below "
-                                 "the map's smallest covered angle, " +
-                                 sig(extended->angles.back()) +
-                                 " degrees; every angle must be smaller"));
+                                 "node at an angle above the first of "
+                                 "Map/Angles, nothing to continue from"));
         }
       const unsigned int n_nodes = Es.size() * nus.size();
       const auto         node_E  = [&](const unsigned int n) {

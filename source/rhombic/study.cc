@@ -388,12 +388,12 @@ namespace forma
         "restricted to the subspace V transversal to its level sets, "
         "sampled on a grid and inverted by simplices at every target; each "
         "start is polished by an inverse solve) or file (extend the map "
-        "'Initial map file' to smaller angles: its samples are kept and "
-        "its smallest angle's solutions start the first of 'Angles', which "
-        "must all be smaller; same (E, nu) grid; with 'Angles' empty the "
-        "splines are only refitted, e.g. with other 'Spline control "
-        "points'). All then grow outward by optimization and continue over "
-        "the angles.");
+        "'Initial map file' to smaller angles: its angles above the first "
+        "of 'Angles' and their samples are kept, the rest redone, starting "
+        "from the smallest kept angle's solutions; same (E, nu) grid; with "
+        "'Angles' empty the splines are only refitted, e.g. with other "
+        "'Spline control points'). All then grow outward by optimization "
+        "and continue over the angles.");
       prm.declare_entry("Initial map file",
                         "",
                         Patterns::Anything(),

@@ -119,7 +119,7 @@ main()
     "0:0.4:5\n set Initial map file = " +
     std::string(FORMA_SOURCE_DIR) + "/contrib/rhombic/map.json\n";
   expect_failure("extension_above_the_map",
-                 extension + " set Angles = 70\nend\n",
+                 extension + " set Angles = 95\nend\n",
                  good);
   expect_failure("extension_other_grid",
                  extension + " set Angles = 55\n set Poisson's ratios = "
