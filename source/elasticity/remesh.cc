@@ -370,13 +370,25 @@ namespace forma
           dofs.resize(shape_cell->get_fe().n_dofs_per_cell());
           shape_cell->get_dof_indices(dofs);
           for (const auto i : dofs)
-            {
-              entries.push_back(b->offset + i);
-              // An interface copy follows its partner: hold that one too.
-              if (const auto *c = I.shape_constraints.get_constraint_entries(i))
-                for (const auto &[j, weight] : *c)
-                  entries.push_back(b->offset + j);
-            }
+            if (I.shape_constraints.is_constrained(i))
+              {
+                // A fixed vertex does not move; an interface copy follows
+                // its partner: hold that one.
+                if (const auto *c =
+                      I.shape_constraints.get_constraint_entries(i))
+                  for (const auto &[j, weight] : *c)
+                    entries.push_back(b->offset + j);
+              }
+            else
+              {
+                // With boundary shape parameters an interior vertex follows
+                // the boundary (harmonic extension): no entry to hold. The
+                // extension constrains the boundary's, without entries.
+                const auto *e =
+                  I.extension_constraints.get_constraint_entries(i);
+                if (!I.p.design.boundary_shape || (e && e->empty()))
+                  entries.push_back(b->offset + i);
+              }
         }
     std::vector<unsigned int> all;
     for (const auto &part : Utilities::MPI::all_gather(I.comm, entries))

@@ -80,8 +80,11 @@ namespace forma
       "rejected line search trials in its last decrease window, hold the "
       "vertices of the cells that blocked each line search's last rejected "
       "trial (their gradient entries are zeroed) and go on with the rest "
-      "of the shape, at most 10 times per mesh; a remesh releases them. Without it the run stops there, as thesis ch. 2.5 "
-      "does ('step size going to zero for geometric reasons').");
+      "of the shape, at most 10 times per mesh; a remesh releases them "
+      "(Resume starts with none held). With boundary shape parameters only "
+      "the blocking cells' boundary vertices can be held. Without it the "
+      "run stops there, as thesis ch. 2.5 does ('step size going to zero "
+      "for geometric reasons').");
     prm.declare_entry("Element removal",
                       "0",
                       Patterns::Double(0, 1),

@@ -276,7 +276,7 @@ namespace forma
           map.covered = extended->covered;
           map.samples = extended->samples;
           for (const auto &s : extended->samples)
-            if (s[2] == extended->angles.back())
+            if (std::abs(s[2] - extended->angles.back()) < 1e-9)
               for (unsigned int n = 0; n < n_nodes; ++n)
                 if (std::abs(node_E(n) - s[0]) < 1e-9 &&
                     std::abs(node_nu(n) - s[1]) < 1e-9)
@@ -284,6 +284,13 @@ namespace forma
                     previous_solved[n] = true;
                     std::copy(s.begin() + 3, s.end(), previous[n].begin());
                   }
+          AssertThrow(std::count(previous_solved.begin(),
+                                 previous_solved.end(),
+                                 true) > 0,
+                      ExcMessage("Map/Initial map file: no samples at " +
+                                 sig(extended->angles.back()) +
+                                 " degrees to continue from (a map "
+                                 "written without its samples?)"));
           context.print("map: extending a map of " +
                         std::to_string(map.samples.size()) +
                         " samples at angles " + sig(map.angles.front()) +
