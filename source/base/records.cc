@@ -219,6 +219,14 @@ namespace forma
 
 
   std::string
+  path_relative_to(const std::string &directory, const std::string &file)
+  {
+    return file.empty() || file[0] == '/' ? file : directory + "/" + file;
+  }
+
+
+
+  std::string
   sig(const double x, const int digits)
   {
     std::ostringstream s;

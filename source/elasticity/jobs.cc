@@ -388,10 +388,7 @@ namespace
         result =
           forma::optimize(model, stage_settings, context, history_so_far);
         const std::size_t last = result.history.size() - 1;
-        if (settings.hold_blocked_vertices &&
-            (result.stop_reason == "the step vanished" ||
-             result.stop_reason == "ROL stopped" ||
-             result.stop_reason.find("relative decrease") == 0) &&
+        if (settings.hold_blocked_vertices && forma::stagnated(result) &&
             n_holds < 10)
           {
             // The guard blocked the line search in the last window: hold

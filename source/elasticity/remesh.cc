@@ -38,6 +38,19 @@ namespace forma
         }
       return J.determinant() / lengths;
     }
+
+    // The smallest scaled Jacobian over the quadrature points of a cell.
+    template <int dim, typename Cell>
+    double
+    cell_scaled_jacobian(hp::FEValues<dim> &fv, const Cell &cell)
+    {
+      fv.reinit(cell);
+      const auto &v     = fv.get_present_fe_values();
+      double      worst = 1;
+      for (unsigned int q = 0; q < v.n_quadrature_points; ++q)
+        worst = std::min(worst, scaled_jacobian<dim>(v.jacobian(q)));
+      return worst;
+    }
   } // namespace
 
 
@@ -51,17 +64,12 @@ namespace forma
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
-          fv.reinit(cell);
-          const auto &v = fv.get_present_fe_values();
-          for (unsigned int q = 0; q < v.n_quadrature_points; ++q)
+          const double sj = cell_scaled_jacobian(fv, cell);
+          if (sj < worst)
             {
-              const double sj = scaled_jacobian<dim>(v.jacobian(q));
-              if (sj < worst)
-                {
-                  worst = sj;
-                  if (where)
-                    *where = cell->center();
-                }
+              worst = sj;
+              if (where)
+                *where = cell->center();
             }
         }
     return worst;
@@ -358,12 +366,7 @@ namespace forma
     for (const auto &cell : I.dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
-          fv.reinit(cell);
-          const auto &v     = fv.get_present_fe_values();
-          double      worst = 1;
-          for (unsigned int q = 0; q < v.n_quadrature_points; ++q)
-            worst = std::min(worst, scaled_jacobian<dim>(v.jacobian(q)));
-          if (worst >= threshold)
+          if (cell_scaled_jacobian(fv, cell) >= threshold)
             continue;
           const typename DoFHandler<dim>::active_cell_iterator shape_cell(
             &*I.tria, cell->level(), cell->index(), &I.shape_dof_handler);

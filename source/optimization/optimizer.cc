@@ -22,6 +22,26 @@
 
 namespace forma
 {
+  namespace
+  {
+    // The stagnation stops (see stagnated()).
+    const std::string step_vanished          = "the step vanished";
+    const std::string rol_stopped            = "ROL stopped";
+    const std::string relative_decrease_stop = "relative decrease below ";
+  } // namespace
+
+
+
+  bool
+  stagnated(const OptimizationResult &result)
+  {
+    return result.stop_reason == step_vanished ||
+           result.stop_reason == rol_stopped ||
+           result.stop_reason.rfind(relative_decrease_stop, 0) == 0;
+  }
+
+
+
   using namespace dealii;
 
   void
@@ -315,11 +335,11 @@ namespace forma
         else if (state.gnorm <= run.parameters.gradient_tolerance * run.gnorm0)
           run.stop_reason = "gradient tolerance";
         else if (state.iter > 0 && state.snorm <= 1e-12)
-          run.stop_reason = "the step vanished";
+          run.stop_reason = step_vanished;
         else if (h.size() > run.window_start + run.parameters.decrease_window &&
                  h[h.size() - 1 - run.parameters.decrease_window] - h.back() <
                    run.parameters.relative_decrease * std::abs(h.front()))
-          run.stop_reason = "relative decrease below " +
+          run.stop_reason = relative_decrease_stop +
                             fmt(run.parameters.relative_decrease) + " over " +
                             std::to_string(run.parameters.decrease_window) +
                             " iterations";
@@ -479,7 +499,7 @@ namespace forma
     result.design  = run.design(run.z_accepted);
     result.history = run.history;
     result.stop_reason =
-      run.stop_reason.empty() ? "ROL stopped" : run.stop_reason;
+      run.stop_reason.empty() ? rol_stopped : run.stop_reason;
     return result;
   }
 } // namespace forma

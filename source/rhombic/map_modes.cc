@@ -104,13 +104,11 @@ namespace forma
       std::optional<MaterialMap> extended;
       if (prm.get("Initial map") == "file")
         {
-          std::string file = prm.get("Initial map file");
+          const std::string file = prm.get("Initial map file");
           AssertThrow(!file.empty(),
                       ExcMessage("Map/Initial map = file needs Map/Initial "
                                  "map file"));
-          if (file[0] != '/')
-            file = prm_directory + "/" + file;
-          extended = MaterialMap::read(file);
+          extended = MaterialMap::read(path_relative_to(prm_directory, file));
         }
       TransversalMapParameters transversal_parameters;
       if (transversal)
@@ -627,11 +625,9 @@ namespace forma
     read_map(ParameterHandler &prm, const std::string &prm_directory)
     {
       prm.enter_subsection("Map");
-      std::string file = prm.get("Map file");
+      const std::string file = prm.get("Map file");
       prm.leave_subsection();
-      if (!file.empty() && file[0] != '/')
-        file = prm_directory + "/" + file;
-      return MaterialMap::read(file);
+      return MaterialMap::read(path_relative_to(prm_directory, file));
     }
 
 

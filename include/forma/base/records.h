@@ -68,6 +68,11 @@ namespace forma
   std::string
   sig(const double x, const int digits = 4);
 
+  /// `file` as given if absolute or empty, else relative to `directory`
+  /// (the parameter file's).
+  std::string
+  path_relative_to(const std::string &directory, const std::string &file);
+
   template <int dim>
   std::unique_ptr<dealii::FunctionParser<dim>>
   make_function(const std::vector<std::string>      &expressions,

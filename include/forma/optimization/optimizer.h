@@ -89,6 +89,12 @@ namespace forma
     std::string         stop_reason;
   };
 
+  /// Whether a run stopped because it stagnated (the decrease rule of
+  /// thesis ch. 2.5, a vanished step, ROL's own stop), not on a limit, a
+  /// target, the gradient tolerance or a remesh.
+  bool
+  stagnated(const OptimizationResult &result);
+
   /**
    * Minimize with ROL: a line-search L-BFGS method, projected onto the
    * bounds (lower/upper, +-inf where free). Stops when the objective fell
