@@ -17,6 +17,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
+#include <map>
+#include <memory>
 #include <set>
 
 namespace forma
@@ -25,6 +28,82 @@ namespace forma
 
   namespace
   {
+    /**
+     * The reference points of `target` at the corners 0, e_1, ...,
+     * e_{dim-1} of a face's reference face, the corners' physical points
+     * given by `corner_values` (reinit on that face, so FEFaceValues's own
+     * handling of face orientations is the one used). The reference face's
+     * symmetries are affine, so where the corners coincide with vertices of
+     * `target` (the face's own cell, or the partner on a conforming
+     * interface) the point of face coordinates xi is
+     * c_0 + sum_j xi_j (c_j - c_0). Empty if a corner has no coincident
+     * vertex or the map is not affine.
+     */
+    template <int dim, typename Iterator>
+    std::vector<Point<dim>>
+    face_corners(const FEFaceValues<dim> &corner_values,
+                 const Mapping<dim>      &mapping,
+                 const Iterator          &target,
+                 const double             tol)
+    {
+      const ReferenceCell     type = target->reference_cell();
+      std::vector<Point<dim>> result;
+      for (unsigned int v = 0; v < corner_values.n_quadrature_points; ++v)
+        for (const unsigned int w : type.vertex_indices())
+          {
+            const Point<dim> x = type.template vertex<dim>(w);
+            if (mapping.transform_unit_to_real_cell(target, x).distance(
+                  corner_values.quadrature_point(v)) <= tol)
+              {
+                result.push_back(x);
+                break;
+              }
+          }
+      if (result.size() != corner_values.n_quadrature_points)
+        return {};
+      // A quadrilateral's fourth corner must follow from the other three.
+      if (result.size() == 4 &&
+          (result[3] - (result[1] + (result[2] - result[0]))).norm() > 1e-12)
+        return {};
+      result.resize(dim);
+      return result;
+    }
+
+
+
+    /// The cell points of face points `q` for corners `c` (face_corners()).
+    template <int dim>
+    Quadrature<dim>
+    cell_points(const std::vector<Point<dim>> &c, const Quadrature<dim - 1> &q)
+    {
+      std::vector<Point<dim>> x(q.size(), c[0]);
+      for (unsigned int k = 0; k < q.size(); ++k)
+        for (unsigned int j = 0; j + 1 < c.size(); ++j)
+          x[k] += q.point(k)[j] * (c[j + 1] - c[0]);
+      return Quadrature<dim>(x);
+    }
+
+
+
+    /// The face's normal scaled by its area element, from the cell's
+    /// Jacobian J and the face's corners `c`: the cross product of the
+    /// tangents J (c_j - c_0) (its sign is the corners' orientation).
+    template <int dim>
+    Tensor<1, dim>
+    area_normal(const DerivativeForm<1, dim, dim> &J,
+                const std::vector<Point<dim>>     &c)
+    {
+      std::array<Tensor<1, dim>, dim - 1> t;
+      for (unsigned int j = 0; j + 1 < dim; ++j)
+        t[j] = apply_transformation(J, c[j + 1] - c[0]);
+      if constexpr (dim == 2)
+        return cross_product_2d(t[0]);
+      else
+        return cross_product_3d(t[0], t[1]);
+    }
+
+
+
     /// The contact traction at one point and its partial derivatives.
     template <int dim>
     struct PointResponse
@@ -274,6 +353,42 @@ namespace forma
     for (const auto &message :
          Utilities::MPI::all_gather(dof_handler.get_communicator(), failure))
       AssertThrow(message.empty(), ExcMessage(message));
+
+    // Face frames: the cells' reference points at the faces' corners,
+    // with the sign that makes the corners' normal outward.
+    std::map<std::pair<unsigned int, std::uint8_t>,
+             std::unique_ptr<FEFaceValues<dim>>>
+      corner_values;
+    for (auto &face : faces)
+      {
+        const ReferenceCell type = face.cell->face(face.face)->reference_cell();
+        auto &cv = corner_values[{face.cell->active_fe_index(), type}];
+        if (!cv)
+          {
+            std::vector<Point<dim - 1>> corners(type.n_vertices());
+            for (unsigned int v = 0; v < corners.size(); ++v)
+              corners[v] = type.template vertex<dim - 1>(v);
+            cv =
+              std::make_unique<FEFaceValues<dim>>(mapping[0],
+                                                  face.cell->get_fe(),
+                                                  Quadrature<dim - 1>(corners),
+                                                  update_quadrature_points |
+                                                    update_normal_vectors |
+                                                    update_jacobians);
+          }
+        cv->reinit(face.cell, face.face);
+        const double tol = 1e-8 * face.cell->face(face.face)->diameter();
+        face.corners     = face_corners(*cv, mapping[0], face.cell, tol);
+        AssertThrow(!face.corners.empty(), ExcInternalError());
+        face.orientation =
+          area_normal(cv->jacobian(0), face.corners) * cv->normal_vector(0) <
+              0 ?
+            -1. :
+            1.;
+        if (face.deformable)
+          face.partner_corners =
+            face_corners(*cv, mapping[0], face.partner, tol);
+      }
     any_faces = Utilities::MPI::max(faces.empty() ? 0 : 1,
                                     dof_handler.get_communicator()) == 1;
   }
@@ -358,54 +473,78 @@ namespace forma
         return;
       }
     // Adaptive rule: values of the "-" side at the points of `q` (reference
-    // face coordinates) and of the partner at the same physical points;
-    // weights only when `full` (sample points need none).
-    auto at = [&](const Quadrature<dim - 1> &q, const bool full) {
-      FEFaceValues<dim> fv(mapping[0],
-                           fe1,
-                           q,
-                           update_values | update_quadrature_points |
-                             update_normal_vectors |
-                             (full ? update_JxW_values : update_default));
-      fv.reinit(f.cell, f.face);
+    // face coordinates, mapped into the cell by the face's corners: an
+    // FEFaceValues would be built for every face and orientation) and of the
+    // partner at the same physical points.
+    auto at = [&](const Quadrature<dim - 1> &q) {
+      FEValues<dim> fv(mapping[0],
+                       fe1,
+                       cell_points(f.corners, q),
+                       update_values | update_quadrature_points |
+                         update_jacobians);
+      fv.reinit(f.cell);
       const unsigned int nq = q.size();
       d.phi.reinit(n1 + n2, nq);
       for (unsigned int i = 0; i < n1; ++i)
         for (unsigned int k = 0; k < nq; ++k)
           d.phi[i][k] = fv.shape_value(i, k);
-      d.normal = fv.get_normal_vectors();
-      if (full)
-        d.JxW = fv.get_JxW_values();
+      d.normal.resize(nq);
+      d.JxW.resize(nq);
+      for (unsigned int k = 0; k < nq; ++k)
+        {
+          const Tensor<1, dim> a =
+            f.orientation * area_normal(fv.jacobian(k), f.corners);
+          d.normal[k] = a / a.norm();
+          d.JxW[k]    = q.weight(k) * a.norm();
+        }
       if (!f.deformable)
         return;
+      // The partner's points: affine in the face coordinates where the
+      // faces' corners coincide (checked on the physical points, since the
+      // two copies' shape could differ), else by inverse mapping.
+      const auto &c  = f.partner_corners;
+      auto        pv = std::make_unique<FEValues<dim>>(
+        mapping[0],
+        f.partner->get_fe(),
+        c.empty() ? Quadrature<dim>(std::vector<Point<dim>>(nq)) :
+                           cell_points(c, q),
+        update_values | update_quadrature_points);
+      pv->reinit(f.partner);
       std::vector<Point<dim>> unit(nq);
-      mapping[0].transform_points_real_to_unit_cell(f.partner,
-                                                    fv.get_quadrature_points(),
-                                                    unit);
-      // A point the inverse mapping did not find (+inf) or outside the
-      // partner: the interface is too distorted to pair points.
-      for (auto &x : unit)
-        if (!std::isfinite(x[0]) ||
-            !f.partner->reference_cell().contains_point(x, 1e-6))
-          {
-            d.valid = false;
-            x       = f.partner->reference_cell().template vertex<dim>(0);
-          }
-      FEValues<dim> pv(mapping[0],
-                       f.partner->get_fe(),
-                       Quadrature<dim>(unit),
-                       update_values);
-      pv.reinit(f.partner);
+      const double            tol    = 1e-8 * f.cell->face(f.face)->diameter();
+      bool                    paired = !c.empty();
+      for (unsigned int k = 0; k < nq && paired; ++k)
+        paired =
+          pv->quadrature_point(k).distance(fv.quadrature_point(k)) <= tol;
+      if (!paired)
+        {
+          mapping[0].transform_points_real_to_unit_cell(
+            f.partner, fv.get_quadrature_points(), unit);
+          // A point the inverse mapping did not find (+inf) or outside
+          // the partner: the interface is too distorted to pair points.
+          for (auto &x : unit)
+            if (!std::isfinite(x[0]) ||
+                !f.partner->reference_cell().contains_point(x, 1e-6))
+              {
+                d.valid = false;
+                x       = f.partner->reference_cell().template vertex<dim>(0);
+              }
+          pv = std::make_unique<FEValues<dim>>(mapping[0],
+                                               f.partner->get_fe(),
+                                               Quadrature<dim>(unit),
+                                               update_values);
+          pv->reinit(f.partner);
+        }
       for (unsigned int i = 0; i < n2; ++i)
         for (unsigned int k = 0; k < nq; ++k)
-          d.phi[n1 + i][k] = -pv.shape_value(i, k);
+          d.phi[n1 + i][k] = -pv->shape_value(i, k);
     };
 
     {
       const ContactLaw &cl       = law(f);
       const bool        friction = cl.mu > 0;
       auto              regime   = [&](const std::vector<Point<dim - 1>> &x) {
-        at(Quadrature<dim - 1>(x), false);
+        at(Quadrature<dim - 1>(x));
         std::vector<int> codes(x.size());
         for (unsigned int k = 0; k < x.size(); ++k)
           {
@@ -426,7 +565,7 @@ namespace forma
                                               parameters.adaptive_depth,
                                               parameters.samples);
     }
-    at(d.quadrature, true);
+    at(d.quadrature);
   }
 
 
@@ -541,11 +680,11 @@ namespace forma
           f.cell->level(),
           f.cell->index(),
           &shape_dof_handler);
-        FEFaceValues<dim> sv(mapping[0],
-                             shape_fe,
-                             d.quadrature,
-                             update_gradients);
-        sv.reinit(shape_cell, f.face);
+        FEValues<dim> sv(mapping[0],
+                         shape_fe,
+                         cell_points(f.corners, d.quadrature),
+                         update_gradients);
+        sv.reinit(shape_cell);
         shape_cell->get_dof_indices(shape_dofs);
         local = 0;
         for (unsigned int q = 0; q < d.JxW.size(); ++q)

@@ -126,6 +126,11 @@ namespace forma
       bool                       deformable = false;
       /// Partner quadrature point of each point of `face`.
       std::vector<unsigned int> permutation;
+      /// The reference points of `cell` and (DD) of `partner` at the
+      /// face's corners xi = 0, e_1, ..., e_{dim-1}: face points are affine
+      /// in xi on both sides (empty partner_corners: inverse mapping).
+      std::vector<dealii::Point<dim>> corners, partner_corners;
+      double orientation = 1; ///< makes the corners' normal outward
     };
     /// Values at the quadrature points of a contact face: signed shape
     /// values of both sides (partner negative), the nodal values of the
