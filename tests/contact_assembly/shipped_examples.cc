@@ -6,7 +6,8 @@
 // designed (10 iterations); the two-part lever's stress falls (20 iterations)
 // and the bridge's (10); the tower crane's ESO-like step removes cells
 // and the run goes on with the holes (its shape stage cut to 5
-// iterations). The hooks are in shipped_hooks.
+// iterations); the 3D stool stands on the floor and its connector's
+// stress falls (6 iterations). The hooks are in shipped_hooks.
 
 #include "../tests.h"
 #include <nlohmann/json.hpp>
@@ -86,5 +87,32 @@ main()
     check("low-stress cells removed", removed);
     check("volume between 0.7 and 0.9 of its start",
           volume > 0.7 && volume < 0.9);
+  }
+  {
+    // The 3D stool quarter, held by contact alone: the floor carries the
+    // seat's load, its friction the legs' outward push (which the mirror
+    // planes balance), and the connector's peak falls with its volume held.
+    const auto  s     = run_example("contact_assembly",
+                               "stool_3d",
+                               " --set 'Optimization/Max iterations=6'");
+    const auto &o     = s["optimization"];
+    const auto &floor = o["initial_state"]["contact"][0];
+    const auto &f     = floor["force"];
+    check("floor contact (boundary 1) carries the load 6.25 within 1e-8",
+          floor["boundary"].get<int>() == 1 &&
+            std::abs(f[2].get<double>() - 6.25) < 1e-8);
+    check("floor friction below mu = 0.4 times the normal force",
+          std::hypot(f[0].get<double>(), f[1].get<double>()) <
+            0.4 * f[2].get<double>());
+    const auto peak = [&](const char *state) {
+      return o[state]["max_stress_by_material"]["1"].get<double>();
+    };
+    check("connector's max stress below 0.8 of its start",
+          peak("final_state") < 0.8 * peak("initial_state"));
+    check("connector's volume within 1%",
+          std::abs(
+            o["final_state"]["volume_by_material"]["1"].get<double>() /
+              o["initial_state"]["volume_by_material"]["1"].get<double>() -
+            1) < 0.01);
   }
 }
