@@ -96,10 +96,11 @@ namespace forma
       const auto   controls  = parse_values(prm.get("Spline control points"),
                                          "Map/Spline control points");
       const double smoothing = prm.get_double("Smoothing");
-      const std::string  map_file = prm.get("Map file");
-      const unsigned int n_checks = prm.get_integer("Accuracy checks");
-      const double height_weight  = prm.get_double("Coverage height weight");
-      const bool   transversal    = prm.get("Initial map") == "transversal";
+      const double branch_tolerance = prm.get_double("Branch tolerance");
+      const std::string  map_file   = prm.get("Map file");
+      const unsigned int n_checks   = prm.get_integer("Accuracy checks");
+      const double height_weight    = prm.get_double("Coverage height weight");
+      const bool   transversal      = prm.get("Initial map") == "transversal";
       // Initial map = file: the map being extended to smaller angles.
       std::optional<MaterialMap> extended;
       if (prm.get("Initial map") == "file")
@@ -458,6 +459,12 @@ namespace forma
                              std::to_string(map.samples.size()) +
                              " grid nodes were reached; widen the grid around "
                              "the seed structure's moduli or change the seed"));
+
+      if (branch_tolerance > 0)
+        if (const unsigned int n = map.drop_branch_jumps(branch_tolerance))
+          context.print("map: dropped " + std::to_string(n) +
+                        " samples on another branch than their neighbours "
+                        "(Map/Branch tolerance)");
 
       // The splines over (E, nu, alpha).
       std::vector<std::vector<double>> x;

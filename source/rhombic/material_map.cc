@@ -5,6 +5,11 @@
 #include <forma/base/plot.h>
 #include <forma/rhombic/material_map.h>
 
+// Boost 1.74's pchip calls isnan unqualified on double.
+#include <cmath>
+using std::isnan;
+#include <boost/math/interpolators/pchip.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -172,6 +177,118 @@ namespace forma
 
 
 
+    namespace
+    {
+      /// The monotone piecewise cubic (PCHIP) through (x, y), x increasing,
+      /// at t (clamped to x's range); linear below 4 points.
+      double
+      monotone_spline(const std::vector<double> &x,
+                      const std::vector<double> &y,
+                      const double               t)
+      {
+        const double s = std::clamp(t, x.front(), x.back());
+        if (x.size() == 1)
+          return y[0];
+        if (x.size() < 4)
+          {
+            const auto k =
+              std::min<std::size_t>(std::upper_bound(x.begin(), x.end(), s) -
+                                      x.begin(),
+                                    x.size() - 1);
+            const double w = (s - x[k - 1]) / (x[k] - x[k - 1]);
+            return (1 - w) * y[k - 1] + w * y[k];
+          }
+        return boost::math::interpolators::pchip<std::vector<double>>(
+          std::vector<double>(x), std::vector<double>(y))(s);
+      }
+    } // namespace
+
+
+
+    unsigned int
+    MaterialMap::drop_branch_jumps(const double tolerance)
+    {
+      const auto index = [](const std::vector<double> &grid, const double v) {
+        return static_cast<int>(
+          std::min_element(grid.begin(),
+                           grid.end(),
+                           [v](const double a, const double b) {
+                             return std::abs(a - v) < std::abs(b - v);
+                           }) -
+          grid.begin());
+      };
+      // Sample index per (angle, E, nu) node; -1 where there is none.
+      std::vector<int> at(angles.size() * E.size() * nu.size(), -1);
+      const auto       node = [&](const int a, const int i, const int j) {
+        return (a * static_cast<int>(E.size()) + i) *
+                 static_cast<int>(nu.size()) +
+               j;
+      };
+      std::vector<std::array<int, 3>> where(samples.size());
+      for (unsigned int k = 0; k < samples.size(); ++k)
+        {
+          where[k] = {{index(angles, samples[k][2]),
+                       index(E, samples[k][0]),
+                       index(nu, samples[k][1])}};
+          at[node(where[k][0], where[k][1], where[k][2])] = k;
+        }
+      // Angles in order, so "neighbouring angles" are adjacent in value.
+      std::vector<int> order(angles.size()), rank(angles.size());
+      std::iota(order.begin(), order.end(), 0);
+      std::sort(order.begin(), order.end(), [&](int a, int b) {
+        return angles[a] < angles[b];
+      });
+      for (unsigned int r = 0; r < order.size(); ++r)
+        rank[order[r]] = r;
+
+      std::vector<bool> drop(samples.size(), false);
+      for (unsigned int k = 0; k < samples.size(); ++k)
+        {
+          const auto [a, i, j] = where[k];
+          std::vector<int> neighbours;
+          for (int di = -1; di <= 1; ++di)
+            for (int dj = -1; dj <= 1; ++dj)
+              if ((di != 0 || dj != 0) && i + di >= 0 &&
+                  i + di < static_cast<int>(E.size()) && j + dj >= 0 &&
+                  j + dj < static_cast<int>(nu.size()))
+                neighbours.push_back(at[node(a, i + di, j + dj)]);
+          for (const int dr : {-1, 1})
+            if (rank[a] + dr >= 0 &&
+                rank[a] + dr < static_cast<int>(angles.size()))
+              neighbours.push_back(at[node(order[rank[a] + dr], i, j)]);
+          neighbours.erase(std::remove(neighbours.begin(),
+                                       neighbours.end(),
+                                       -1),
+                           neighbours.end());
+          if (neighbours.size() < 3)
+            continue;
+          for (unsigned int p = 3; p < samples[k].size() && !drop[k]; ++p)
+            {
+              std::vector<double> v;
+              for (const int n : neighbours)
+                v.push_back(samples[n][p]);
+              std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+              drop[k] = std::abs(samples[k][p] - v[v.size() / 2]) > tolerance;
+            }
+        }
+      unsigned int n = 0;
+      for (unsigned int k = 0; k < samples.size(); ++k)
+        if (drop[k])
+          {
+            const auto [a, i, j]          = where[k];
+            covered[a][i * nu.size() + j] = false;
+            ++n;
+          }
+      unsigned int k = 0;
+      samples.erase(std::remove_if(samples.begin(),
+                                   samples.end(),
+                                   [&](const auto &) { return drop[k++]; }),
+                    samples.end());
+      return n;
+    }
+
+
+
     void
     MaterialMap::fit_coverage_polygons(const double height_weight)
     {
@@ -201,26 +318,36 @@ namespace forma
         else if (!used.empty())
           break;
       polygon_angles = {{1, 0}};
+      polygon_spline_angles.clear();
+      for (auto &v : polygon_spline_values)
+        v.clear();
       if (used.empty())
         return;
       polygon_angles = {{angles[used.back()], angles[used.front()]}};
-      if (used.size() == 1)
-        return; // one angle: its polygon as it is
-      // Nearly interpolating cubic splines (as many control points as
-      // angles, at least 4; the tiny penalty decides the rest).
-      const unsigned int n = std::max<unsigned int>(4, used.size());
-      std::vector<std::vector<double>> x;
-      for (const auto a : used)
-        x.push_back({angles[a]});
-      for (unsigned int k = 0; k < CoveragePolygon::n_coefficients; ++k)
+      for (auto a = used.rbegin(); a != used.rend(); ++a)
         {
-          polygon_splines[k] =
-            TensorSpline({polygon_angles[0]}, {polygon_angles[1]}, {n});
-          std::vector<double> y;
-          for (const auto a : used)
-            y.push_back(polygons[a].coefficients()[k]);
-          polygon_splines[k].fit(x, y, 1e-10);
+          polygon_spline_angles.push_back(angles[*a]);
+          for (unsigned int k = 0; k < CoveragePolygon::n_coefficients; ++k)
+            polygon_spline_values[k].push_back(polygons[*a].coefficients()[k]);
         }
+    }
+
+
+
+    CoveragePolygon
+    MaterialMap::coverage_polygon(const double alpha_degrees) const
+    {
+      CoveragePolygon polygon;
+      polygon.E_min = 1; // empty
+      if (alpha_degrees < polygon_angles[0] - 1e-9 ||
+          alpha_degrees > polygon_angles[1] + 1e-9)
+        return polygon;
+      std::array<double, CoveragePolygon::n_coefficients> c;
+      for (unsigned int k = 0; k < c.size(); ++k)
+        c[k] = monotone_spline(polygon_spline_angles,
+                               polygon_spline_values[k],
+                               alpha_degrees);
+      return CoveragePolygon::from_coefficients(c, E.front(), E.back());
     }
 
 
@@ -229,29 +356,7 @@ namespace forma
     MaterialMap::coverage(const double alpha_degrees,
                           const double base_nu) const
     {
-      if (alpha_degrees < polygon_angles[0] - 1e-9 ||
-          alpha_degrees > polygon_angles[1] + 1e-9)
-        return {};
-      CoveragePolygon polygon;
-      if (polygon_angles[0] == polygon_angles[1])
-        {
-          for (unsigned int a = 0; a < angles.size(); ++a)
-            if (angles[a] == polygon_angles[0])
-              polygon = polygons[a];
-        }
-      else
-        {
-          std::array<double, CoveragePolygon::n_coefficients> c;
-          for (unsigned int k = 0; k < c.size(); ++k)
-            c[k] = polygon_splines[k].value({alpha_degrees});
-          // The splines may overshoot the grid between angles; the grid's
-          // extent is what the samples speak for.
-          c[0]    = std::max(c[0], E.front());
-          c[1]    = std::min(c[1], E.back());
-          c[2]    = std::max(c[2], nu.front());
-          c[3]    = std::min(c[3], nu.back());
-          polygon = CoveragePolygon::from_coefficients(c, E.front(), E.back());
-        }
+      const CoveragePolygon polygon = coverage_polygon(alpha_degrees);
       // In (E, nu_map) with nu_map = nu - base_nu E (eq. 4.11 backwards).
       std::vector<HalfPlane> region;
       for (const auto &h : polygon.half_planes())

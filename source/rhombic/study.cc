@@ -373,6 +373,15 @@ namespace forma
                         Patterns::Double(0),
                         "Weight of the second-difference (Laplacian) "
                         "penalty of the spline fit.");
+      prm.declare_entry(
+        "Branch tolerance",
+        "0.25",
+        Patterns::Double(0),
+        "Before the fit, a sample whose parameters differ from the median of "
+        "its grid neighbours' (same angle, and the same node at the "
+        "neighbouring angles) by more than this (in any parameter) lies on "
+        "another branch of solutions: it is dropped and its node uncovered. "
+        "0 keeps every sample.");
       prm.declare_entry("Accuracy checks",
                         "8",
                         Patterns::Integer(0, 10000),

@@ -1,13 +1,18 @@
 // The coverage polygon D(alpha) (thesis Fig. 4.13): the fit on a
 // staircase coverage whose best polygon is known; on the shipped map, the
 // polygon is inscribed in the covered nodes at the construction's angles,
-// points beyond the grid lie outside, its coefficients are splines in the
-// angle, and the base's Poisson's ratio shears it (eq. 4.11); the soft
-// coverage constraint of two-scale design passes its Taylor test.
+// points beyond the grid lie outside, its coefficients are monotone
+// splines in the angle (no overshoot between construction angles), a
+// sample on another branch of solutions is found and dropped, and the
+// base's Poisson's ratio shears it (eq. 4.11); the soft coverage constraint of
+// two-scale design passes its Taylor test.
 
 #include <forma/rhombic/material_map.h>
 
 #include "../tests.h"
+
+#include <algorithm>
+#include <cmath>
 
 using namespace dealii;
 using namespace forma::rhombic;
@@ -103,9 +108,59 @@ main()
     {
       deallog << "  coefficient " << k << ':';
       for (double alpha = 90; alpha >= 59.9; alpha -= 7.5)
-        deallog << ' ' << map.polygon_splines[k].value({alpha});
+        deallog << ' ' << map.coverage_polygon(alpha).coefficients()[k];
       deallog << std::endl;
     }
+
+  // Between two construction angles every coefficient of the full-size
+  // map's polygon stays between its values there (monotone splines: the
+  // polygons change abruptly from one angle to the next, a fitted cubic
+  // overshoots both).
+  {
+    const MaterialMap full = MaterialMap::read(
+      std::string(FORMA_SOURCE_DIR) + "/contrib/rhombic/map_full.json");
+    const auto  &a       = full.polygon_spline_angles;
+    const auto  &values  = full.polygon_spline_values;
+    unsigned int outside = 0, n = 0;
+    for (unsigned int i = 0; i + 1 < a.size(); ++i)
+      for (double t = 0.05; t < 1; t += 0.1, ++n)
+        {
+          const auto c =
+            full.coverage_polygon(a[i] + t * (a[i + 1] - a[i])).coefficients();
+          for (unsigned int k = 0; k < c.size(); ++k)
+            outside +=
+              c[k] < std::min(values[k][i], values[k][i + 1]) - 1e-12 ||
+              c[k] > std::max(values[k][i], values[k][i + 1]) + 1e-12;
+        }
+    deallog << "full-size map, " << n << " angles between construction "
+            << "angles: " << outside
+            << " coefficients outside their neighbours' range" << std::endl;
+  }
+
+  // Samples on another branch of solutions (thesis ch. 4.6.3's continuation
+  // can jump): none in the full-size map; one moved onto the branch that
+  // the rebuild below 60 degrees met (p2 = 0.49, p4 = 0.13) is dropped, and
+  // its node uncovered.
+  {
+    MaterialMap full = MaterialMap::read(std::string(FORMA_SOURCE_DIR) +
+                                         "/contrib/rhombic/map_full.json");
+    const auto  n    = full.samples.size();
+    deallog << "branch jumps in the full-size map: "
+            << full.drop_branch_jumps(0.25) << std::endl;
+    auto &s      = full.samples[n / 2];
+    s[4]         = 0.49;
+    s[6]         = 0.13;
+    const auto a = std::find(full.angles.begin(), full.angles.end(), s[2]) -
+                   full.angles.begin();
+    const auto i = std::lround((s[0] - full.E[0]) / (full.E[1] - full.E[0]));
+    const auto j = std::lround((s[1] - full.nu[0]) / (full.nu[1] - full.nu[0]));
+    deallog << "one sample moved to the other branch: "
+            << full.drop_branch_jumps(0.25) << " dropped, "
+            << full.samples.size() << " of " << n << " left, its node "
+            << (full.covered[a][i * full.nu.size() + j] ? "covered" :
+                                                          "uncovered")
+            << std::endl;
+  }
 
   // A base with nu = 0.3: the node (E, nu_map) moves to nu = nu_map + 0.3 E.
   {

@@ -84,10 +84,15 @@ namespace forma
       /// The samples the splines were fitted to: E, nu, angle, p1..p8.
       std::vector<std::array<double, 11>> samples;
       /// The coverage polygon at each angle (empty where fewer than 2 x 2
-      /// nodes are covered), and its 8 coefficients as 1D splines over the
-      /// angles from the largest down to the last one with a polygon.
-      std::vector<CoveragePolygon>                              polygons;
-      std::array<TensorSpline, CoveragePolygon::n_coefficients> polygon_splines;
+      /// nodes are covered), and its 8 coefficients over the angles from
+      /// the largest down to the last one with a polygon (increasing), as
+      /// 1D splines: monotone piecewise cubics (PCHIP), since a polygon can
+      /// change abruptly from one angle to the next and a fitted cubic
+      /// would overshoot both.
+      std::vector<CoveragePolygon> polygons;
+      std::vector<double>          polygon_spline_angles;
+      std::array<std::vector<double>, CoveragePolygon::n_coefficients>
+                            polygon_spline_values;
       std::array<double, 2> polygon_angles = {{1, 0}}; ///< empty if lo > hi
 
       /**
@@ -96,6 +101,19 @@ namespace forma
        */
       void
       fit_coverage_polygons(const double height_weight = 0);
+
+      /**
+       * Drop the samples that lie on another branch of solutions than
+       * their neighbours (an inverse solve that converged elsewhere): those
+       * whose parameters differ from the median of their neighbours' (the
+       * grid nodes next to theirs at the same angle, and the same node at
+       * the neighbouring angles; at least 3 of them) by more than
+       * `tolerance` in some parameter. A single such sample makes the
+       * fitted splines swing for several grid cells around it. Their nodes
+       * become uncovered. Returns how many were dropped.
+       */
+      unsigned int
+      drop_branch_jumps(const double tolerance);
 
       /// Only the splines, from the polygons as they are (a map read).
       void
@@ -121,13 +139,19 @@ namespace forma
         double c_E, c_nu, d;
       };
 
+      /// The coverage polygon at `alpha_degrees` (for a base with nu = 0):
+      /// its 8 coefficients from the angle's splines; empty outside the
+      /// polygons' angles.
+      CoveragePolygon
+      coverage_polygon(const double alpha_degrees) const;
+
       /**
        * The covered region D(alpha) for a base of Poisson's ratio `base_nu`
-       * (thesis ch. 4.6.2-4.6.3): the coverage polygon whose 8 coefficients
-       * the angle's splines give, as half-planes sheared by eq. 4.11 (empty
-       * outside the polygons' angles). It is smooth in alpha and, at the
-       * construction's angles, inscribed in the covered nodes. query()'s
-       * `inside` is membership in this region.
+       * (thesis ch. 4.6.2-4.6.3): coverage_polygon() as half-planes sheared
+       * by eq. 4.11 (empty outside the polygons' angles). It is C^1 in
+       * alpha, its coefficients between those of the neighbouring
+       * construction angles, and at those angles inscribed in the covered
+       * nodes. query()'s `inside` is membership in this region.
        */
       std::vector<HalfPlane>
       coverage(const double alpha_degrees, const double base_nu) const;
