@@ -70,7 +70,7 @@ main()
               const bool   c = m.covered[a][i * m.nu.size() + j];
               const double v = violation(region, m.E[i], m.nu[j]);
               n += c;
-              inside += c && v <= 1e-6;
+              inside += c && !region.empty() && v <= 1e-6;
               if (!c)
                 worst = std::max(worst, -v); // > 0: an uncovered node inside
             }
