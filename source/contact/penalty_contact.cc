@@ -502,22 +502,25 @@ namespace forma
       // The partner's points: affine in the face coordinates where the
       // faces' corners coincide (checked on the physical points, since the
       // two copies' shape could differ), else by inverse mapping.
-      const auto &c  = f.partner_corners;
-      auto        pv = std::make_unique<FEValues<dim>>(
-        mapping[0],
-        f.partner->get_fe(),
-        c.empty() ? Quadrature<dim>(std::vector<Point<dim>>(nq)) :
-                           cell_points(c, q),
-        update_values | update_quadrature_points);
-      pv->reinit(f.partner);
-      std::vector<Point<dim>> unit(nq);
-      const double            tol    = 1e-8 * f.cell->face(f.face)->diameter();
-      bool                    paired = !c.empty();
-      for (unsigned int k = 0; k < nq && paired; ++k)
-        paired =
-          pv->quadrature_point(k).distance(fv.quadrature_point(k)) <= tol;
+      const auto                    &c = f.partner_corners;
+      std::unique_ptr<FEValues<dim>> pv;
+      bool                           paired = !c.empty();
+      if (paired)
+        {
+          pv = std::make_unique<FEValues<dim>>(mapping[0],
+                                               f.partner->get_fe(),
+                                               cell_points(c, q),
+                                               update_values |
+                                                 update_quadrature_points);
+          pv->reinit(f.partner);
+          const double tol = 1e-8 * f.cell->face(f.face)->diameter();
+          for (unsigned int k = 0; k < nq && paired; ++k)
+            paired =
+              pv->quadrature_point(k).distance(fv.quadrature_point(k)) <= tol;
+        }
       if (!paired)
         {
+          std::vector<Point<dim>> unit(nq);
           mapping[0].transform_points_real_to_unit_cell(
             f.partner, fv.get_quadrature_points(), unit);
           // A point the inverse mapping did not find (+inf) or outside

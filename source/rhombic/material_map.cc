@@ -271,19 +271,17 @@ namespace forma
               drop[k] = std::abs(samples[k][p] - v[v.size() / 2]) > tolerance;
             }
         }
-      unsigned int n = 0;
+      std::vector<std::array<double, 11>> kept;
       for (unsigned int k = 0; k < samples.size(); ++k)
         if (drop[k])
           {
             const auto [a, i, j]          = where[k];
             covered[a][i * nu.size() + j] = false;
-            ++n;
           }
-      unsigned int k = 0;
-      samples.erase(std::remove_if(samples.begin(),
-                                   samples.end(),
-                                   [&](const auto &) { return drop[k++]; }),
-                    samples.end());
+        else
+          kept.push_back(samples[k]);
+      const unsigned int n = samples.size() - kept.size();
+      samples              = std::move(kept);
       return n;
     }
 
