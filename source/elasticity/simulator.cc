@@ -46,6 +46,8 @@
 #include <deque>
 #include <fstream>
 #include <iomanip>
+#include <numeric>
+#include <optional>
 #include <sstream>
 
 namespace forma
@@ -575,6 +577,8 @@ namespace forma
       }
     make_constraints(time);
     contact.setup(dof_handler, mapping, face_quadrature);
+    if (p.problem == "static" && !ipc_contact)
+      check_parts_are_held();
     build_jacobian_pattern();
 
     u.reinit(owned, comm);
@@ -585,6 +589,99 @@ namespace forma
     v.reinit(owned, comm);
     if (p.linear_solver.type != "direct")
       compute_null_space();
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::check_parts_are_held() const
+  {
+    // Every rank needs all cells to see whole parts: the shared
+    // triangulations of penalty contact and serial runs have them.
+    if (tria->n_active_cells() != tria->n_global_active_cells())
+      return;
+    // What each boundary id holds: bit d a Dirichlet condition on
+    // component d, bit dim contact (which may hold in any direction).
+    std::map<types::boundary_id, unsigned int> holds;
+    for (const auto &d : dirichlet)
+      for (unsigned int c = 0; c < dim; ++c)
+        if (d.mask[c])
+          holds[d.id] |= 1u << c;
+    for (const auto &[id, law] : contact.parameters.rigid)
+      holds[id] |= 1u << dim;
+    for (const auto &[id, law] : contact.parameters.deformable)
+      holds[id] |= 1u << dim;
+
+    // Parts are the vertex-connected components of the mesh: separated
+    // interfaces have their own vertices on each side.
+    std::vector<unsigned int> root(tria->n_vertices());
+    std::iota(root.begin(), root.end(), 0u);
+    const auto find = [&root](unsigned int v) {
+      while (root[v] != v)
+        v = root[v] = root[root[v]];
+      return v;
+    };
+    for (const auto &cell : tria->active_cell_iterators())
+      for (const unsigned int v : cell->vertex_indices())
+        root[find(cell->vertex_index(v))] = find(cell->vertex_index(0));
+    std::vector<unsigned int> part_holds(tria->n_vertices(), 0);
+    for (const auto &cell : tria->active_cell_iterators())
+      for (const auto &face : cell->face_iterators())
+        if (face->at_boundary())
+          if (const auto h = holds.find(face->boundary_id()); h != holds.end())
+            part_holds[find(face->vertex_index(0))] |= h->second;
+    const unsigned int all_components = (1u << dim) - 1;
+    const auto         held           = [&](const unsigned int part) {
+      return (part_holds[part] & (1u << dim)) != 0 ||
+             (part_holds[part] & all_components) == all_components;
+    };
+
+    // The first part not held, in cell order (deterministic).
+    std::optional<unsigned int>  part;
+    std::set<types::material_id> materials;
+    unsigned int                 n_cells = 0;
+    BoundingBox<dim>             box;
+    for (const auto &cell : tria->active_cell_iterators())
+      {
+        const unsigned int r = find(cell->vertex_index(0));
+        if (held(r) || (part && *part != r))
+          continue;
+        part = r;
+        materials.insert(cell->material_id());
+        if (n_cells++ == 0)
+          box = cell->bounding_box();
+        else
+          box.merge_with(cell->bounding_box());
+      }
+    if (!part)
+      return;
+    std::string ids, free;
+    for (const auto m : materials)
+      ids += (ids.empty() ? "" : ", ") + std::to_string(m);
+    for (unsigned int c = 0; c < dim; ++c)
+      if ((part_holds[*part] & (1u << c)) == 0)
+        free += (free.empty() ? "" : ", ") + std::string(1, "xyz"[c]);
+    const auto point = [](const Point<dim> &x) {
+      std::string s = "(";
+      for (unsigned int d = 0; d < dim; ++d)
+        s += (d > 0 ? ", " : "") + fmt(x[d], 4);
+      return s + ")";
+    };
+    AssertThrow(false,
+                ExcMessage(
+                  "Boundary conditions: the part of material " +
+                  std::string(materials.size() > 1 ? "ids " : "id ") + ids +
+                  " between " + point(box.get_boundary_points().first) +
+                  " and " + point(box.get_boundary_points().second) + " (" +
+                  std::to_string(n_cells) + " cells) has " +
+                  (part_holds[*part] == 0 ?
+                     std::string("no Dirichlet boundary (Boundary "
+                                 "conditions/Dirichlet) and no contact "
+                                 "boundary (Contact): nothing holds it") :
+                     "no contact boundary and no Dirichlet condition on " +
+                       free + ": nothing holds it in " + free) +
+                  ", so the static problem is singular."));
   }
 
 
@@ -997,6 +1094,14 @@ namespace forma
       std::max(p.newton_absolute_tolerance,
                p.newton_relative_tolerance * force_scale);
 
+    // Without an equilibrium Newton fails one of two ways; with contact
+    // the likely cause is the model, not the step.
+    const std::string contact_hint =
+      contact.active() ? " With contact: check that the contacts and supports "
+                         "can hold the load (friction mu above the "
+                         "tangential-to-normal load ratio, no part held by "
+                         "contact alone pulled away)." :
+                         "";
     unsigned int linear_its = 0;
     Vector_t     du(owned, comm), trial(owned, comm);
     // IPC: a full Newton step shorter than this is convergence (the
@@ -1104,13 +1209,7 @@ namespace forma
                                ") without inverting an "
                                "element; use more load steps or a smaller time "
                                "step." +
-                               (contact.active() ?
-                                  " With contact: check that the contacts "
-                                  "and supports can hold the load (friction "
-                                  "mu above the tangential-to-normal load "
-                                  "ratio, no part held by contact alone "
-                                  "pulled away)." :
-                                  "")));
+                               contact_hint));
         if (ipc_contact && ipc_contact->update_stiffness())
           {
             // A stiffer barrier: the state's residual and merit change.
@@ -1142,7 +1241,8 @@ namespace forma
                   " iterations: residual norm " + fmt(norm, 3) +
                   ", tolerance " + fmt(tolerance, 3) +
                   ". Use more load steps, a smaller time step or raise "
-                  "'Max Newton iterations'."));
+                  "'Max Newton iterations'." +
+                  contact_hint));
     return {p.max_newton_iterations, linear_its};
   }
 

@@ -161,6 +161,10 @@ namespace forma
     /// those of the IPC contact candidates.
     void
     build_jacobian_pattern();
+    /// Static problems: throw if a part of the mesh has neither Dirichlet
+    /// nor contact boundaries (nothing removes its rigid-body motions).
+    void
+    check_parts_are_held() const;
     void
     make_constraints(const double time);
     void

@@ -107,4 +107,18 @@ main()
                  contact(" set Rigid-deformable = 2 : alpha=1e-3\n") +
                    "subsection Time\n set Problem = transient\nend\n",
                  good);
+  // Singular problems: the top part cut off with no contact on its side,
+  // one part held in x only, and the top part pulled off its contact.
+  expect_failure("part_without_support",
+                 separated("1-2 : 10",
+                           " set Rigid-deformable = 2 : alpha=1e-3\n"),
+                 good);
+  expect_failure("part_held_in_x_only", contact(""), good);
+  expect_failure("part_pulled_off_its_contact",
+                 separated("1-2 : 10",
+                           " set Rigid-deformable = 2 : alpha=1e-3\n"
+                           " set Deformable-deformable = 10 : alpha=1e-3\n") +
+                   "subsection Boundary conditions\n"
+                   " set Traction = 3 : 0, 0.01\nend\n",
+                 good);
 }
