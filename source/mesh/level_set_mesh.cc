@@ -5,6 +5,7 @@
 #include <deal.II/grid/tria.h>
 
 #include <forma/base/application.h>
+#include <forma/base/records.h>
 #include <forma/mesh/level_set_mesh.h>
 #include <forma/mesh/mesh.h>
 
@@ -15,6 +16,7 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <tuple>
 
@@ -78,9 +80,11 @@ namespace forma
     }
 
     /// Whether loop k crosses itself or any other loop (non-adjacent
-    /// segments only), by a bounding-box sweep over all segments.
+    /// segments only), by a bounding-box sweep over all segments; `where`
+    /// gets a point of a crossing of each crossed loop.
     std::vector<bool>
-    crossing_loops(const std::vector<std::vector<Point<2>>> &loops)
+    crossing_loops(const std::vector<std::vector<Point<2>>> &loops,
+                   std::vector<Point<2>>                    *where = nullptr)
     {
       struct Segment
       {
@@ -102,6 +106,8 @@ namespace forma
                   return s.x_lo < t.x_lo;
                 });
       std::vector<bool> crossed(loops.size(), false);
+      if (where)
+        where->assign(loops.size(), Point<2>());
       for (unsigned int i = 0; i < segments.size(); ++i)
         for (unsigned int j = i + 1;
              j < segments.size() && segments[j].x_lo <= segments[i].x_hi;
@@ -118,7 +124,11 @@ namespace forma
                                L[(s.index + 1) % n],
                                M[t.index],
                                M[(t.index + 1) % M.size()]))
-              crossed[s.loop] = crossed[t.loop] = true;
+              {
+                crossed[s.loop] = crossed[t.loop] = true;
+                if (where)
+                  (*where)[s.loop] = (*where)[t.loop] = M[t.index];
+              }
           }
       return crossed;
     }
@@ -582,8 +592,9 @@ namespace forma
     // sides; without, the material must stay inside the box and every
     // loop with positive area is a piece of it.
     void
-    mesh_level_set(const std::function<double(const Point<2> &)> &phi,
+    mesh_level_set(const std::function<double(const Point<2> &)> &phi_in,
                    const Point<2>                                &box,
+                   const Tensor<1, 2>                            &origin,
                    const bool                                     periodic,
                    const LevelSetMeshParameters                  &parameters,
                    Triangulation<2>                              &tria,
@@ -606,114 +617,186 @@ namespace forma
                              std::to_string(parameters.boundary_size) +
                              ", element size " +
                              std::to_string(parameters.size) + ")"));
-      LevelSetMeshInfo  local_info;
-      const std::string msh =
-        internal::gmsh_on_root(comm, "forma-level-set-mesh", context, [&]() {
-          Tracer       tracer(phi, box, parameters.grid);
-          const double spacing = std::max(box[0], box[1]) / parameters.grid;
-          std::vector<std::vector<Point<2>>> outer, holes;
-          for (const auto &loop : tracer.loops())
+      LevelSetMeshInfo local_info;
+      // The level set with the material thickened around `thickened` (box
+      // coordinates; the nearest periodic copy).
+      std::vector<Point<2>> thickened;
+      const double          depth  = parameters.boundary_size;
+      const double          radius = 4 * parameters.boundary_size;
+
+      // A std::function: the tracer keeps a reference to it.
+      const std::function<double(const Point<2> &)> phi =
+        [&](const Point<2> &x) {
+          double value = phi_in(x);
+          for (const Point<2> &c : thickened)
             {
-              const bool touches =
-                std::any_of(loop.begin(), loop.end(), [](const LoopVertex &v) {
-                  return v.fixed;
-                });
-              std::vector<Point<2>> polygon =
-                resample(loop, phi, box, parameters.boundary_size, spacing);
-              const double a = signed_area(polygon);
-              AssertThrow(periodic || !touches,
-                          ExcMessage(context + ": the material reaches the "
-                                               "sides of its box"));
-              if (touches || (!periodic && a > 0))
-                outer.push_back(std::move(polygon));
-              else if (a > 0)
-                ++local_info.dropped_islands;
-              else if (-a < std::pow(parameters.boundary_size, 2))
-                ++local_info.dropped_holes;
-              else
-                holes.push_back(std::move(polygon));
+              Tensor<1, 2> d = x - c;
+              if (periodic)
+                for (unsigned int i = 0; i < 2; ++i)
+                  d[i] -= box[i] * std::round(d[i] / box[i]);
+              const double t = d.norm_square() / (radius * radius);
+              if (t < 1)
+                value -= depth * (1 - t) * (1 - t);
             }
-          AssertThrow(!outer.empty(),
-                      ExcMessage(context +
-                                 (periodic ?
-                                    ": the material does not reach the sides "
-                                    "of the cell, so it cannot form a "
-                                    "periodic structure" :
-                                    ": there is no material to mesh")));
-          // Resampled contours of features near the boundary element size
-          // may touch: a small hole that does is filled, anything else is
-          // an error that names the cause.
+          return value;
+        };
+      const auto at = [&](const Point<2> &x) {
+        return "(" + sig(x[0] + origin[0], 4) + ", " +
+               sig(x[1] + origin[1], 4) + ")";
+      };
+      // One tracing and meshing; where a contour crosses another and a
+      // thickening is left it returns nothing and sets `retry`.
+      std::optional<Point<2>> retry;
+
+      const auto attempt = [&]() {
+        local_info             = LevelSetMeshInfo();
+        local_info.thickenings = thickened.size();
+        const bool may_thicken = thickened.size() < parameters.max_thickenings;
+        Tracer     tracer(phi, box, parameters.grid);
+        const double spacing = std::max(box[0], box[1]) / parameters.grid;
+        std::vector<std::vector<Point<2>>> outer, holes;
+        for (const auto &loop : tracer.loops())
           {
-            std::vector<std::vector<Point<2>>> all = outer;
-            all.insert(all.end(), holes.begin(), holes.end());
-            const auto crossed       = crossing_loops(all);
-            const auto outer_crossed = crossing_loops(outer);
-            for (unsigned int k = 0; k < outer.size(); ++k)
-              AssertThrow(!outer_crossed[k],
-                          ExcMessage(context +
-                                     ": the resampled material boundary "
-                                     "crosses itself: a gap or a joint is "
-                                     "thinner than the boundary element "
-                                     "size " +
-                                     std::to_string(parameters.boundary_size)));
+            const bool touches =
+              std::any_of(loop.begin(), loop.end(), [](const LoopVertex &v) {
+                return v.fixed;
+              });
+            std::vector<Point<2>> polygon =
+              resample(loop, phi, box, parameters.boundary_size, spacing);
+            const double a = signed_area(polygon);
+            AssertThrow(periodic || !touches,
+                        ExcMessage(context + ": the material reaches the "
+                                             "sides of its box"));
+            if (touches || (!periodic && a > 0))
+              outer.push_back(std::move(polygon));
+            else if (a > 0)
+              ++local_info.dropped_islands;
+            else if (-a < std::pow(parameters.boundary_size, 2))
+              ++local_info.dropped_holes;
+            else
+              holes.push_back(std::move(polygon));
+          }
+        AssertThrow(!outer.empty(),
+                    ExcMessage(context +
+                               (periodic ?
+                                  ": the material does not reach the sides "
+                                  "of the cell, so it cannot form a "
+                                  "periodic structure" :
+                                  ": there is no material to mesh")));
+        // Resampled contours of features near the boundary element size
+        // may touch: a small hole that does is filled, anything else is
+        // thickened if allowed, or an error that names the cause.
+        {
+          std::vector<std::vector<Point<2>>> all = outer;
+          all.insert(all.end(), holes.begin(), holes.end());
+          std::vector<Point<2>> where;
+          const auto            crossed       = crossing_loops(all, &where);
+          const auto            outer_crossed = crossing_loops(outer);
+          // A piece crossed, or a hole crossed that is too large to fill.
+          for (unsigned int k = 0; k < all.size(); ++k)
+            if (may_thicken && crossed[k] &&
+                (k < outer.size() ||
+                 -signed_area(all[k]) >=
+                   16 * std::pow(parameters.boundary_size, 2)))
+              {
+                retry = where[k];
+                return std::string();
+              }
+          for (unsigned int k = 0; k < outer.size(); ++k)
+            AssertThrow(!outer_crossed[k],
+                        ExcMessage(context +
+                                   ": the resampled material boundary "
+                                   "crosses itself near " +
+                                   at(where[k]) +
+                                   ": a gap or a joint is thinner than the "
+                                   "boundary element size " +
+                                   sig(parameters.boundary_size, 3)));
+          std::vector<std::vector<Point<2>>> kept;
+          for (unsigned int k = 0; k < holes.size(); ++k)
+            if (!crossed[outer.size() + k])
+              kept.push_back(std::move(holes[k]));
+            else
+              {
+                AssertThrow(-signed_area(holes[k]) <
+                              16 * std::pow(parameters.boundary_size, 2),
+                            ExcMessage(
+                              context +
+                              ": a hole's resampled boundary crosses the "
+                              "material's boundary near " +
+                              at(where[outer.size() + k]) +
+                              ": a wall is thinner than the boundary "
+                              "element size " +
+                              sig(parameters.boundary_size, 3)));
+                ++local_info.dropped_holes;
+              }
+          holes = std::move(kept);
+        }
+        std::vector<int> owner(holes.size(), -1);
+        for (unsigned int k = 0; k < holes.size(); ++k)
+          {
+            for (unsigned int o = 0; o < outer.size(); ++o)
+              if (inside(outer[o], holes[k][0]))
+                owner[k] = o;
+            AssertThrow(owner[k] >= 0,
+                        ExcMessage(context +
+                                   ": a hole of the material lies in no "
+                                   "piece of it (inconsistent contours)"));
+          }
+        if (parameters.largest_piece_only && outer.size() > 1)
+          {
+            unsigned int largest = 0;
+            for (unsigned int o = 1; o < outer.size(); ++o)
+              if (std::abs(signed_area(outer[o])) >
+                  std::abs(signed_area(outer[largest])))
+                largest = o;
             std::vector<std::vector<Point<2>>> kept;
             for (unsigned int k = 0; k < holes.size(); ++k)
-              if (!crossed[outer.size() + k])
+              if (owner[k] == static_cast<int>(largest))
                 kept.push_back(std::move(holes[k]));
-              else
-                {
-                  AssertThrow(-signed_area(holes[k]) <
-                                16 * std::pow(parameters.boundary_size, 2),
-                              ExcMessage(
-                                context +
-                                ": a hole's resampled boundary "
-                                "crosses the material's boundary: "
-                                "a wall is thinner than the "
-                                "boundary element size " +
-                                std::to_string(parameters.boundary_size)));
-                  ++local_info.dropped_holes;
-                }
+            local_info.dropped_islands += outer.size() - 1;
+            outer = {std::move(outer[largest])};
             holes = std::move(kept);
+            owner.assign(holes.size(), 0);
           }
-          std::vector<int> owner(holes.size(), -1);
-          for (unsigned int k = 0; k < holes.size(); ++k)
+        local_info.boundary_loops = outer.size() + holes.size();
+        // Frontal-Delaunay, and plain Delaunay if that cannot recover a
+        // boundary edge (it happens at near-touching contours), each on
+        // a fresh model.
+        for (const int algorithm : {6, 5})
+          try
             {
-              for (unsigned int o = 0; o < outer.size(); ++o)
-                if (inside(outer[o], holes[k][0]))
-                  owner[k] = o;
-              AssertThrow(owner[k] >= 0,
-                          ExcMessage(context +
-                                     ": a hole of the material lies in no "
-                                     "piece of it (inconsistent contours)"));
+              if (algorithm != 6)
+                {
+                  gmsh::clear();
+                  gmsh::model::add("forma-level-set-mesh");
+                }
+              return generate(outer, holes, owner, parameters, algorithm);
             }
-          local_info.boundary_loops = outer.size() + holes.size();
-          // Frontal-Delaunay, and plain Delaunay if that cannot recover a
-          // boundary edge (it happens at near-touching contours), each on
-          // a fresh model.
-          for (const int algorithm : {6, 5})
-            try
-              {
-                if (algorithm != 6)
-                  {
-                    gmsh::clear();
-                    gmsh::model::add("forma-level-set-mesh");
-                  }
-                return generate(outer, holes, owner, parameters, algorithm);
-              }
-            catch (const std::string &) // what the Gmsh API throws
-              {
-                if (algorithm == 5)
-                  throw;
-              }
-            catch (const std::exception &e)
-              {
-                AssertThrow(algorithm != 5,
-                            ExcMessage(
-                              error_message(e) +
-                              " (is a gap or a joint of the structure "
-                              "thinner than the boundary element size?)"));
-              }
-          return std::string();
+          catch (const std::string &) // what the Gmsh API throws
+            {
+              if (algorithm == 5)
+                throw;
+            }
+          catch (const std::exception &e)
+            {
+              AssertThrow(algorithm != 5,
+                          ExcMessage(
+                            error_message(e) +
+                            " (is a gap or a joint of the structure "
+                            "thinner than the boundary element size?)"));
+            }
+        return std::string();
+      };
+      const std::string msh =
+        internal::gmsh_on_root(comm, "forma-level-set-mesh", context, [&]() {
+          for (;;)
+            {
+              retry.reset();
+              std::string result = attempt();
+              if (!retry)
+                return result;
+              thickened.push_back(*retry); // before any Gmsh model
+            }
         });
       Triangulation<2>   read;
       std::istringstream in(msh);
@@ -747,7 +830,8 @@ namespace forma
                           LevelSetMeshInfo             *info,
                           const std::string            &context)
   {
-    mesh_level_set(phi, box, true, parameters, tria, comm, info, context);
+    mesh_level_set(
+      phi, box, Tensor<1, 2>(), true, parameters, tria, comm, info, context);
   }
 
 
@@ -765,6 +849,7 @@ namespace forma
     const Tensor<1, 2> shift = lower;
     mesh_level_set([&](const Point<2> &x) { return phi(x + shift); },
                    Point<2>(upper - lower),
+                   shift,
                    false,
                    parameters,
                    tria,

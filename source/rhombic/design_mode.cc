@@ -677,8 +677,13 @@ namespace forma
             const std::string                             &name,
             LoadCases<2>                                  &homogenized) {
           LevelSetMeshParameters fine;
-          fine.size              = fine_size * h_tile;
-          fine.boundary_size     = fine_boundary_size * h_tile;
+          fine.size          = fine_size * h_tile;
+          fine.boundary_size = fine_boundary_size * h_tile;
+          // Where neighbouring structures meet in a sliver thinner than
+          // the boundary elements, thicken it there rather than fail.
+          fine.max_thickenings = 20;
+          // Slivers cut off where structures meet would float.
+          fine.largest_piece_only = true;
           const Tensor<1, 2> pad = Tensor<1, 2>({0.25 * h_tile, 0.25 * h_tile});
           const Point<2>     lower = object_lo - pad, upper = object_hi + pad;
           fine.grid = std::min<unsigned int>(
@@ -748,7 +753,15 @@ namespace forma
           lap("fine mesh, " + name);
           context.summary["fine_scale"][name] = {
             {"triangles", fine_tria.n_active_cells()},
-            {"dropped_islands", info.dropped_islands}};
+            {"dropped_islands", info.dropped_islands},
+            {"thickened_slivers", info.thickenings}};
+          if (info.thickenings + info.dropped_islands > 0)
+            context.print("fine scale, " + name + ": thickened " +
+                          std::to_string(info.thickenings) +
+                          " sliver(s) thinner than the boundary elements, "
+                          "dropped " +
+                          std::to_string(info.dropped_islands) +
+                          " loose piece(s)");
           if (!fine_simulation)
             {
               context.log("fine scale, " + name + ": " +
@@ -836,6 +849,7 @@ namespace forma
             {"triangles", fine_tria.n_active_cells()},
             {"dofs", fine_simulator.n_dofs()},
             {"dropped_islands", info.dropped_islands},
+            {"thickened_slivers", info.thickenings},
             {"compared_boundary", compared_boundary},
             {"compared_points", compared_points.size()},
             {"max_homogenized_displacement", largest},

@@ -371,6 +371,10 @@ namespace forma
     std::array<double, 2>
     MaterialMap::covered_angles() const
     {
+      // Where D(alpha) exists; a map without polygons falls back to the
+      // angles with covered nodes.
+      if (polygon_angles[0] <= polygon_angles[1])
+        return polygon_angles;
       std::array<double, 2> range = {{1e300, -1e300}};
       for (unsigned int a = 0; a < angles.size(); ++a)
         if (std::count(covered[a].begin(), covered[a].end(), true) >= 3)

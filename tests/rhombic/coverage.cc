@@ -4,8 +4,9 @@
 // points beyond the grid lie outside, its coefficients are monotone
 // splines in the angle (no overshoot between construction angles), a
 // sample on another branch of solutions is found and dropped, and the
-// base's Poisson's ratio shears it (eq. 4.11); the soft coverage constraint of
-// two-scale design passes its Taylor test.
+// base's Poisson's ratio shears it (eq. 4.11); the angles two-scale design
+// clamps to are those of D; the soft coverage constraint of two-scale
+// design passes its Taylor test.
 
 #include <forma/rhombic/material_map.h>
 
@@ -135,6 +136,15 @@ main()
     deallog << "full-size map, " << n << " angles between construction "
             << "angles: " << outside
             << " coefficients outside their neighbours' range" << std::endl;
+    // Two-scale design clamps the quads' angles to covered_angles(): D is
+    // not empty there, and empty just below (47.5 degrees has covered
+    // nodes but too few for a polygon).
+    const auto range = full.covered_angles();
+    deallog << "full-size map: covered angles " << range[0] << "-" << range[1]
+            << ", D at " << range[0] << ": "
+            << full.coverage(range[0], 0).size() << " half-planes, at "
+            << range[0] - 0.5 << ": " << full.coverage(range[0] - 0.5, 0).size()
+            << std::endl;
   }
 
   // Samples on another branch of solutions (thesis ch. 4.6.3's continuation

@@ -9,6 +9,10 @@
 //    accepts it).
 //  - A floating island inside the hole is dropped; material that misses
 //    the sides is refused with a clear message.
+//  - Not periodic: a hole 5e-4 from the edge of a disk, resampled with
+//    elements of 0.05, makes crossing contours: an error that says where,
+//    or with max_thickenings a mesh thickened next to the wall only;
+//    largest_piece_only keeps the larger of two distant disks.
 
 #include <deal.II/grid/tria.h>
 
@@ -17,6 +21,8 @@
 #include <forma/mesh/level_set_mesh.h>
 
 #include "../tests.h"
+
+#include <cstdio>
 
 using namespace dealii;
 using namespace forma;
@@ -134,4 +140,87 @@ main(int argc, char **argv)
                     what)
               << std::endl;
     }
+
+  // A disk of radius 0.4 with a hole of radius 0.2 whose edge comes to
+  // w = 5e-4 of the disk's (a grid fine enough to see the wall, boundary
+  // elements too long for it: the chords cross).
+  {
+    const double   R = 0.4, r = 0.2, w = 5e-4;
+    const Point<2> c(0.5, 0.5), hole_center = c + Tensor<1, 2>({R - r - w, 0});
+    const auto     disk_with_hole = [&](const Point<2> &x) {
+      return std::max(x.distance(c) - R, r - x.distance(hole_center));
+    };
+    LevelSetMeshParameters parameters;
+    parameters.grid          = 4096;
+    parameters.size          = 0.05;
+    parameters.boundary_size = 0.05;
+    try
+      {
+        Triangulation<2> tria;
+        level_set_mesh(disk_with_hole,
+                       Point<2>(0, 0),
+                       Point<2>(1, 1),
+                       parameters,
+                       tria,
+                       MPI_COMM_WORLD);
+        deallog << "thin wall: meshed without thickening: WRONG" << std::endl;
+      }
+    catch (const std::exception &e)
+      {
+        // The message as one line (deal.II wraps it).
+        std::string what;
+        for (const char ch : std::string(e.what()))
+          if (ch != '\n' && !(ch == ' ' && !what.empty() && what.back() == ' '))
+            what += ch;
+        const auto at = what.find("crosses the material's boundary near (");
+        double     x = 0, y = 0;
+        if (at != std::string::npos)
+          std::sscanf(what.c_str() + what.find('(', at), "(%lf, %lf)", &x, &y);
+        deallog << "thin wall: "
+                << (std::abs(x - 0.9) < 0.03 && std::abs(y - 0.5) < 0.03 ?
+                      "error near the wall (0.9, 0.5)" :
+                      what)
+                << std::endl;
+      }
+    parameters.max_thickenings = 5;
+    Triangulation<2> tria;
+    LevelSetMeshInfo info;
+    level_set_mesh(disk_with_hole,
+                   Point<2>(0, 0),
+                   Point<2>(1, 1),
+                   parameters,
+                   tria,
+                   MPI_COMM_WORLD,
+                   &info);
+    // Each thickening adds material only within 4 b of its crossing.
+    const double b     = parameters.boundary_size,
+                 added = info.area - M_PI * (R * R - r * r);
+    deallog << "thin wall, thickened " << info.thickenings
+            << " time(s): " << info.boundary_loops
+            << " boundary loops, area added "
+            << (added > 0 && added < info.thickenings * M_PI * 16 * b * b ?
+                  "within the thickened disks" :
+                  "WRONG")
+            << std::endl;
+  }
+  {
+    LevelSetMeshParameters parameters;
+    parameters.largest_piece_only = true;
+    Triangulation<2> tria;
+    LevelSetMeshInfo info;
+    level_set_mesh(
+      [](const Point<2> &x) {
+        return std::min(x.distance(Point<2>(0.3, 0.5)) - 0.2,
+                        x.distance(Point<2>(0.8, 0.5)) - 0.1);
+      },
+      Point<2>(0, 0),
+      Point<2>(1, 1),
+      parameters,
+      tria,
+      MPI_COMM_WORLD,
+      &info);
+    deallog << "largest piece only: dropped " << info.dropped_islands
+            << ", area = pi 0.2^2 to 2e-3: "
+            << (std::abs(info.area - M_PI * 0.04) < 2e-3) << std::endl;
+  }
 }

@@ -25,6 +25,16 @@ namespace forma
     double size = 0.05;
     /// Element edge along the material boundary.
     double boundary_size = 0.0125;
+    /// Where the resampled boundary crosses itself or a hole (a gap or a
+    /// joint thinner than `boundary_size`), thicken the material there,
+    /// phi -= boundary_size (1 - r^2 / R^2)^2 within R = 4 boundary_size
+    /// of the crossing, and trace again; at most this many times (0: the
+    /// crossing is an error). Changes the geometry by at most
+    /// boundary_size, only next to the crossings.
+    unsigned int max_thickenings = 0;
+    /// Mesh only the largest piece of material: the others are loose in
+    /// an object (dropped and counted as islands).
+    bool largest_piece_only = false;
   };
 
   struct LevelSetMeshInfo
@@ -33,6 +43,7 @@ namespace forma
     unsigned int boundary_loops  = 0;
     unsigned int dropped_islands = 0; ///< floating material pieces removed
     unsigned int dropped_holes   = 0; ///< holes smaller than an element
+    unsigned int thickenings     = 0; ///< see max_thickenings
   };
 
   /**

@@ -156,8 +156,9 @@ namespace forma
       std::vector<HalfPlane>
       coverage(const double alpha_degrees, const double base_nu) const;
 
-      /// The smallest and largest angle (degrees) with a covered region;
-      /// throws if the map covers none.
+      /// The smallest and largest angle (degrees) with a covered region
+      /// D(alpha) (coverage() is empty outside); throws if the map covers
+      /// none.
       std::array<double, 2>
       covered_angles() const;
 
