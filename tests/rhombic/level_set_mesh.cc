@@ -43,6 +43,23 @@ namespace
     };
   }
 
+  // level_set_mesh of phi on the unit box (not periodic).
+  LevelSetMeshInfo
+  mesh_unit_box(const std::function<double(const Point<2> &)> &phi,
+                const LevelSetMeshParameters                  &parameters)
+  {
+    Triangulation<2> tria;
+    LevelSetMeshInfo info;
+    level_set_mesh(phi,
+                   Point<2>(0, 0),
+                   Point<2>(1, 1),
+                   parameters,
+                   tria,
+                   MPI_COMM_WORLD,
+                   &info);
+    return info;
+  }
+
   SymmetricTensor<4, 2>
   homogenize(const std::function<double(const Point<2> &)> &phi,
              const LevelSetMeshParameters                  &parameters,
@@ -156,13 +173,7 @@ main(int argc, char **argv)
     parameters.boundary_size = 0.05;
     try
       {
-        Triangulation<2> tria;
-        level_set_mesh(disk_with_hole,
-                       Point<2>(0, 0),
-                       Point<2>(1, 1),
-                       parameters,
-                       tria,
-                       MPI_COMM_WORLD);
+        mesh_unit_box(disk_with_hole, parameters);
         deallog << "thin wall: meshed without thickening: WRONG" << std::endl;
       }
     catch (const std::exception &e)
@@ -182,16 +193,8 @@ main(int argc, char **argv)
                       what)
                 << std::endl;
       }
-    parameters.max_thickenings = 5;
-    Triangulation<2> tria;
-    LevelSetMeshInfo info;
-    level_set_mesh(disk_with_hole,
-                   Point<2>(0, 0),
-                   Point<2>(1, 1),
-                   parameters,
-                   tria,
-                   MPI_COMM_WORLD,
-                   &info);
+    parameters.max_thickenings  = 5;
+    const LevelSetMeshInfo info = mesh_unit_box(disk_with_hole, parameters);
     // Each thickening adds material only within 4 b of its crossing.
     const double b     = parameters.boundary_size,
                  added = info.area - M_PI * (R * R - r * r);
@@ -206,19 +209,12 @@ main(int argc, char **argv)
   {
     LevelSetMeshParameters parameters;
     parameters.largest_piece_only = true;
-    Triangulation<2> tria;
-    LevelSetMeshInfo info;
-    level_set_mesh(
+    const LevelSetMeshInfo info   = mesh_unit_box(
       [](const Point<2> &x) {
         return std::min(x.distance(Point<2>(0.3, 0.5)) - 0.2,
                         x.distance(Point<2>(0.8, 0.5)) - 0.1);
       },
-      Point<2>(0, 0),
-      Point<2>(1, 1),
-      parameters,
-      tria,
-      MPI_COMM_WORLD,
-      &info);
+      parameters);
     deallog << "largest piece only: dropped " << info.dropped_islands
             << ", area = pi 0.2^2 to 2e-3: "
             << (std::abs(info.area - M_PI * 0.04) < 2e-3) << std::endl;
