@@ -577,8 +577,7 @@ namespace forma
       }
     make_constraints(time);
     contact.setup(dof_handler, mapping, face_quadrature);
-    if (p.problem == "static" && !ipc_contact)
-      check_parts_are_held();
+    check_parts_are_held(*tria);
     build_jacobian_pattern();
 
     u.reinit(owned, comm);
@@ -595,54 +594,84 @@ namespace forma
 
   template <int dim>
   void
-  ElasticitySimulator<dim>::Impl::check_parts_are_held() const
+  ElasticitySimulator<dim>::Impl::check_parts_are_held(
+    const Triangulation<dim> &mesh) const
   {
-    // Every rank needs all cells to see whole parts: the shared
-    // triangulations of penalty contact and serial runs have them.
-    if (tria->n_active_cells() != tria->n_global_active_cells())
+    // Inertia and IPC barriers hold parts by other means.
+    if (p.problem != "static" || ipc_contact)
       return;
-    // What each boundary id holds: bit d a Dirichlet condition on
-    // component d, bit dim contact (which may hold in any direction).
+    // Every rank needs all cells to see whole parts: serial meshes and the
+    // shared triangulations of penalty contact have them.
+    if (mesh.n_active_cells() != mesh.n_global_active_cells())
+      return;
+    // What each boundary id does: bit d a Dirichlet condition on component
+    // d, bit dim rigid contact (which may hold in any direction), bit
+    // dim + 1 deformable contact (which joins parts).
+    const unsigned int rigid = 1u << dim, deformable = 2u << dim;
     std::map<types::boundary_id, unsigned int> holds;
     for (const auto &d : dirichlet)
       for (unsigned int c = 0; c < dim; ++c)
         if (d.mask[c])
           holds[d.id] |= 1u << c;
     for (const auto &[id, law] : contact.parameters.rigid)
-      holds[id] |= 1u << dim;
+      holds[id] |= rigid;
     for (const auto &[id, law] : contact.parameters.deformable)
-      holds[id] |= 1u << dim;
+      holds[id] |= deformable;
 
-    // Parts are the vertex-connected components of the mesh: separated
-    // interfaces have their own vertices on each side.
-    std::vector<unsigned int> root(tria->n_vertices());
+    // Parts are the vertex-connected components of the mesh (separated
+    // interfaces have their own vertices on each side). Parts in
+    // deformable contact (coincident faces) may hold each other: they are
+    // joined, and the group needs a support.
+    std::vector<unsigned int> root(mesh.n_vertices());
     std::iota(root.begin(), root.end(), 0u);
     const auto find = [&root](unsigned int v) {
       while (root[v] != v)
         v = root[v] = root[root[v]];
       return v;
     };
-    for (const auto &cell : tria->active_cell_iterators())
-      for (const unsigned int v : cell->vertex_indices())
-        root[find(cell->vertex_index(v))] = find(cell->vertex_index(0));
-    std::vector<unsigned int> part_holds(tria->n_vertices(), 0);
-    for (const auto &cell : tria->active_cell_iterators())
+    const auto unite = [&](const unsigned int v, const unsigned int w) {
+      root[find(v)] = find(w);
+    };
+    const BoundingBox<dim> all(mesh.get_vertices());
+    double                 tol = 0;
+    for (unsigned int d = 0; d < dim; ++d)
+      tol = std::max(tol, 1e-8 * all.side_length(d));
+    std::map<std::array<long long, dim>, unsigned int> contact_faces;
+    for (const auto &cell : mesh.active_cell_iterators())
+      {
+        for (const unsigned int v : cell->vertex_indices())
+          unite(cell->vertex_index(v), cell->vertex_index(0));
+        for (const auto &face : cell->face_iterators())
+          if (face->at_boundary() && holds.count(face->boundary_id()) > 0 &&
+              (holds.at(face->boundary_id()) & deformable) != 0)
+            {
+              std::array<long long, dim> key;
+              for (unsigned int d = 0; d < dim; ++d)
+                key[d] = std::llround(face->center()[d] / tol);
+              const auto [other, first] =
+                contact_faces.emplace(key, face->vertex_index(0));
+              if (!first)
+                unite(other->second, face->vertex_index(0));
+            }
+      }
+    std::vector<unsigned int> part_holds(mesh.n_vertices(), 0);
+    for (const auto &cell : mesh.active_cell_iterators())
       for (const auto &face : cell->face_iterators())
         if (face->at_boundary())
           if (const auto h = holds.find(face->boundary_id()); h != holds.end())
             part_holds[find(face->vertex_index(0))] |= h->second;
     const unsigned int all_components = (1u << dim) - 1;
     const auto         held           = [&](const unsigned int part) {
-      return (part_holds[part] & (1u << dim)) != 0 ||
+      return (part_holds[part] & rigid) != 0 ||
              (part_holds[part] & all_components) == all_components;
     };
 
-    // The first part not held, in cell order (deterministic).
+    // The first part (or group) not held, in cell order (deterministic).
     std::optional<unsigned int>  part;
     std::set<types::material_id> materials;
     unsigned int                 n_cells = 0;
     BoundingBox<dim>             box;
-    for (const auto &cell : tria->active_cell_iterators())
+    for (const auto &cell : mesh.active_cell_iterators())
       {
         const unsigned int r = find(cell->vertex_index(0));
         if (held(r) || (part && *part != r))
@@ -656,11 +685,12 @@ namespace forma
       }
     if (!part)
       return;
-    std::string ids, free;
+    const unsigned int what = part_holds[*part];
+    std::string        ids, free;
     for (const auto m : materials)
       ids += (ids.empty() ? "" : ", ") + std::to_string(m);
     for (unsigned int c = 0; c < dim; ++c)
-      if ((part_holds[*part] & (1u << c)) == 0)
+      if ((what & (1u << c)) == 0)
         free += (free.empty() ? "" : ", ") + std::string(1, "xyz"[c]);
     const auto point = [](const Point<dim> &x) {
       std::string s = "(";
@@ -668,20 +698,24 @@ namespace forma
         s += (d > 0 ? ", " : "") + fmt(x[d], 4);
       return s + ")";
     };
-    AssertThrow(false,
-                ExcMessage(
-                  "Boundary conditions: the part of material " +
-                  std::string(materials.size() > 1 ? "ids " : "id ") + ids +
-                  " between " + point(box.get_boundary_points().first) +
-                  " and " + point(box.get_boundary_points().second) + " (" +
-                  std::to_string(n_cells) + " cells) has " +
-                  (part_holds[*part] == 0 ?
-                     std::string("no Dirichlet boundary (Boundary "
-                                 "conditions/Dirichlet) and no contact "
-                                 "boundary (Contact): nothing holds it") :
-                     "no contact boundary and no Dirichlet condition on " +
-                       free + ": nothing holds it in " + free) +
-                  ", so the static problem is singular."));
+    const bool        group = (what & deformable) != 0;
+    const std::string has = group ? "have" : "has", it = group ? "them" : "it";
+    AssertThrow(
+      false,
+      ExcMessage(
+        "Boundary conditions: the part" +
+        std::string(group ? "s in deformable contact with each other" : "") +
+        " of material " + (materials.size() > 1 ? "ids " : "id ") + ids +
+        " between " + point(box.get_boundary_points().first) + " and " +
+        point(box.get_boundary_points().second) + " (" +
+        std::to_string(n_cells) + " cells) " + has +
+        ((what & all_components) == 0 ?
+           " no Dirichlet boundary (Boundary conditions/Dirichlet) and no "
+           "rigid contact (Contact/Rigid-deformable): nothing holds " +
+             it :
+           " no rigid contact and no Dirichlet condition on " + free +
+             ": nothing holds " + it + " in " + free) +
+        ", so the static problem is singular."));
   }
 
 

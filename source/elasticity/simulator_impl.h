@@ -161,10 +161,12 @@ namespace forma
     /// those of the IPC contact candidates.
     void
     build_jacobian_pattern();
-    /// Static problems: throw if a part of the mesh has neither Dirichlet
-    /// nor contact boundaries (nothing removes its rigid-body motions).
+    /// Static problems without IPC: throw, naming the part, if a part of
+    /// `mesh` (with the parts in deformable contact with it) has neither
+    /// rigid contact nor Dirichlet conditions on every component. A
+    /// necessary condition only: it sees translations, not rotations.
     void
-    check_parts_are_held() const;
+    check_parts_are_held(const Triangulation<dim> &mesh) const;
     void
     make_constraints(const double time);
     void

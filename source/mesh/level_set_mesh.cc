@@ -617,6 +617,10 @@ namespace forma
                              std::to_string(parameters.boundary_size) +
                              ", element size " +
                              std::to_string(parameters.size) + ")"));
+      AssertThrow(!periodic || !parameters.largest_piece_only,
+                  ExcMessage(context + ": a periodic structure may be "
+                                       "several pieces in the cell; "
+                                       "largest_piece_only is for objects"));
       LevelSetMeshInfo local_info;
       // The level set with the material thickened around `thickened` (box
       // coordinates; the nearest periodic copy).
@@ -644,15 +648,14 @@ namespace forma
         return "(" + sig(x[0] + origin[0], 4) + ", " +
                sig(x[1] + origin[1], 4) + ")";
       };
-      // One tracing and meshing; where a contour crosses another and a
-      // thickening is left it returns nothing and sets `retry`.
-      std::optional<Point<2>> retry;
+      // One tracing and meshing; where contours cross and thickenings are
+      // left it returns nothing and puts the crossings in `retry`.
+      std::vector<Point<2>> retry;
 
       const auto attempt = [&]() {
         local_info             = LevelSetMeshInfo();
         local_info.thickenings = thickened.size();
-        const bool may_thicken = thickened.size() < parameters.max_thickenings;
-        Tracer     tracer(phi, box, parameters.grid);
+        Tracer       tracer(phi, box, parameters.grid);
         const double spacing = std::max(box[0], box[1]) / parameters.grid;
         std::vector<std::vector<Point<2>>> outer, holes;
         for (const auto &loop : tracer.loops())
@@ -689,25 +692,27 @@ namespace forma
         {
           std::vector<std::vector<Point<2>>> all = outer;
           all.insert(all.end(), holes.begin(), holes.end());
-          std::vector<Point<2>> where;
-          const auto            crossed       = crossing_loops(all, &where);
-          const auto            outer_crossed = crossing_loops(outer);
-          // A piece crossed, or a hole crossed that is too large to fill.
+          std::vector<Point<2>>   where, where_outer;
+          const std::vector<bool> crossed = crossing_loops(all, &where);
+          const std::vector<bool> outer_crossed =
+            crossing_loops(outer, &where_outer);
+          // A piece crossed by itself or a piece, or a hole crossed that is
+          // too large to fill: all thickened at once.
           for (unsigned int k = 0; k < all.size(); ++k)
-            if (may_thicken && crossed[k] &&
-                (k < outer.size() ||
-                 -signed_area(all[k]) >=
-                   16 * std::pow(parameters.boundary_size, 2)))
-              {
-                retry = where[k];
-                return std::string();
-              }
+            if (thickened.size() + retry.size() < parameters.max_thickenings)
+              if (k < outer.size() ?
+                    outer_crossed[k] :
+                    crossed[k] && -signed_area(all[k]) >=
+                                    16 * std::pow(parameters.boundary_size, 2))
+                retry.push_back(k < outer.size() ? where_outer[k] : where[k]);
+          if (!retry.empty())
+            return std::string();
           for (unsigned int k = 0; k < outer.size(); ++k)
             AssertThrow(!outer_crossed[k],
                         ExcMessage(context +
                                    ": the resampled material boundary "
                                    "crosses itself near " +
-                                   at(where[k]) +
+                                   at(where_outer[k]) +
                                    ": a gap or a joint is thinner than the "
                                    "boundary element size " +
                                    sig(parameters.boundary_size, 3)));
@@ -734,9 +739,15 @@ namespace forma
         std::vector<int> owner(holes.size(), -1);
         for (unsigned int k = 0; k < holes.size(); ++k)
           {
+            // The innermost piece around it (islands sit in holes).
+            double smallest = 1e300;
             for (unsigned int o = 0; o < outer.size(); ++o)
-              if (inside(outer[o], holes[k][0]))
-                owner[k] = o;
+              if (inside(outer[o], holes[k][0]) &&
+                  std::abs(signed_area(outer[o])) < smallest)
+                {
+                  owner[k] = o;
+                  smallest = std::abs(signed_area(outer[o]));
+                }
             AssertThrow(owner[k] >= 0,
                         ExcMessage(context +
                                    ": a hole of the material lies in no "
@@ -791,11 +802,12 @@ namespace forma
         internal::gmsh_on_root(comm, "forma-level-set-mesh", context, [&]() {
           for (;;)
             {
-              retry.reset();
+              retry.clear();
               std::string result = attempt();
-              if (!retry)
+              if (retry.empty())
                 return result;
-              thickened.push_back(*retry); // before any Gmsh model
+              // Before any Gmsh model is made.
+              thickened.insert(thickened.end(), retry.begin(), retry.end());
             }
         });
       Triangulation<2>   read;

@@ -107,13 +107,25 @@ main()
                  contact(" set Rigid-deformable = 2 : alpha=1e-3\n") +
                    "subsection Time\n set Problem = transient\nend\n",
                  good);
-  // Singular problems: the top part cut off with no contact on its side,
-  // one part held in x only, and the top part pulled off its contact.
-  expect_failure("part_without_support",
+  // Singular problems: the top part cut off, held in x only,
+  // one part held in x only, two parts in contact held by nothing else,
+  // a Newton iteration limit and the top part pulled off its contact.
+  expect_failure("cut_part_held_in_x_only",
                  separated("1-2 : 10",
                            " set Rigid-deformable = 2 : alpha=1e-3\n"),
                  good);
   expect_failure("part_held_in_x_only", contact(""), good);
+  expect_failure("parts_holding_only_each_other",
+                 separated("1-2 : 10",
+                           " set Deformable-deformable = 10 : alpha=1e-3\n") +
+                   "subsection Boundary conditions\n set Dirichlet =\nend\n",
+                 good);
+  expect_failure("newton_iteration_limit",
+                 separated("1-2 : 10",
+                           " set Rigid-deformable = 2 : alpha=1e-3\n"
+                           " set Deformable-deformable = 10 : alpha=1e-3\n") +
+                   "subsection Solver\n set Max Newton iterations = 1\nend\n",
+                 good);
   expect_failure("part_pulled_off_its_contact",
                  separated("1-2 : 10",
                            " set Rigid-deformable = 2 : alpha=1e-3\n"

@@ -46,9 +46,9 @@ namespace
   // level_set_mesh of phi on the unit box (not periodic).
   LevelSetMeshInfo
   mesh_unit_box(const std::function<double(const Point<2> &)> &phi,
-                const LevelSetMeshParameters                  &parameters)
+                const LevelSetMeshParameters                  &parameters,
+                Triangulation<2>                              &tria)
   {
-    Triangulation<2> tria;
     LevelSetMeshInfo info;
     level_set_mesh(phi,
                    Point<2>(0, 0),
@@ -173,7 +173,8 @@ main(int argc, char **argv)
     parameters.boundary_size = 0.05;
     try
       {
-        mesh_unit_box(disk_with_hole, parameters);
+        Triangulation<2> tria;
+        mesh_unit_box(disk_with_hole, parameters, tria);
         deallog << "thin wall: meshed without thickening: WRONG" << std::endl;
       }
     catch (const std::exception &e)
@@ -193,28 +194,48 @@ main(int argc, char **argv)
                       what)
                 << std::endl;
       }
-    parameters.max_thickenings  = 5;
-    const LevelSetMeshInfo info = mesh_unit_box(disk_with_hole, parameters);
-    // Each thickening adds material only within 4 b of its crossing.
-    const double b     = parameters.boundary_size,
-                 added = info.area - M_PI * (R * R - r * r);
+    parameters.max_thickenings = 5;
+    Triangulation<2>       tria;
+    const LevelSetMeshInfo info =
+      mesh_unit_box(disk_with_hole, parameters, tria);
+    // Boundary vertices: on the given zero set farther than 5 b from the
+    // wall, moved out (phi > 0) next to it.
+    const Point<2> wall(c[0] + R, c[1]);
+    double         far = 0, near = 0;
+    for (const auto &cell : tria.active_cell_iterators())
+      for (const auto &face : cell->face_iterators())
+        if (face->at_boundary())
+          for (const unsigned int v : face->vertex_indices())
+            {
+              const Point<2> &x = face->vertex(v);
+              if (x.distance(wall) > 5 * parameters.boundary_size)
+                far = std::max(far, std::abs(disk_with_hole(x)));
+              else
+                near = std::max(near, disk_with_hole(x));
+            }
     deallog << "thin wall, thickened " << info.thickenings
             << " time(s): " << info.boundary_loops
-            << " boundary loops, area added "
-            << (added > 0 && added < info.thickenings * M_PI * 16 * b * b ?
-                  "within the thickened disks" :
-                  "WRONG")
+            << " boundary loops; boundary beyond 5 b of the wall on the "
+            << "given zero set: " << (far < 1e-8 ? "yes" : "NO")
+            << ", moved out by up to b next to it: "
+            << (near > 0.1 * parameters.boundary_size &&
+                    near <= 1.01 * parameters.boundary_size * info.thickenings ?
+                  "yes" :
+                  "NO")
             << std::endl;
   }
   {
     LevelSetMeshParameters parameters;
     parameters.largest_piece_only = true;
-    const LevelSetMeshInfo info   = mesh_unit_box(
+    Triangulation<2> tria;
+    // The larger disk on the right: traced second.
+    const LevelSetMeshInfo info = mesh_unit_box(
       [](const Point<2> &x) {
-        return std::min(x.distance(Point<2>(0.3, 0.5)) - 0.2,
-                        x.distance(Point<2>(0.8, 0.5)) - 0.1);
+        return std::min(x.distance(Point<2>(0.2, 0.5)) - 0.1,
+                        x.distance(Point<2>(0.7, 0.5)) - 0.2);
       },
-      parameters);
+      parameters,
+      tria);
     deallog << "largest piece only: dropped " << info.dropped_islands
             << ", area = pi 0.2^2 to 2e-3: "
             << (std::abs(info.area - M_PI * 0.04) < 2e-3) << std::endl;

@@ -28,12 +28,12 @@ namespace forma
     /// Where the resampled boundary crosses itself or a hole (a gap or a
     /// joint thinner than `boundary_size`), thicken the material there,
     /// phi -= boundary_size (1 - r^2 / R^2)^2 within R = 4 boundary_size
-    /// of the crossing, and trace again; at most this many times (0: the
-    /// crossing is an error). Changes the geometry by at most
-    /// boundary_size, only next to the crossings.
+    /// of the crossing, and trace again; at most this many crossings in
+    /// all (0: a crossing is an error). Each moves the boundary by about
+    /// boundary_size (|grad phi| = 1), only within R of its crossing.
     unsigned int max_thickenings = 0;
-    /// Mesh only the largest piece of material: the others are loose in
-    /// an object (dropped and counted as islands).
+    /// Mesh only the largest piece of material (not periodic): the others
+    /// are loose in an object (dropped and counted as islands).
     bool largest_piece_only = false;
   };
 
