@@ -212,7 +212,6 @@ namespace forma
                            std::to_string(X.size()) + " for " +
                            std::to_string(serial.n_vertices()) +
                            " vertices)."));
-    check_parts_are_held(serial); // before anything changes
     material_of_vertex.clear();
     for (unsigned int v = 0; v < X.size(); ++v)
       material_of_vertex.emplace_back(serial.get_vertices()[v], X[v]);
@@ -474,8 +473,8 @@ namespace forma
     // Material coordinates of the new vertices, from the old mesh.
     const auto X = s.material_points(serial.get_vertices());
 
-    // Files first: a resumed run restores this mesh from them; so only
-    // a mesh that replace_mesh() takes.
+    // Files first: a resumed run restores this mesh from them; so only a
+    // mesh that setup_system() will take, checked before anything changes.
     s.check_parts_are_held(serial);
     if (root && !file_stem.empty())
       {
