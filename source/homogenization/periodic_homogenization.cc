@@ -96,6 +96,73 @@ namespace forma
     }
 
     /**
+     * Values by point (and component), found allowing for the round-off of
+     * points computed two ways (a mirror image, a mesh file): the point's
+     * key or a neighbouring one. Sorted once, then searched.
+     */
+    template <int dim, typename T>
+    class PositionIndex
+    {
+    public:
+      using Key = std::array<long long, dim + 1>;
+
+      explicit PositionIndex(const Point<dim> &box)
+        : box(box)
+      {}
+
+      void
+      insert(const Point<dim> &p, const unsigned int c, const T &value)
+      {
+        entries.emplace_back(position_key(p, c, box), value);
+      }
+
+      /// After the insertions; one entry per key is kept.
+      void
+      sort()
+      {
+        const auto by_key = [](const auto &a, const auto &b) {
+          return a.first < b.first;
+        };
+        std::stable_sort(entries.begin(), entries.end(), by_key);
+        entries.erase(std::unique(entries.begin(),
+                                  entries.end(),
+                                  [](const auto &a, const auto &b) {
+                                    return a.first == b.first;
+                                  }),
+                      entries.end());
+      }
+
+      const T *
+      find(const Point<dim> &p, const unsigned int c) const
+      {
+        const Key key = position_key(p, c, box);
+        for (int n = -1; n < Utilities::pow(3, dim); ++n)
+          {
+            Key k = key;
+            if (n >= 0) // the neighbours
+              for (int d = 0, m = n; d < dim; ++d, m /= 3)
+                k[d] += m % 3 - 1;
+            const auto it = std::lower_bound(entries.begin(),
+                                             entries.end(),
+                                             k,
+                                             [](const auto &e, const Key &k) {
+                                               return e.first < k;
+                                             });
+            if (it != entries.end() && it->first == k)
+              return &it->second;
+          }
+        return nullptr;
+      }
+
+      std::vector<std::pair<Key, T>> entries;
+
+    private:
+      Point<dim> box;
+    };
+
+
+
+    /**
      * The periodic face pairs of a regular grid (all cells on level 0) of
      * the box: the side x_d = L_d is the side x_d = 0 moved by L_d e_d, and
      * for d = 0 also by `shift` (wrapped into the box), which makes the
@@ -206,6 +273,15 @@ namespace forma
     compute_kernel(const typename DoFHandler<dim>::active_cell_iterator &cell,
                    Kernel &kernel) const;
 
+    /// Meshes whose cells differ: the cell's K = int B^T V B and loads
+    /// F_c = -int B^T V A_c directly (pair kernels pay off only when the
+    /// cells share them); returns the cell's measure.
+    double
+    cell_system(const typename DoFHandler<dim>::active_cell_iterator &cell,
+                const Tensor<2, nv>                                  &V,
+                FullMatrix<double>                                   &K,
+                std::vector<Vector<double>>                          &F) const;
+
     MPI_Comm                            comm;
     SolverParameters                    solver_parameters;
     std::unique_ptr<Triangulation<dim>> tria;
@@ -228,7 +304,7 @@ namespace forma
     bool                                        congruent_cells = false;
     Kernel                                      shared_kernel;
     mutable std::unique_ptr<FEValues<dim>>      fe_values;
-    mutable std::vector<std::array<double, nv>> strains;
+    mutable std::vector<std::array<double, nv>> strains, stresses;
     double                                      box_volume = 0;
     /// The last homogenize()'s cell tensors (Voigt), locally owned cells.
     std::vector<Tensor<2, nv>> cell_tensors;
@@ -329,11 +405,7 @@ namespace forma
         // faces with opposite line orientations, as simplex meshes have.
         // Tie every dof on an upper side to the dof at its image in the
         // lowest corner of its periodic class instead, by support points.
-        const auto key = [&](const Point<dim> &p, const unsigned int c) {
-          return position_key(p, c, box);
-        };
-        std::map<std::array<long long, dim + 1>, types::global_dof_index>
-          lower_dofs;
+        PositionIndex<dim, types::global_dof_index> lower_dofs(box);
         std::vector<
           std::tuple<Point<dim>, unsigned int, types::global_dof_index>>
                                              upper_dofs;
@@ -364,33 +436,31 @@ namespace forma
                   if (upper)
                     upper_dofs.emplace_back(image, c, local[i]);
                   else if (on_side)
-                    lower_dofs[key(p, c)] = local[i];
+                    lower_dofs.insert(p, c, local[i]);
                 }
             }
+        lower_dofs.sort();
         for (const auto &[image, c, i] : upper_dofs)
           {
-            const auto partner = lower_dofs.find(key(image, c));
-            AssertThrow(partner != lower_dofs.end(),
+            const types::global_dof_index *partner = lower_dofs.find(image, c);
+            AssertThrow(partner != nullptr,
                         ExcMessage("the cell mesh is not periodic: a node on "
                                    "an upper side has no partner on the "
                                    "opposite side"));
             if (constraints.can_store_line(i) && !constraints.is_constrained(i))
               {
                 constraints.add_line(i);
-                constraints.add_entry(i, partner->second, 1.);
+                constraints.add_entry(i, *partner, 1.);
               }
           }
       }
 
     // Odd fluctuations about the inversion center: w_j = -w_i for the dofs
     // at points p and its image 2c - p (wrapped into the lattice's
-    // fundamental domain), w = 0 where they coincide (which also removes
-    // the translations).
+    // fundamental domain), w = 0 where they coincide. Constants are not
+    // odd, so this also removes the translations.
     if (lattice.inversion && Utilities::MPI::n_mpi_processes(comm) == 1)
       {
-        const auto key = [&](const Point<dim> &p, const unsigned int c) {
-          return position_key(p, c, box);
-        };
         const auto wrap = [&](Point<dim> q) {
           const double k0 = std::floor(q[0] / box[0] + 1e-9);
           q[0] -= k0 * box[0];
@@ -403,34 +473,40 @@ namespace forma
         };
         // The unconstrained dofs by their position wrapped into the
         // fundamental domain [0, box).
-        std::map<std::array<long long, dim + 1>,
-                 std::pair<Point<dim>, types::global_dof_index>>
-                                             free_dofs;
+        PositionIndex<dim, std::pair<Point<dim>, types::global_dof_index>>
+                                             free_dofs(box);
         std::vector<types::global_dof_index> local(fe->n_dofs_per_cell());
+        FEValues<dim>                        support(*mapping,
+                              *fe,
+                              Quadrature<dim>(fe->get_unit_support_points()),
+                              update_quadrature_points);
         for (const auto &cell : dof_handler.active_cell_iterators())
           {
             cell->get_dof_indices(local);
+            support.reinit(cell);
             for (unsigned int i = 0; i < local.size(); ++i)
               if (!constraints.is_constrained(local[i]))
                 {
-                  const Point<dim> p = mapping->transform_unit_to_real_cell(
-                    cell, fe->unit_support_point(i));
-                  free_dofs[key(wrap(p),
-                                fe->system_to_component_index(i).first)] = {
-                    p, local[i]};
+                  const Point<dim> &p = support.quadrature_point(i);
+                  free_dofs.insert(wrap(p),
+                                   fe->system_to_component_index(i).first,
+                                   {p, local[i]});
                 }
           }
+        free_dofs.sort();
         unsigned int fixed = 0;
-        for (const auto &[k, point_dof] : free_dofs)
+        for (const auto &[k, point_dof] : free_dofs.entries)
           {
             const auto &[p, i] = point_dof;
-            const auto image   = free_dofs.find(
-              key(wrap(Point<dim>(2 * lattice.inversion_center - p)), k[dim]));
-            AssertThrow(image != free_dofs.end(),
-                        ExcMessage("homogenization grid: the inversion "
-                                   "center is not a symmetry center of the "
-                                   "grid"));
-            const types::global_dof_index j = image->second.second;
+            const auto *image =
+              free_dofs.find(wrap(Point<dim>(2 * lattice.inversion_center - p)),
+                             k[dim]);
+            AssertThrow(image != nullptr,
+                        ExcMessage(
+                          "homogenization: the mesh is not symmetric under "
+                          "the inversion about its center (no node at the "
+                          "image of a node)"));
+            const types::global_dof_index j = image->second;
             if (j == i)
               {
                 constraints.add_line(i);
@@ -442,7 +518,8 @@ namespace forma
                 constraints.add_entry(j, i, -1.);
               }
           }
-        AssertThrow(fixed >= dim,
+        // Grids keep a vertex at the center (the structures' assumption).
+        AssertThrow(!congruent_cells || fixed >= dim,
                     ExcMessage("homogenization grid: the inversion center "
                                "must be a grid vertex"));
         constraints.close();
@@ -617,6 +694,70 @@ namespace forma
 
 
   template <int dim>
+  double
+  PeriodicHomogenization<dim>::Impl::cell_system(
+    const typename DoFHandler<dim>::active_cell_iterator &cell,
+    const Tensor<2, nv>                                  &V,
+    FullMatrix<double>                                   &K,
+    std::vector<Vector<double>>                          &F) const
+  {
+    if (!fe_values)
+      fe_values = std::make_unique<FEValues<dim>>(
+        *mapping, *fe, *quadrature, update_gradients | update_JxW_values);
+    fe_values->reinit(cell);
+    const unsigned int n = fe->n_dofs_per_cell();
+    K                    = 0;
+    for (auto &f : F)
+      f = 0;
+    strains.resize(n);
+    stresses.resize(n);
+    double measure = 0;
+    for (const unsigned int q : fe_values->quadrature_point_indices())
+      {
+        const double JxW = fe_values->JxW(q);
+        measure += JxW;
+        for (unsigned int i = 0; i < n; ++i)
+          {
+            // Shape function i moves component c only (primitive FESystem).
+            const unsigned int    c = fe->system_to_component_index(i).first;
+            const Tensor<1, dim> &g = fe_values->shape_grad(i, q);
+            for (unsigned int a = 0; a < nv; ++a)
+              {
+                const auto [k, l] = voigt_pair<dim>(a);
+                strains[i][a] =
+                  (c == k ? g[l] : 0.) + (k != l && c == l ? g[k] : 0.);
+              }
+            for (unsigned int a = 0; a < nv; ++a)
+              {
+                double sigma = 0;
+                for (unsigned int b = 0; b < nv; ++b)
+                  sigma += V[a][b] * strains[i][b];
+                stresses[i][a] = sigma * JxW;
+              }
+          }
+        for (unsigned int i = 0; i < n; ++i)
+          {
+            for (unsigned int j = 0; j <= i; ++j)
+              {
+                double k = 0;
+                for (unsigned int a = 0; a < nv; ++a)
+                  k += strains[i][a] * stresses[j][a];
+                K(i, j) += k;
+              }
+            // (B^T V A_c)_i = (V B_i)_c, V symmetric
+            for (unsigned int c = 0; c < nv; ++c)
+              F[c](i) -= stresses[i][c];
+          }
+      }
+    for (unsigned int i = 0; i < n; ++i)
+      for (unsigned int j = i + 1; j < n; ++j)
+        K(i, j) = K(j, i);
+    return measure;
+  }
+
+
+
+  template <int dim>
   PeriodicHomogenization<dim>::PeriodicHomogenization(
     const MPI_Comm                       comm,
     const Point<dim>                    &size,
@@ -693,7 +834,8 @@ namespace forma
     const Triangulation<dim, dim> &mesh,
     const Point<dim>              &box,
     const SolverParameters        &solver,
-    const unsigned int             degree)
+    const unsigned int             degree,
+    const bool                     inversion_symmetric)
     : impl(std::make_unique<Impl>(comm, solver))
   {
     AssertThrow(mesh.n_active_cells() > 0,
@@ -705,7 +847,9 @@ namespace forma
                                "box [0, L]"));
     auto tria = std::make_unique<parallel::shared::Triangulation<dim>>(comm);
     tria->copy_triangulation(mesh);
-    impl->tria = std::move(tria);
+    impl->tria                     = std::move(tria);
+    impl->lattice.inversion        = inversion_symmetric;
+    impl->lattice.inversion_center = 0.5 * box;
     impl->setup(degree, box);
   }
 
@@ -753,24 +897,29 @@ namespace forma
                 V[a][b]           = C[i][j][k][l];
               }
           cell_tensor.push_back(V);
-          if (!m.congruent_cells)
-            m.compute_kernel(cell, own_kernel);
-          const auto &kernel = m.congruent_cells ? m.shared_kernel : own_kernel;
+          double measure;
+          if (m.congruent_cells)
+            {
+              const auto &kernel = m.shared_kernel;
+              measure            = kernel.measure;
+              K                  = 0;
+              unsigned int p     = 0;
+              for (unsigned int a = 0; a < nv; ++a)
+                for (unsigned int b = a; b < nv; ++b, ++p)
+                  K.add(V[a][b], kernel.pair[p]);
+              // f_c = -int B^T C A_c = -sum_a V_ac int B_a
+              for (unsigned int c = 0; c < nv; ++c)
+                {
+                  F[c] = 0;
+                  for (unsigned int a = 0; a < nv; ++a)
+                    F[c].add(-V[a][c], kernel.integral[a]);
+                }
+            }
+          else
+            measure = m.cell_system(cell, V, K, F);
           for (unsigned int a = 0; a < nv; ++a)
             for (unsigned int b = 0; b < nv; ++b)
-              average(a, b) += kernel.measure * V[a][b];
-          K              = 0;
-          unsigned int p = 0;
-          for (unsigned int a = 0; a < nv; ++a)
-            for (unsigned int b = a; b < nv; ++b, ++p)
-              K.add(V[a][b], kernel.pair[p]);
-          // f_c = -int B^T C A_c = -sum_a V_ac int B_a
-          for (unsigned int c = 0; c < nv; ++c)
-            {
-              F[c] = 0;
-              for (unsigned int a = 0; a < nv; ++a)
-                F[c].add(-V[a][c], kernel.integral[a]);
-            }
+              average(a, b) += measure * V[a][b];
           cell->get_dof_indices(local);
           if (m.serial_direct)
             m.constraints.distribute_local_to_global(K, local, m.serial_matrix);

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <numeric>
 #include <optional>
 #include <sstream>
 #include <tuple>
@@ -138,21 +139,32 @@ namespace forma
      * The material's boundary loops in the box by marching squares on a
      * periodic grid: contour segments (material on their left) and the
      * parts of the box's sides in the material, counterclockwise, chained.
+     *
+     * `half`: the box is the lower half y <= L_1 / 2 of a periodic cell
+     * whose level set is symmetric under the rotation by pi about the
+     * cell's center. Periodic in x only; on the sides y = 0 and y = L_1 / 2
+     * (each its own image, mirrored about x = L_0 / 2) the samples and
+     * crossings of the right half are the mirror images of the left's, so
+     * the two sides' points are exactly symmetric.
      */
     class Tracer
     {
     public:
       Tracer(const std::function<double(const Point<2> &)> &phi,
              const Point<2>                                &box,
-             const unsigned int                             grid)
+             const unsigned int                             grid,
+             const bool                                     half = false)
         : phi(phi)
         , box(box)
+        , half(half)
       {
         const double longer = std::max(box[0], box[1]);
         n[0]                = std::max(
           4u, static_cast<unsigned int>(std::lround(grid * box[0] / longer)));
         n[1] = std::max(
           4u, static_cast<unsigned int>(std::lround(grid * box[1] / longer)));
+        if (half)
+          n[0] += n[0] % 2; // x = L_0 / 2 is a grid line
         values.resize((n[0] + 1) * (n[1] + 1));
         const double tiny = 1e-12 * longer;
         for (unsigned int j = 0; j <= n[1]; ++j)
@@ -161,8 +173,10 @@ namespace forma
               double v;
               if (i == n[0])
                 v = value(0, j); // periodic: the same samples
-              else if (j == n[1])
+              else if (j == n[1] && !half)
                 v = value(i, 0);
+              else if (half && (j == 0 || j == n[1]) && 2 * i > n[0])
+                v = value(n[0] - i, j);
               else
                 v = phi(node(i, j));
               // No sample exactly on the contour: a zero counts as void.
@@ -254,8 +268,16 @@ namespace forma
       Point<2>
       crossing(const Kind kind, const unsigned int i, const unsigned int j)
       {
+        if (half && kind == horizontal && (j == 0 || j == n[1]) &&
+            2 * i >= n[0])
+          {
+            Point<2> x = crossing(kind, n[0] - 1 - i, j);
+            x[0]       = box[0] - x[0];
+            return x;
+          }
         const unsigned int wi = (kind == vertical && i == n[0]) ? 0 : i;
-        const unsigned int wj = (kind == horizontal && j == n[1]) ? 0 : j;
+        const unsigned int wj =
+          (kind == horizontal && j == n[1] && !half) ? 0 : j;
         const std::int64_t k  = key(kind, wi, wj);
         auto               it = crossings.find(k);
         if (it == crossings.end())
@@ -410,6 +432,7 @@ namespace forma
 
       const std::function<double(const Point<2> &)> &phi;
       const Point<2>                                 box;
+      const bool                                     half;
       std::array<unsigned int, 2>                    n;
       std::vector<double>                            values;
       std::map<std::int64_t, Point<2>>               crossings;
@@ -588,6 +611,134 @@ namespace forma
 
   namespace
   {
+    /**
+     * The cell mesh from the mesh of its lower half (y <= L_1 / 2) and the
+     * half's copy rotated by pi about the center, joined along y = L_1 / 2,
+     * whose nodes are mirror-symmetric about x = L_0 / 2. Material that
+     * reaches no side of the cell floats: its cells are dropped and the
+     * pieces counted.
+     */
+    void
+    join_rotated_copy(const Triangulation<2>   &half,
+                      const Point<2>           &box,
+                      std::vector<Point<2>>    &vertices,
+                      std::vector<CellData<2>> &cells,
+                      unsigned int             &floating_pieces)
+    {
+      const double             tol = 1e-9 * std::max(box[0], box[1]);
+      const double             mid = box[1] / 2;
+      std::vector<int>         index(half.n_vertices(), -1);
+      std::vector<Point<2>>    points;
+      std::vector<CellData<2>> lower;
+      for (const auto &cell : half.active_cell_iterators())
+        {
+          CellData<2> data(cell->n_vertices());
+          for (const unsigned int v : cell->vertex_indices())
+            {
+              int &k = index[cell->vertex_index(v)];
+              if (k < 0)
+                {
+                  k = points.size();
+                  points.push_back(cell->vertex(v));
+                }
+              data.vertices[v] = k;
+            }
+          lower.push_back(data);
+        }
+      // Nodes on the joint, by x: each one's image is another of them.
+      std::vector<std::pair<double, unsigned int>> joint;
+      for (unsigned int k = 0; k < points.size(); ++k)
+        if (std::abs(points[k][1] - mid) < tol)
+          joint.emplace_back(points[k][0], k);
+      std::sort(joint.begin(), joint.end());
+      std::vector<unsigned int> image(points.size());
+      vertices = points;
+      for (unsigned int k = 0; k < points.size(); ++k)
+        if (std::abs(points[k][1] - mid) < tol)
+          {
+            const double x  = box[0] - points[k][0];
+            const auto   it = std::lower_bound(joint.begin(),
+                                             joint.end(),
+                                             std::make_pair(x - tol, 0u));
+            AssertThrow(it != joint.end() && std::abs(it->first - x) < tol,
+                        ExcMessage("symmetric cell mesh: the nodes on the "
+                                   "line y = L / 2 are not symmetric "
+                                   "(internal error)"));
+            image[k] = it->second;
+            // Exactly on the joint, exact mirror images.
+            vertices[k][1] = mid;
+            if (points[k][0] > box[0] / 2)
+              vertices[k][0] = box[0] - points[image[k]][0];
+          }
+        else
+          {
+            image[k] = vertices.size();
+            vertices.emplace_back(box[0] - points[k][0], box[1] - points[k][1]);
+          }
+      cells = lower;
+      for (CellData<2> data : lower)
+        {
+          // A rotation keeps the orientation, so the vertex order too.
+          for (unsigned int &v : data.vertices)
+            v = image[v];
+          cells.push_back(data);
+        }
+
+      // Pieces by shared vertices (union-find); keep those on a side.
+      std::vector<unsigned int> parent(vertices.size());
+      std::iota(parent.begin(), parent.end(), 0u);
+      const std::function<unsigned int(unsigned int)> root =
+        [&](unsigned int v) {
+          while (parent[v] != v)
+            v = parent[v] = parent[parent[v]];
+          return v;
+        };
+      for (const CellData<2> &c : cells)
+        for (const unsigned int v : c.vertices)
+          parent[root(v)] = root(c.vertices[0]);
+      std::vector<bool> on_side(vertices.size(), false);
+      for (unsigned int v = 0; v < vertices.size(); ++v)
+        {
+          const Point<2> &x = vertices[v];
+          if (x[0] < tol || x[0] > box[0] - tol || x[1] < tol ||
+              x[1] > box[1] - tol)
+            on_side[root(v)] = true;
+        }
+      std::vector<bool>        counted(vertices.size(), false);
+      std::vector<CellData<2>> kept;
+      for (const CellData<2> &c : cells)
+        {
+          const unsigned int r = root(c.vertices[0]);
+          if (on_side[r])
+            kept.push_back(c);
+          else if (!counted[r])
+            {
+              counted[r] = true;
+              ++floating_pieces;
+            }
+        }
+      if (kept.size() < cells.size())
+        {
+          // Renumber the vertices still used.
+          std::vector<int>      renumber(vertices.size(), -1);
+          std::vector<Point<2>> used;
+          for (CellData<2> &c : kept)
+            for (unsigned int &v : c.vertices)
+              {
+                if (renumber[v] < 0)
+                  {
+                    renumber[v] = used.size();
+                    used.push_back(vertices[v]);
+                  }
+                v = renumber[v];
+              }
+          vertices = std::move(used);
+        }
+      cells = std::move(kept);
+    }
+
+
+
     // Both meshers: with `periodic`, material loops must reach the box's
     // sides; without, the material must stay inside the box and every
     // loop with positive area is a piece of it.
@@ -621,7 +772,16 @@ namespace forma
                   ExcMessage(context + ": a periodic structure may be "
                                        "several pieces in the cell; "
                                        "largest_piece_only is for objects"));
-      LevelSetMeshInfo local_info;
+      AssertThrow(periodic || !parameters.centrally_symmetric,
+                  ExcMessage(context + ": centrally_symmetric is for "
+                                       "periodic cells"));
+      // Symmetric cells: trace and mesh the lower half, then add its copy
+      // rotated by pi; a piece traced there stands for two.
+      const bool     symmetric = parameters.centrally_symmetric;
+      const Point<2> traced_box =
+        symmetric ? Point<2>(box[0], box[1] / 2) : box;
+      const unsigned int copies = symmetric ? 2 : 1;
+      LevelSetMeshInfo   local_info;
       // The level set with the material thickened around `thickened` (box
       // coordinates; the nearest periodic copy).
       std::vector<Point<2>> thickened;
@@ -655,7 +815,7 @@ namespace forma
       const auto attempt = [&]() {
         local_info             = LevelSetMeshInfo();
         local_info.thickenings = thickened.size();
-        Tracer       tracer(phi, box, parameters.grid);
+        Tracer       tracer(phi, traced_box, parameters.grid, symmetric);
         const double spacing = std::max(box[0], box[1]) / parameters.grid;
         std::vector<std::vector<Point<2>>> outer, holes;
         for (const auto &loop : tracer.loops())
@@ -664,8 +824,8 @@ namespace forma
               std::any_of(loop.begin(), loop.end(), [](const LoopVertex &v) {
                 return v.fixed;
               });
-            std::vector<Point<2>> polygon =
-              resample(loop, phi, box, parameters.boundary_size, spacing);
+            std::vector<Point<2>> polygon = resample(
+              loop, phi, traced_box, parameters.boundary_size, spacing);
             const double a = signed_area(polygon);
             AssertThrow(periodic || !touches,
                         ExcMessage(context + ": the material reaches the "
@@ -673,9 +833,9 @@ namespace forma
             if (touches || (!periodic && a > 0))
               outer.push_back(std::move(polygon));
             else if (a > 0)
-              ++local_info.dropped_islands;
+              local_info.dropped_islands += copies;
             else if (-a < std::pow(parameters.boundary_size, 2))
-              ++local_info.dropped_holes;
+              local_info.dropped_holes += copies;
             else
               holes.push_back(std::move(polygon));
           }
@@ -732,7 +892,7 @@ namespace forma
                               ": a wall is thinner than the boundary "
                               "element size " +
                               sig(parameters.boundary_size, 3)));
-                ++local_info.dropped_holes;
+                local_info.dropped_holes += copies;
               }
           holes = std::move(kept);
         }
@@ -807,13 +967,32 @@ namespace forma
               if (retry.empty())
                 return result;
               // Before any Gmsh model is made.
-              thickened.insert(thickened.end(), retry.begin(), retry.end());
+              for (const Point<2> &c : retry)
+                {
+                  thickened.push_back(c);
+                  if (symmetric)
+                    thickened.emplace_back(box[0] - c[0], box[1] - c[1]);
+                }
             }
         });
       Triangulation<2>   read;
       std::istringstream in(msh);
       GridIn<2>          grid_in(read);
       grid_in.read_msh(in);
+      if (symmetric)
+        {
+          std::vector<Point<2>>    vertices;
+          std::vector<CellData<2>> cells;
+          join_rotated_copy(
+            read, box, vertices, cells, local_info.dropped_islands);
+          AssertThrow(!cells.empty(),
+                      ExcMessage(context +
+                                 ": the material does not reach the sides "
+                                 "of the cell, so it cannot form a "
+                                 "periodic structure"));
+          read.clear();
+          read.create_triangulation(vertices, cells, SubCellData());
+        }
       double area = 0;
       for (const auto &cell : read.active_cell_iterators())
         {

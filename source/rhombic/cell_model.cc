@@ -29,10 +29,12 @@ namespace forma
       , comm(comm)
       , mesh(std::make_unique<Triangulation<2>>())
     {
-      Timer timer;
+      Timer                  timer;
+      LevelSetMeshParameters mesh_parameters = setup.mesh;
+      mesh_parameters.centrally_symmetric    = setup.symmetric_mesh;
       periodic_level_set_mesh(structure.level_set(),
                               Point<2>(L, L),
-                              setup.mesh,
+                              mesh_parameters,
                               *mesh,
                               comm,
                               &current.mesh,
@@ -91,8 +93,12 @@ namespace forma
     {
       const ParallelogramCell parallelogram(design.cell_map());
       Timer                   timer;
-      cell = std::make_unique<PeriodicHomogenization<2>>(
-        comm, *mesh, Point<2>(L, L), setup.solver, setup.degree);
+      cell                  = std::make_unique<PeriodicHomogenization<2>>(comm,
+                                                         *mesh,
+                                                         Point<2>(L, L),
+                                                         setup.solver,
+                                                         setup.degree,
+                                                         setup.symmetric_mesh);
       current.seconds_setup = timer.wall_time();
       timer.restart();
       const SymmetricTensor<4, 2> base =

@@ -237,6 +237,14 @@ namespace forma
                         Patterns::Integer(1, 4),
                         "Polynomial degree of the triangles (thesis: 2, "
                         "essential for accurate stresses and tensors).");
+      prm.declare_entry(
+        "Symmetric mesh",
+        "true",
+        Patterns::Bool(),
+        "Mesh the lower half of the cell and add its copy rotated by 180 "
+        "degrees about the center (every structure of the family has that "
+        "symmetry): the fluctuations are then odd, which halves the "
+        "unknowns and the meshing work. false meshes the whole cell.");
       prm.leave_subsection();
 
       prm.enter_subsection("Solver");
@@ -676,6 +684,7 @@ namespace forma
       setup.mesh.size          = prm.get_double("Element size");
       setup.mesh.boundary_size = prm.get_double("Boundary element size");
       setup.degree             = prm.get_integer("Element degree");
+      setup.symmetric_mesh     = prm.get_bool("Symmetric mesh");
       prm.leave_subsection();
       AssertThrow(setup.mesh.size > 0 && setup.mesh.size <= 0.5 &&
                     setup.mesh.boundary_size > 0 &&
@@ -704,7 +713,8 @@ namespace forma
         {"marching_squares_grid", setup.mesh.grid},
         {"element_size", setup.mesh.size},
         {"boundary_element_size", setup.mesh.boundary_size},
-        {"degree", setup.degree}};
+        {"degree", setup.degree},
+        {"symmetric_mesh", setup.symmetric_mesh}};
       return setup;
     }
   } // namespace rhombic

@@ -35,6 +35,13 @@ namespace forma
     /// Mesh only the largest piece of material (not periodic): the others
     /// are loose in an object (dropped and counted as islands).
     bool largest_piece_only = false;
+    /// Periodic cells whose level set is symmetric under the rotation by pi
+    /// about the box's center, phi(box - x) = phi(x): trace and mesh the
+    /// lower half y <= box_1 / 2 only and add its rotated copy, so the mesh
+    /// has the symmetry too (PeriodicHomogenization's
+    /// `inversion_symmetric` then halves the unknowns) at half the
+    /// meshing cost.
+    bool centrally_symmetric = false;
   };
 
   struct LevelSetMeshInfo

@@ -48,6 +48,10 @@ namespace forma
       double                 blending = 0.01;
       LevelSetMeshParameters mesh;
       unsigned int           degree = 2;
+      /// Mesh half the cell and rotate a copy (every structure of the
+      /// family is symmetric under the rotation by pi): odd fluctuations,
+      /// half the unknowns.
+      bool                                        symmetric_mesh = true;
       PeriodicHomogenization<2>::SolverParameters solver;
       bool                                        write_vtu = true;
       /// a1, a2 at most this: the structure counts as isotropic (thesis
