@@ -479,12 +479,15 @@ namespace forma
 
     // Resample a loop: sides and contour runs between fixed vertices,
     // boundary_size apart; contour vertices projected onto phi = 0.
+    // joint_size > 0: the side y = box_1 is the joint of a symmetric half,
+    // sampled that far apart.
     std::vector<Point<2>>
     resample(const std::vector<LoopVertex>                 &loop,
              const std::function<double(const Point<2> &)> &phi,
              const Point<2>                                &box,
              const double                                   h,
-             const double                                   grid_spacing)
+             const double                                   grid_spacing,
+             const double                                   joint_size = 0)
     {
       std::vector<unsigned int> fixed;
       for (unsigned int i = 0; i < loop.size(); ++i)
@@ -505,11 +508,17 @@ namespace forma
                    static_cast<unsigned int>(std::ceil(length / h - 1e-9)));
         if (on_side)
           {
-            // Straight: equal pieces, the same on the opposite side.
+            // Straight: equal pieces, the same on the opposite side. The
+            // joint y = box_1 of a symmetric half is inside the cell: no
+            // stresses concentrate there, so interior elements.
+            const bool on_joint = joint_size > 0 && run.front()[1] == box[1] &&
+                                  run.back()[1] == box[1];
             const unsigned int pieces =
               std::max(1u,
-                       static_cast<unsigned int>(std::ceil(
-                         run.front().distance(run.back()) / h - 1e-9)));
+                       static_cast<unsigned int>(
+                         std::ceil(run.front().distance(run.back()) /
+                                     (on_joint ? joint_size : h) -
+                                   1e-9)));
             for (unsigned int k = 0; k < pieces; ++k)
               result.push_back(run.front() + (static_cast<double>(k) / pieces) *
                                                (run.back() - run.front()));
@@ -824,8 +833,13 @@ namespace forma
               std::any_of(loop.begin(), loop.end(), [](const LoopVertex &v) {
                 return v.fixed;
               });
-            std::vector<Point<2>> polygon = resample(
-              loop, phi, traced_box, parameters.boundary_size, spacing);
+            std::vector<Point<2>> polygon =
+              resample(loop,
+                       phi,
+                       traced_box,
+                       parameters.boundary_size,
+                       spacing,
+                       symmetric ? parameters.size : 0);
             const double a = signed_area(polygon);
             AssertThrow(periodic || !touches,
                         ExcMessage(context + ": the material reaches the "
