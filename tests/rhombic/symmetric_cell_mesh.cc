@@ -11,8 +11,9 @@
 //    to discretization error.
 //  - A floating disk across the joint is dropped and counted (the half
 //    sees it touch its side).
-//  - Odd constraints on a mesh without the symmetry, or a symmetric mesh
-//    that is not periodic: refused with a clear message.
+//  - Odd constraints on a mesh without the symmetry, a symmetric mesh of a
+//    level set without it or of one that is not periodic: refused with a
+//    clear message.
 
 #include <deal.II/grid/tria.h>
 
@@ -156,6 +157,33 @@ main(int argc, char **argv)
       deallog << "odd constraints on an unsymmetric mesh: "
               << (what.find("the mesh is not symmetric under the inversion") !=
                       std::string::npos ?
+                    "refused" :
+                    what)
+              << std::endl;
+    }
+
+  // A symmetric mesh of a level set without the symmetry: refused.
+  try
+    {
+      LevelSetMeshParameters parameters;
+      parameters.centrally_symmetric = true;
+      Triangulation<2> tria;
+      periodic_level_set_mesh(
+        [](const Point<2> &x) {
+          return 0.2 - offset(x, Point<2>(0.3, 0.4)).norm();
+        },
+        Point<2>(1, 1),
+        parameters,
+        tria);
+      deallog << "an unsymmetric level set was meshed as a half: WRONG"
+              << std::endl;
+    }
+  catch (const std::exception &e)
+    {
+      const std::string what = e.what();
+      deallog << "unsymmetric level set: "
+              << (what.find("the level set is not symmetric under the "
+                            "rotation by 180 degrees") != std::string::npos ?
                     "refused" :
                     what)
               << std::endl;
