@@ -269,6 +269,17 @@ namespace forma
     void
     setup_system();
 
+    /// The position of the cell's dof i (the mapping is linear).
+    Point<dim>
+    support_point(const typename DoFHandler<dim>::active_cell_iterator &cell,
+                  const unsigned int                                    i) const
+    {
+      Point<dim> p;
+      for (unsigned int v = 0; v < support_weights[i].size(); ++v)
+        p += support_weights[i][v] * cell->vertex(v);
+      return p;
+    }
+
     void
     compute_kernel(const typename DoFHandler<dim>::active_cell_iterator &cell,
                    Kernel &kernel) const;
@@ -289,10 +300,12 @@ namespace forma
     std::unique_ptr<Mapping<dim>>       mapping_owner;
     const Mapping<dim>                 *mapping = nullptr;
     std::unique_ptr<Quadrature<dim>>    quadrature;
-    DoFHandler<dim>                     dof_handler;
-    AffineConstraints<double>           constraints;
-    IndexSet                            owned, relevant;
-    TrilinosWrappers::SparseMatrix      matrix;
+    /// Vertex weights of the element's support points (linear mapping).
+    std::vector<std::vector<double>> support_weights;
+    DoFHandler<dim>                  dof_handler;
+    AffineConstraints<double>        constraints;
+    IndexSet                         owned, relevant;
+    TrilinosWrappers::SparseMatrix   matrix;
     // One rank and a direct solver: sparse Cholesky (CHOLMOD, several times
     // faster than KLU) on a deal.II matrix, analysis kept across calls.
     bool                                        serial_direct = false;
@@ -371,7 +384,13 @@ namespace forma
       fe = std::make_unique<FESystem<dim>>(FE_Q<dim>(degree), dim);
     else
       fe = std::make_unique<FESystem<dim>>(FE_SimplexP<dim>(degree), dim);
-    mapping    = &reference.template get_default_linear_mapping<dim>();
+    mapping = &reference.template get_default_linear_mapping<dim>();
+    support_weights.assign(fe->n_dofs_per_cell(),
+                           std::vector<double>(reference.n_vertices()));
+    for (unsigned int i = 0; i < fe->n_dofs_per_cell(); ++i)
+      for (unsigned int v = 0; v < reference.n_vertices(); ++v)
+        support_weights[i][v] =
+          reference.d_linear_shape_function(fe->unit_support_point(i), v);
     quadrature = std::make_unique<Quadrature<dim>>(
       reference.template get_gauss_type_quadrature<dim>(degree + 1));
 
@@ -416,8 +435,7 @@ namespace forma
               cell->get_dof_indices(local);
               for (unsigned int i = 0; i < local.size(); ++i)
                 {
-                  Point<dim> p = mapping->transform_unit_to_real_cell(
-                    cell, fe->unit_support_point(i));
+                  Point<dim>         p = support_point(cell, i);
                   const unsigned int c = fe->system_to_component_index(i).first;
                   bool               upper = false, on_side = false;
                   // Snap to the sides (round-off of the mesh file).
@@ -476,18 +494,16 @@ namespace forma
         PositionIndex<dim, std::pair<Point<dim>, types::global_dof_index>>
                                              free_dofs(box);
         std::vector<types::global_dof_index> local(fe->n_dofs_per_cell());
-        FEValues<dim>                        support(*mapping,
-                              *fe,
-                              Quadrature<dim>(fe->get_unit_support_points()),
-                              update_quadrature_points);
+        std::vector<bool>                    seen(dof_handler.n_dofs());
+        free_dofs.entries.reserve(dof_handler.n_dofs());
         for (const auto &cell : dof_handler.active_cell_iterators())
           {
             cell->get_dof_indices(local);
-            support.reinit(cell);
             for (unsigned int i = 0; i < local.size(); ++i)
-              if (!constraints.is_constrained(local[i]))
+              if (!seen[local[i]] && !constraints.is_constrained(local[i]))
                 {
-                  const Point<dim> &p = support.quadrature_point(i);
+                  seen[local[i]]     = true;
+                  const Point<dim> p = support_point(cell, i);
                   free_dofs.insert(wrap(p),
                                    fe->system_to_component_index(i).first,
                                    {p, local[i]});
