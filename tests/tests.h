@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <sstream>
 #include <string>
@@ -100,6 +101,29 @@ inline void
 check(const std::string &what, const bool ok)
 {
   dealii::deallog << "  " << what << ": " << (ok ? "yes" : "NO") << std::endl;
+}
+
+/// Run f, which must throw an exception whose message contains `needle`:
+/// logs "<what>: refused", or what happened instead.
+inline void
+expect_refusal(const std::string           &what,
+               const std::function<void()> &f,
+               const std::string           &needle)
+{
+  try
+    {
+      f();
+      dealii::deallog << what << ": no error: WRONG" << std::endl;
+    }
+  catch (const std::exception &e)
+    {
+      const std::string message = e.what();
+      dealii::deallog << what << ": "
+                      << (message.find(needle) != std::string::npos ?
+                            "refused" :
+                            message)
+                      << std::endl;
+    }
 }
 
 #ifdef FORMA_APP

@@ -138,6 +138,8 @@ namespace forma
         const Key key = position_key(p, c, box);
         for (int n = -1; n < Utilities::pow(3, dim); ++n)
           {
+            if (n == (Utilities::pow(3, dim) - 1) / 2)
+              continue; // the key itself, searched first
             Key k = key;
             if (n >= 0) // the neighbours
               for (int d = 0, m = n; d < dim; ++d, m /= 3)

@@ -620,6 +620,36 @@ namespace forma
 
   namespace
   {
+    /// Closed chains of boundary edges (contours and the parts of the box's
+    /// sides in the material) of a mesh.
+    unsigned int
+    count_boundary_loops(const Triangulation<2> &tria)
+    {
+      std::vector<unsigned int> parent(tria.n_vertices());
+      std::iota(parent.begin(), parent.end(), 0u);
+      const auto root = [&](unsigned int v) {
+        while (parent[v] != v)
+          v = parent[v] = parent[parent[v]];
+        return v;
+      };
+      std::vector<bool> on_boundary(tria.n_vertices(), false);
+      for (const auto &cell : tria.active_cell_iterators())
+        for (const auto &face : cell->face_iterators())
+          if (face->at_boundary())
+            {
+              const unsigned int a = face->vertex_index(0),
+                                 b = face->vertex_index(1);
+              on_boundary[a] = on_boundary[b] = true;
+              parent[root(a)]                 = root(b);
+            }
+      unsigned int loops = 0;
+      for (unsigned int v = 0; v < parent.size(); ++v)
+        loops += on_boundary[v] && root(v) == v;
+      return loops;
+    }
+
+
+
     /**
      * The cell mesh from the mesh of its lower half (y <= L_1 / 2) and the
      * half's copy rotated by pi about the center, joined along y = L_1 / 2,
@@ -654,31 +684,47 @@ namespace forma
             }
           lower.push_back(data);
         }
-      // Nodes on the joint, by x: each one's image is another of them.
-      std::vector<std::pair<double, unsigned int>> joint;
-      for (unsigned int k = 0; k < points.size(); ++k)
-        if (std::abs(points[k][1] - mid) < tol)
-          joint.emplace_back(points[k][0], k);
-      std::sort(joint.begin(), joint.end());
-      std::vector<unsigned int> image(points.size());
+      // The nodes on a line y = y0 are symmetric about x = L_0 / 2 (the
+      // tracer mirrors them) up to round-off: snap them onto the line and
+      // onto exact mirror images; returns each one's mirror node.
+      const auto snap_mirrored = [&](const double y0) {
+        std::vector<std::pair<double, unsigned int>> line;
+        for (unsigned int k = 0; k < points.size(); ++k)
+          if (std::abs(points[k][1] - y0) < tol)
+            line.emplace_back(points[k][0], k);
+        std::sort(line.begin(), line.end());
+        std::map<unsigned int, unsigned int> mirror;
+        for (const auto &[x, k] : line)
+          {
+            const auto it =
+              std::lower_bound(line.begin(),
+                               line.end(),
+                               std::make_pair(box[0] - x - tol, 0u));
+            AssertThrow(it != line.end() &&
+                          std::abs(it->first - (box[0] - x)) < tol,
+                        ExcMessage("symmetric cell mesh: the nodes on the "
+                                   "line y = " +
+                                   sig(y0, 4) +
+                                   " are not symmetric (internal error)"));
+            mirror[k] = it->second;
+          }
+        for (const auto &[k, m] : mirror)
+          {
+            points[k][1] = y0;
+            if (points[k][0] > box[0] / 2) // its mirror node is left as is
+              points[k][0] = box[0] - points[m][0];
+          }
+        return mirror;
+      };
+      // The bottom side's rotated copy is the top side: periodic partners.
+      snap_mirrored(0);
+      // On the joint each node's image is its mirror node.
+      const std::map<unsigned int, unsigned int> joint = snap_mirrored(mid);
+      std::vector<unsigned int>                  image(points.size());
       vertices = points;
       for (unsigned int k = 0; k < points.size(); ++k)
-        if (std::abs(points[k][1] - mid) < tol)
-          {
-            const double x  = box[0] - points[k][0];
-            const auto   it = std::lower_bound(joint.begin(),
-                                             joint.end(),
-                                             std::make_pair(x - tol, 0u));
-            AssertThrow(it != joint.end() && std::abs(it->first - x) < tol,
-                        ExcMessage("symmetric cell mesh: the nodes on the "
-                                   "line y = L / 2 are not symmetric "
-                                   "(internal error)"));
-            image[k] = it->second;
-            // Exactly on the joint, exact mirror images.
-            vertices[k][1] = mid;
-            if (points[k][0] > box[0] / 2)
-              vertices[k][0] = box[0] - points[image[k]][0];
-          }
+        if (const auto it = joint.find(k); it != joint.end())
+          image[k] = it->second;
         else
           {
             image[k] = vertices.size();
@@ -696,12 +742,11 @@ namespace forma
       // Pieces by shared vertices (union-find); keep those on a side.
       std::vector<unsigned int> parent(vertices.size());
       std::iota(parent.begin(), parent.end(), 0u);
-      const std::function<unsigned int(unsigned int)> root =
-        [&](unsigned int v) {
-          while (parent[v] != v)
-            v = parent[v] = parent[parent[v]];
-          return v;
-        };
+      const auto root = [&](unsigned int v) {
+        while (parent[v] != v)
+          v = parent[v] = parent[parent[v]];
+        return v;
+      };
       for (const CellData<2> &c : cells)
         for (const unsigned int v : c.vertices)
           parent[root(v)] = root(c.vertices[0]);
@@ -841,7 +886,14 @@ namespace forma
       const auto attempt = [&]() {
         local_info             = LevelSetMeshInfo();
         local_info.thickenings = thickened.size();
-        Tracer       tracer(phi, traced_box, parameters.grid, symmetric);
+        // The half's grid spacing is the whole cell's.
+        Tracer       tracer(phi,
+                      traced_box,
+                      static_cast<unsigned int>(
+                        std::lround(parameters.grid *
+                                    std::max(traced_box[0], traced_box[1]) /
+                                    std::max(box[0], box[1]))),
+                      symmetric);
         const double spacing = std::max(box[0], box[1]) / parameters.grid;
         std::vector<std::vector<Point<2>>> outer, holes;
         for (const auto &loop : tracer.loops())
@@ -890,7 +942,8 @@ namespace forma
           // A piece crossed by itself or a piece, or a hole crossed that is
           // too large to fill: all thickened at once.
           for (unsigned int k = 0; k < all.size(); ++k)
-            if (thickened.size() + retry.size() < parameters.max_thickenings)
+            if (thickened.size() + copies * (retry.size() + 1) <=
+                parameters.max_thickenings)
               if (k < outer.size() ?
                     outer_crossed[k] :
                     crossed[k] && -signed_area(all[k]) >=
@@ -960,7 +1013,6 @@ namespace forma
             holes = std::move(kept);
             owner.assign(holes.size(), 0);
           }
-        local_info.boundary_loops = outer.size() + holes.size();
         // Frontal-Delaunay, and plain Delaunay if that cannot recover a
         // boundary edge (it happens at near-touching contours), each on
         // a fresh model.
@@ -1001,7 +1053,12 @@ namespace forma
               for (const Point<2> &c : retry)
                 {
                   thickened.push_back(c);
-                  if (symmetric)
+                  // And its image, unless that overlaps it (a point near a
+                  // center of the rotation would be thickened twice).
+                  Tensor<1, 2> d = 2 * c - box;
+                  for (unsigned int i = 0; i < 2; ++i)
+                    d[i] -= box[i] * std::round(d[i] / box[i]);
+                  if (symmetric && d.norm() > radius)
                     thickened.emplace_back(box[0] - c[0], box[1] - c[1]);
                 }
             }
@@ -1031,6 +1088,7 @@ namespace forma
           area += cell->measure();
         }
       check_mesh_validity(read, context + " mesh");
+      local_info.boundary_loops = count_boundary_loops(read);
       tria.clear();
       tria.copy_triangulation(read);
       if (info)

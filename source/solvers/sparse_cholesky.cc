@@ -23,6 +23,9 @@ namespace forma
       // core of two): 18k unknowns, flops / nnz(L) = 81: simplicial 0.08 s,
       // supernodal 0.20 s; 125k unknowns, 209: 1.1 s against 0.87 s.
       common.supernodal_switch = 200;
+      // LL' also when simplicial (its default LDL' reports only exactly
+      // zero pivots): a matrix that is not positive definite is an error.
+      common.final_ll = 1;
     }
 
     ~Impl()

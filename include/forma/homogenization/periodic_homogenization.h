@@ -114,8 +114,9 @@ namespace forma
      * are symmetric under x -> box - x (2D: the rotation by pi about the
      * center; e.g. periodic_level_set_mesh with `centrally_symmetric`): the
      * fluctuations are odd, imposed as constraints on one process, which
-     * halves the unknowns (the factorization costs about a third). Every
-     * node needs a node at its image.
+     * halves the unknowns (the factorization costs about a third); every
+     * node needs a node at its image (checked there). On several
+     * processes the symmetry is not used (nor checked).
      */
     PeriodicHomogenization(const MPI_Comm                         comm,
                            const dealii::Triangulation<dim, dim> &mesh,

@@ -36,18 +36,21 @@ namespace forma
     /// are loose in an object (dropped and counted as islands).
     bool largest_piece_only = false;
     /// Periodic cells whose level set is symmetric under the rotation by pi
-    /// about the box's center, phi(box - x) = phi(x): trace and mesh the
-    /// lower half y <= box_1 / 2 only and add its rotated copy, so the mesh
-    /// has the symmetry too (PeriodicHomogenization's
-    /// `inversion_symmetric` then halves the unknowns) at half the
-    /// meshing cost.
+    /// about the box's center, phi(box - x) = phi(x) (spot-checked; an
+    /// error if not): trace and mesh the lower half y <= box_1 / 2 only and
+    /// add its rotated copy, so the mesh has the symmetry too
+    /// (PeriodicHomogenization's `inversion_symmetric` then halves the
+    /// unknowns) at half the meshing cost. The joint y = box_1 / 2 is
+    /// sampled at `size` (it is inside the material, away from the
+    /// boundary's stress concentrations). A hole across the joint is
+    /// meshed whatever its size (the half sees it as a notch in its side).
     bool centrally_symmetric = false;
   };
 
   struct LevelSetMeshInfo
   {
     double       area            = 0; ///< of the meshed material
-    unsigned int boundary_loops  = 0;
+    unsigned int boundary_loops  = 0; ///< closed chains of boundary edges
     unsigned int dropped_islands = 0; ///< floating material pieces removed
     unsigned int dropped_holes   = 0; ///< holes smaller than an element
     unsigned int thickenings     = 0; ///< see max_thickenings

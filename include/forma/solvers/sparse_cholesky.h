@@ -14,8 +14,8 @@ namespace dealii
 namespace forma
 {
   /**
-   * Sparse Cholesky factorization (CHOLMOD: simplicial, or supernodal with
-   * the BLAS for fill-heavy factors) of a
+   * Sparse Cholesky factorization LL' (CHOLMOD: simplicial, or supernodal
+   * with the BLAS for fill-heavy factors) of a
    * symmetric positive definite deal.II matrix on one process. The
    * fill-reducing analysis is kept across factorize() calls with the same
    * sparsity pattern, so a sweep over many materials on one mesh pays it
