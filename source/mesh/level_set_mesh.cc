@@ -620,18 +620,42 @@ namespace forma
 
   namespace
   {
+    /// Disjoint sets of indices 0..n-1 (union-find with path halving).
+    class DisjointSets
+    {
+    public:
+      explicit DisjointSets(const unsigned int n)
+        : parent(n)
+      {
+        std::iota(parent.begin(), parent.end(), 0u);
+      }
+
+      unsigned int
+      root(unsigned int v)
+      {
+        while (parent[v] != v)
+          v = parent[v] = parent[parent[v]];
+        return v;
+      }
+
+      void
+      join(const unsigned int a, const unsigned int b)
+      {
+        parent[root(a)] = root(b);
+      }
+
+    private:
+      std::vector<unsigned int> parent;
+    };
+
+
+
     /// Closed chains of boundary edges (contours and the parts of the box's
     /// sides in the material) of a mesh.
     unsigned int
     count_boundary_loops(const Triangulation<2> &tria)
     {
-      std::vector<unsigned int> parent(tria.n_vertices());
-      std::iota(parent.begin(), parent.end(), 0u);
-      const auto root = [&](unsigned int v) {
-        while (parent[v] != v)
-          v = parent[v] = parent[parent[v]];
-        return v;
-      };
+      DisjointSets      chains(tria.n_vertices());
       std::vector<bool> on_boundary(tria.n_vertices(), false);
       for (const auto &cell : tria.active_cell_iterators())
         for (const auto &face : cell->face_iterators())
@@ -640,11 +664,11 @@ namespace forma
               const unsigned int a = face->vertex_index(0),
                                  b = face->vertex_index(1);
               on_boundary[a] = on_boundary[b] = true;
-              parent[root(a)]                 = root(b);
+              chains.join(a, b);
             }
       unsigned int loops = 0;
-      for (unsigned int v = 0; v < parent.size(); ++v)
-        loops += on_boundary[v] && root(v) == v;
+      for (unsigned int v = 0; v < tria.n_vertices(); ++v)
+        loops += on_boundary[v] && chains.root(v) == v;
       return loops;
     }
 
@@ -740,29 +764,23 @@ namespace forma
         }
 
       // Pieces by shared vertices (union-find); keep those on a side.
-      std::vector<unsigned int> parent(vertices.size());
-      std::iota(parent.begin(), parent.end(), 0u);
-      const auto root = [&](unsigned int v) {
-        while (parent[v] != v)
-          v = parent[v] = parent[parent[v]];
-        return v;
-      };
+      DisjointSets pieces(vertices.size());
       for (const CellData<2> &c : cells)
         for (const unsigned int v : c.vertices)
-          parent[root(v)] = root(c.vertices[0]);
+          pieces.join(v, c.vertices[0]);
       std::vector<bool> on_side(vertices.size(), false);
       for (unsigned int v = 0; v < vertices.size(); ++v)
         {
           const Point<2> &x = vertices[v];
           if (x[0] < tol || x[0] > box[0] - tol || x[1] < tol ||
               x[1] > box[1] - tol)
-            on_side[root(v)] = true;
+            on_side[pieces.root(v)] = true;
         }
       std::vector<bool>        counted(vertices.size(), false);
       std::vector<CellData<2>> kept;
       for (const CellData<2> &c : cells)
         {
-          const unsigned int r = root(c.vertices[0]);
+          const unsigned int r = pieces.root(c.vertices[0]);
           if (on_side[r])
             kept.push_back(c);
           else if (!counted[r])
