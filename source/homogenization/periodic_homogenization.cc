@@ -310,17 +310,25 @@ namespace forma
     TrilinosWrappers::SparseMatrix   matrix;
     // One rank and a direct solver: sparse Cholesky (CHOLMOD, several times
     // faster than KLU) on a deal.II matrix, analysis kept across calls.
-    bool                                        serial_direct = false;
-    SparseCholesky                              cholesky;
-    SparsityPattern                             serial_pattern;
-    SparseMatrix<double>                        serial_matrix;
-    std::vector<TrilinosWrappers::MPI::Vector>  fluctuation; // ghosted
-    std::vector<std::vector<double>>            translation_modes;
-    bool                                        congruent_cells = false;
-    Kernel                                      shared_kernel;
-    mutable std::unique_ptr<FEValues<dim>>      fe_values;
-    mutable std::vector<std::array<double, nv>> strains, stresses;
-    double                                      box_volume = 0;
+    // That matrix is T^T K T on the free dofs alone, u = T x: the
+    // constraints (periodic ties, odd images, pins; homogeneous) resolve
+    // once here instead of per cell, and half the rows of a symmetric
+    // cell's matrix are not built at all.
+    bool                 serial_direct = false;
+    SparseCholesky       cholesky;
+    SparsityPattern      serial_pattern;
+    SparseMatrix<double> serial_matrix;
+    /// Row i of T: the free dofs (and weights) dof i follows, in
+    /// reduction_entries[reduction_start[i], reduction_start[i + 1]).
+    std::vector<unsigned int>                    reduction_start;
+    std::vector<std::pair<unsigned int, double>> reduction_entries;
+    std::vector<TrilinosWrappers::MPI::Vector>   fluctuation; // ghosted
+    std::vector<std::vector<double>>             translation_modes;
+    bool                                         congruent_cells = false;
+    Kernel                                       shared_kernel;
+    mutable std::unique_ptr<FEValues<dim>>       fe_values;
+    mutable std::vector<std::array<double, nv>>  strains, stresses;
+    double                                       box_volume = 0;
     /// The last homogenize()'s cell tensors (Voigt), locally owned cells.
     std::vector<Tensor<2, nv>> cell_tensors;
     /// Grids: the side x_0 = L_0 is the side x_0 = 0 moved by L_0 e_0 +
@@ -605,8 +613,6 @@ namespace forma
   void
   PeriodicHomogenization<dim>::Impl::setup_system()
   {
-    DynamicSparsityPattern dsp(relevant);
-    DoFTools::make_sparsity_pattern(dof_handler, dsp, constraints, false);
     // auto counts the unknowns left by the constraints (serial).
     const types::global_dof_index unknowns =
       dof_handler.n_dofs() - (Utilities::MPI::n_mpi_processes(comm) == 1 ?
@@ -624,11 +630,56 @@ namespace forma
       type == "direct" && Utilities::MPI::n_mpi_processes(comm) == 1;
     if (serial_direct)
       {
+        const types::global_dof_index n_dofs = dof_handler.n_dofs();
+        std::vector<unsigned int>     free_index(n_dofs,
+                                             numbers::invalid_unsigned_int);
+        unsigned int                  n_free = 0;
+        for (types::global_dof_index i = 0; i < n_dofs; ++i)
+          if (!constraints.is_constrained(i))
+            free_index[i] = n_free++;
+        reduction_start.assign(1, 0);
+        reduction_start.reserve(n_dofs + 1);
+        reduction_entries.clear();
+        reduction_entries.reserve(n_dofs);
+        for (types::global_dof_index i = 0; i < n_dofs; ++i)
+          {
+            if (free_index[i] != numbers::invalid_unsigned_int)
+              reduction_entries.emplace_back(free_index[i], 1.);
+            else
+              {
+                Assert(!constraints.is_inhomogeneously_constrained(i),
+                       ExcInternalError());
+                // Closed: the entries are free dofs.
+                for (const auto &[j, weight] :
+                     *constraints.get_constraint_entries(i))
+                  reduction_entries.emplace_back(free_index[j], weight);
+              }
+            reduction_start.push_back(reduction_entries.size());
+          }
+        DynamicSparsityPattern               dsp(n_free);
+        std::vector<unsigned int>            rows;
+        std::vector<types::global_dof_index> local(fe->n_dofs_per_cell());
+        for (const auto &cell : dof_handler.active_cell_iterators())
+          {
+            cell->get_dof_indices(local);
+            rows.clear();
+            for (const types::global_dof_index i : local)
+              for (unsigned int k = reduction_start[i];
+                   k < reduction_start[i + 1];
+                   ++k)
+                rows.push_back(reduction_entries[k].first);
+            std::sort(rows.begin(), rows.end());
+            rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+            for (const unsigned int r : rows)
+              dsp.add_entries(r, rows.begin(), rows.end(), true);
+          }
         serial_pattern.copy_from(dsp);
         serial_matrix.reinit(serial_pattern);
       }
     else
       {
+        DynamicSparsityPattern dsp(relevant);
+        DoFTools::make_sparsity_pattern(dof_handler, dsp, constraints, false);
         SparsityTools::distribute_sparsity_pattern(dsp, owned, comm, relevant);
         matrix.reinit(owned, owned, dsp, comm);
       }
@@ -891,8 +942,48 @@ namespace forma
       m.serial_matrix = 0;
     else
       m.matrix = 0;
+    // The right-hand sides: T^T F on the free dofs (serial direct) or the
+    // condensed F.
+    const unsigned int n_free = m.serial_direct ? m.serial_matrix.m() : 0;
+    std::vector<Vector<double>> free_rhs(m.serial_direct ? nv : 0,
+                                         Vector<double>(n_free));
     std::vector<TrilinosWrappers::MPI::Vector> rhs(
-      nv, TrilinosWrappers::MPI::Vector(m.owned, m.comm));
+      m.serial_direct ? 0 : nv, TrilinosWrappers::MPI::Vector(m.owned, m.comm));
+    // Adds the cell's K and F to T^T K T and T^T F: (local dof, free dof,
+    // weight) for the cell's rows of T.
+    std::vector<std::tuple<unsigned int, unsigned int, double>> cell_T;
+    std::vector<unsigned int>                                   columns;
+    std::vector<double>                                         values;
+    const auto                                                  add_reduced =
+      [&](const FullMatrix<double>                   &K,
+          const std::vector<Vector<double>>          &F,
+          const std::vector<types::global_dof_index> &local) {
+        cell_T.clear();
+        for (unsigned int i = 0; i < local.size(); ++i)
+          for (unsigned int k = m.reduction_start[local[i]];
+               k < m.reduction_start[local[i] + 1];
+               ++k)
+            cell_T.emplace_back(i,
+                                m.reduction_entries[k].first,
+                                m.reduction_entries[k].second);
+        columns.resize(cell_T.size());
+        values.resize(cell_T.size());
+        for (const auto &[i, r, t_i] : cell_T)
+          {
+            for (unsigned int q = 0; q < cell_T.size(); ++q)
+              {
+                const auto &[j, c, t_j] = cell_T[q];
+                columns[q]              = c;
+                values[q]               = t_i * t_j * K(i, j);
+              }
+            // Unsorted, so a free dof met twice (a cell holding a dof and its
+            // image) adds up.
+            m.serial_matrix.add(
+              r, columns.size(), columns.data(), values.data(), false, false);
+            for (unsigned int c = 0; c < nv; ++c)
+              free_rhs[c](r) += t_i * F[c](i);
+          }
+      };
     FullMatrix<double>                   average(nv, nv); // int_Y V
     FullMatrix<double>                   K(n, n);
     std::vector<Vector<double>>          F(nv, Vector<double>(n));
@@ -940,11 +1031,13 @@ namespace forma
               average(a, b) += measure * V[a][b];
           cell->get_dof_indices(local);
           if (m.serial_direct)
-            m.constraints.distribute_local_to_global(K, local, m.serial_matrix);
+            add_reduced(K, F, local);
           else
-            m.constraints.distribute_local_to_global(K, local, m.matrix);
-          for (unsigned int c = 0; c < nv; ++c)
-            m.constraints.distribute_local_to_global(F[c], local, rhs[c]);
+            {
+              m.constraints.distribute_local_to_global(K, local, m.matrix);
+              for (unsigned int c = 0; c < nv; ++c)
+                m.constraints.distribute_local_to_global(F[c], local, rhs[c]);
+            }
         }
     if (!m.serial_direct)
       m.matrix.compress(VectorOperation::add);
@@ -956,17 +1049,32 @@ namespace forma
     m.fluctuation.resize(nv);
     std::vector<TrilinosWrappers::MPI::Vector> w(
       nv, TrilinosWrappers::MPI::Vector(m.owned, m.comm));
+    // f_c . w_d (f_c the condensed right-hand side, w_d the solution).
+    FullMatrix<double> load_work(nv, nv);
     if (m.serial_direct)
       {
         m.cholesky.factorize(m.serial_matrix);
+        std::vector<Vector<double>> x = free_rhs;
+        Vector<double>              u(m.dof_handler.n_dofs());
         for (unsigned int c = 0; c < nv; ++c)
           {
-            Vector<double> x(m.dof_handler.n_dofs());
-            x = rhs[c];
-            m.cholesky.solve(x);
-            w[c] = x;
+            m.cholesky.solve(x[c]);
+            for (types::global_dof_index i = 0; i < u.size(); ++i)
+              {
+                double value = 0;
+                for (unsigned int k = m.reduction_start[i];
+                     k < m.reduction_start[i + 1];
+                     ++k)
+                  value += m.reduction_entries[k].second *
+                           x[c](m.reduction_entries[k].first);
+                u(i) = value;
+              }
+            w[c] = u;
             result.linear_iterations.push_back(1);
           }
+        for (unsigned int c = 0; c < nv; ++c)
+          for (unsigned int d = 0; d < nv; ++d)
+            load_work(c, d) = free_rhs[c] * x[d];
       }
     else
       {
@@ -983,7 +1091,12 @@ namespace forma
       }
     for (unsigned int c = 0; c < nv; ++c)
       {
-        m.constraints.distribute(w[c]);
+        if (!m.serial_direct) // u = T x satisfies the constraints already
+          {
+            for (unsigned int d = 0; d < nv; ++d)
+              load_work(d, c) = rhs[d] * w[c];
+            m.constraints.distribute(w[c]);
+          }
         m.fluctuation[c].reinit(m.owned, m.relevant, m.comm);
         m.fluctuation[c] = w[c];
       }
@@ -998,7 +1111,7 @@ namespace forma
         for (unsigned int c = 0; c < nv; ++c)
           for (unsigned int d = 0; d < nv; ++d)
             energy(c, d) =
-              Utilities::MPI::sum(average(c, d), m.comm) - (rhs[c] * w[d]);
+              Utilities::MPI::sum(average(c, d), m.comm) - load_work(c, d);
         for (unsigned int c = 0; c < nv; ++c)
           for (unsigned int d = 0; d < nv; ++d)
             {
