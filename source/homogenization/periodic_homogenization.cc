@@ -25,6 +25,7 @@
 #include <forma/solvers/linear_solver.h>
 #include <forma/solvers/sparse_cholesky.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -634,6 +635,7 @@ namespace forma
         std::vector<unsigned int>     free_index(n_dofs,
                                              numbers::invalid_unsigned_int);
         unsigned int                  n_free = 0;
+        AssertThrow(constraints.is_closed(), ExcInternalError());
         for (types::global_dof_index i = 0; i < n_dofs; ++i)
           if (!constraints.is_constrained(i))
             free_index[i] = n_free++;
@@ -647,8 +649,8 @@ namespace forma
               reduction_entries.emplace_back(free_index[i], 1.);
             else
               {
-                Assert(!constraints.is_inhomogeneously_constrained(i),
-                       ExcInternalError());
+                AssertThrow(!constraints.is_inhomogeneously_constrained(i),
+                            ExcInternalError());
                 // Closed: the entries are free dofs.
                 for (const auto &[j, weight] :
                      *constraints.get_constraint_entries(i))

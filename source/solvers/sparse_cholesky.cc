@@ -36,10 +36,11 @@ namespace forma
       {
         static std::once_flag once;
         std::call_once(once, []() {
-          SuiteSparse_config.malloc_func  = &allocate;
-          SuiteSparse_config.calloc_func  = &allocate_zeroed;
-          SuiteSparse_config.realloc_func = &reallocate;
+          // free and realloc first: they take malloc's blocks too.
           SuiteSparse_config.free_func    = &release;
+          SuiteSparse_config.realloc_func = &reallocate;
+          SuiteSparse_config.calloc_func  = &allocate_zeroed;
+          SuiteSparse_config.malloc_func  = &allocate;
         });
       }
 
@@ -56,20 +57,21 @@ namespace forma
       static std::mutex &
       mutex()
       {
-        static std::mutex m;
-        return m;
+        // Never destroyed: a static object's factor may be freed at exit.
+        static std::mutex *m = new std::mutex;
+        return *m;
       }
 
       static std::unordered_map<void *, Mapping> &
       blocks()
       {
-        static std::unordered_map<void *, Mapping> b;
-        return b;
+        static auto *b = new std::unordered_map<void *, Mapping>;
+        return *b;
       }
 
       /// A fresh (zero) mapping aligned to huge pages; nullptr if none.
       static void *
-      map(const std::size_t size)
+      map(const std::size_t size) noexcept
       {
         const std::size_t length =
           (size + huge_page - 1) / huge_page * huge_page + huge_page;
@@ -87,19 +89,27 @@ namespace forma
         void *block = reinterpret_cast<void *>(aligned);
         // Advice only: without transparent huge pages this fails, harmlessly.
         ::madvise(block, length - huge_page, MADV_HUGEPAGE);
-        std::lock_guard<std::mutex> lock(mutex());
-        blocks().emplace(block, Mapping{base, length, size});
+        try // no exception may cross SuiteSparse's C frames
+          {
+            std::lock_guard<std::mutex> lock(mutex());
+            blocks().emplace(block, Mapping{base, length, size});
+          }
+        catch (...)
+          {
+            ::munmap(base, length);
+            return nullptr;
+          }
         return block;
       }
 
       static void *
-      allocate(const std::size_t size)
+      allocate(const std::size_t size) noexcept
       {
         return size >= threshold ? map(size) : std::malloc(size);
       }
 
       static void *
-      allocate_zeroed(const std::size_t n, const std::size_t size)
+      allocate_zeroed(const std::size_t n, const std::size_t size) noexcept
       {
         if (size != 0 && n > SIZE_MAX / size)
           return nullptr;
@@ -107,7 +117,7 @@ namespace forma
       }
 
       static void *
-      reallocate(void *p, const std::size_t size)
+      reallocate(void *p, const std::size_t size) noexcept
       {
         std::size_t old_size = 0;
         {
@@ -115,6 +125,16 @@ namespace forma
           const auto                  b = blocks().find(p);
           if (b == blocks().end())
             return std::realloc(p, size);
+          // In place while the mapping holds it (UMFPACK grows its work
+          // space this way).
+          const std::size_t capacity = static_cast<char *>(b->second.base) +
+                                       b->second.length -
+                                       static_cast<char *>(p);
+          if (size <= capacity)
+            {
+              b->second.size = std::max(b->second.size, size);
+              return p;
+            }
           old_size = b->second.size;
         }
         void *q = allocate(size);
@@ -127,7 +147,7 @@ namespace forma
       }
 
       static void
-      release(void *p)
+      release(void *p) noexcept
       {
         Mapping mapping{nullptr, 0, 0};
         {
