@@ -1,6 +1,5 @@
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
-#include <deal.II/grid/grid_in.h>
 #include <deal.II/grid/tria.h>
 
 #include <forma/base/application.h>
@@ -15,7 +14,6 @@
 #include <cmath>
 #include <map>
 #include <set>
-#include <sstream>
 #include <tuple>
 
 namespace forma
@@ -26,7 +24,7 @@ namespace forma
   {
     const std::string context = "cut grid mesh";
 
-    std::string
+    internal::GmshTriangles
     generate(const PolygonDomain   &domain,
              const Point<2>        &origin,
              const double           h,
@@ -115,7 +113,7 @@ namespace forma
     AssertThrow(spacing > 0 && size > 0 && size <= spacing,
                 ExcMessage(context + ": the grid spacing must be positive "
                                      "and the element size no larger"));
-    const std::string msh =
+    const internal::GmshTriangles mesh =
       internal::gmsh_on_root(comm, "forma-cut-grid-mesh", context, [&]() {
         return generate(domain, origin, spacing, size, squares);
       });
@@ -131,10 +129,8 @@ namespace forma
       std::max(1e-6 * spacing,
                1e-5 * std::max(domain.hi[0] - domain.lo[0],
                                domain.hi[1] - domain.lo[1]));
-    Triangulation<2>   read;
-    std::istringstream in(msh);
-    GridIn<2>          grid_in(read);
-    grid_in.read_msh(in);
+    Triangulation<2> read;
+    read.create_triangulation(mesh.vertices, mesh.cells, SubCellData());
     for (const auto &cell : read.active_cell_iterators())
       {
         cell->set_material_id(cell->material_id() - 1); // tags are k + 1

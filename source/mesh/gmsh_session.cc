@@ -2,14 +2,17 @@
 
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
+#include <deal.II/grid/grid_tools.h>
 
 #include <forma/base/application.h>
 
 #include <gmsh.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <numeric>
 #include <sstream>
 #include <vector>
 
@@ -104,7 +107,76 @@ namespace forma
 
 
 
-    std::string
+    GmshTriangles
+    gmsh_triangles()
+    {
+      GmshTriangles result;
+      // Node tags to vertex numbers, in tag order.
+      std::vector<std::size_t> node_tags;
+      std::vector<double>      coordinates, parametric;
+      gmsh::model::mesh::getNodes(
+        node_tags, coordinates, parametric, -1, -1, false, false);
+      std::size_t largest = 0;
+      for (const std::size_t t : node_tags)
+        largest = std::max(largest, t);
+      std::vector<unsigned int> vertex(largest + 1,
+                                       numbers::invalid_unsigned_int);
+      constexpr int             triangle = 2; // Gmsh's 3-node triangle
+      gmsh::vectorpair          surfaces;
+      gmsh::model::getEntities(surfaces, 2);
+      std::vector<std::pair<int, std::vector<std::size_t>>> elements;
+      for (const auto &surface : surfaces)
+        {
+          std::vector<int> groups;
+          gmsh::model::getPhysicalGroupsForEntity(2, surface.second, groups);
+          if (groups.empty())
+            continue;
+          std::vector<int>                      types;
+          std::vector<std::vector<std::size_t>> tags, nodes;
+          gmsh::model::mesh::getElements(types, tags, nodes, 2, surface.second);
+          for (unsigned int k = 0; k < types.size(); ++k)
+            {
+              AssertThrow(types[k] == triangle,
+                          ExcMessage("Gmsh made elements other than 3-node "
+                                     "triangles (type " +
+                                     std::to_string(types[k]) + ")"));
+              for (const std::size_t t : nodes[k])
+                vertex[t] = 0; // used
+              elements.emplace_back(groups[0], std::move(nodes[k]));
+            }
+        }
+      // The used nodes numbered in tag order, as the .msh text lists them.
+      std::vector<std::size_t> order(node_tags.size());
+      std::iota(order.begin(), order.end(), 0);
+      std::sort(order.begin(), order.end(), [&](const auto a, const auto b) {
+        return node_tags[a] < node_tags[b];
+      });
+      for (const std::size_t i : order)
+        if (vertex[node_tags[i]] == 0)
+          {
+            vertex[node_tags[i]] = result.vertices.size();
+            result.vertices.emplace_back(coordinates[3 * i],
+                                         coordinates[3 * i + 1]);
+          }
+      for (const auto &[group, nodes] : elements)
+        for (std::size_t e = 0; e + 2 < nodes.size(); e += 3)
+          {
+            CellData<2> cell(3);
+            for (unsigned int v = 0; v < 3; ++v)
+              cell.vertices[v] = vertex[nodes[e + v]];
+            cell.material_id = group;
+            result.cells.push_back(cell);
+          }
+      // Clockwise triangles (a surface whose normal is -z) turned, as
+      // GridIn does.
+      GridTools::invert_cells_with_negative_measure(result.vertices,
+                                                    result.cells);
+      return result;
+    }
+
+
+
+    GmshTriangles
     gmsh_triangulate(const double size, const std::string &context)
     {
       gmsh::option::setNumber("Mesh.MeshSizeMax", size);
@@ -115,18 +187,19 @@ namespace forma
       gmsh::option::setNumber("Mesh.Algorithm", 6); // Frontal-Delaunay
       gmsh::model::mesh::generate(2);
       gmsh_check_generated(2, context);
-      return gmsh_written_mesh();
+      return gmsh_triangles();
     }
 
 
 
-    std::string
-    gmsh_on_root(const MPI_Comm                      comm,
-                 const std::string                  &model,
-                 const std::string                  &context,
-                 const std::function<std::string()> &generate)
+    GmshTriangles
+    gmsh_on_root(const MPI_Comm                        comm,
+                 const std::string                    &model,
+                 const std::string                    &context,
+                 const std::function<GmshTriangles()> &generate)
     {
-      std::string msh, error;
+      GmshTriangles msh;
+      std::string   error;
       if (Utilities::MPI::this_mpi_process(comm) == 0)
         try
           {
@@ -146,8 +219,9 @@ namespace forma
           {
             error = context + ": meshing failed with an unknown error";
           }
-      std::tie(msh, error) =
-        Utilities::MPI::broadcast(comm, std::make_pair(msh, error));
+      if (Utilities::MPI::n_mpi_processes(comm) > 1) // (no serialization)
+        std::tie(msh, error) =
+          Utilities::MPI::broadcast(comm, std::make_pair(msh, error));
       AssertThrow(error.empty(), ExcMessage(error));
       return msh;
     }

@@ -4,10 +4,13 @@
 // Internal helpers for the library's Gmsh API users (not installed).
 
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/point.h>
+#include <deal.II/grid/tria_description.h>
 
 #include <functional>
 #include <mutex>
 #include <string>
+#include <vector>
 
 namespace forma
 {
@@ -38,21 +41,44 @@ namespace forma
     std::string
     gmsh_written_mesh();
 
+    /// A planar triangle mesh as Triangulation::create_triangulation()
+    /// takes it.
+    struct GmshTriangles
+    {
+      std::vector<dealii::Point<2>>    vertices;
+      std::vector<dealii::CellData<2>> cells;
+
+      template <class Archive>
+      void
+      serialize(Archive &archive, const unsigned int)
+      {
+        archive &vertices &cells;
+      }
+    };
+
+    /// The triangles of the model's surfaces that belong to a physical
+    /// group, read from memory (what gmsh_written_mesh() would write, with
+    /// no text in between): the nodes they use, in Gmsh's order and
+    /// numbered from 0; the cells in Gmsh's order, each with the tag of its
+    /// surface's physical group as material id.
+    GmshTriangles
+    gmsh_triangles();
+
     /// Mesh the model's surfaces with triangles of at most `size`
     /// (Frontal-Delaunay, sizes extended from the boundary), check the
-    /// result and return it as gmsh_written_mesh() does.
-    std::string
+    /// result and return it as gmsh_triangles() does.
+    GmshTriangles
     gmsh_triangulate(const double size, const std::string &context);
 
-    /// Run `generate` (it builds a model and returns the mesh text) in a
-    /// Gmsh session on the root of `comm` only, so that every rank reads
-    /// the same mesh: every rank gets the text, or throws the root's error
+    /// Run `generate` (it builds a model and returns its mesh) in a Gmsh
+    /// session on the root of `comm` only, so that every rank reads the
+    /// same mesh: every rank gets the mesh, or throws the root's error
     /// (collective).
-    std::string
-    gmsh_on_root(const MPI_Comm                      comm,
-                 const std::string                  &model,
-                 const std::string                  &context,
-                 const std::function<std::string()> &generate);
+    GmshTriangles
+    gmsh_on_root(const MPI_Comm                        comm,
+                 const std::string                    &model,
+                 const std::string                    &context,
+                 const std::function<GmshTriangles()> &generate);
   } // namespace internal
 } // namespace forma
 

@@ -1,6 +1,5 @@
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
-#include <deal.II/grid/grid_in.h>
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/tria.h>
 
@@ -18,7 +17,6 @@
 #include <map>
 #include <numeric>
 #include <optional>
-#include <sstream>
 #include <tuple>
 
 namespace forma
@@ -567,7 +565,7 @@ namespace forma
     }
 
 
-    std::string
+    internal::GmshTriangles
     generate(const std::vector<std::vector<Point<2>>> &outer,
              const std::vector<std::vector<Point<2>>> &holes,
              const std::vector<int>                   &hole_owner,
@@ -612,7 +610,7 @@ namespace forma
       gmsh::option::setNumber("Mesh.Algorithm", algorithm);
       gmsh::model::mesh::generate(2);
       internal::gmsh_check_generated(2, "level set mesh");
-      return internal::gmsh_written_mesh();
+      return internal::gmsh_triangles();
     }
   } // namespace
 
@@ -682,27 +680,27 @@ namespace forma
      * pieces counted.
      */
     void
-    join_rotated_copy(const Triangulation<2>   &half,
-                      const Point<2>           &box,
-                      std::vector<Point<2>>    &vertices,
-                      std::vector<CellData<2>> &cells,
-                      unsigned int             &floating_pieces)
+    join_rotated_copy(const internal::GmshTriangles &half,
+                      const Point<2>                &box,
+                      std::vector<Point<2>>         &vertices,
+                      std::vector<CellData<2>>      &cells,
+                      unsigned int                  &floating_pieces)
     {
       const double             tol = 1e-9 * std::max(box[0], box[1]);
       const double             mid = box[1] / 2;
-      std::vector<int>         index(half.n_vertices(), -1);
+      std::vector<int>         index(half.vertices.size(), -1);
       std::vector<Point<2>>    points;
       std::vector<CellData<2>> lower;
-      for (const auto &cell : half.active_cell_iterators())
+      for (const CellData<2> &cell : half.cells)
         {
-          CellData<2> data(cell->n_vertices());
-          for (const unsigned int v : cell->vertex_indices())
+          CellData<2> data(cell.vertices.size());
+          for (unsigned int v = 0; v < cell.vertices.size(); ++v)
             {
-              int &k = index[cell->vertex_index(v)];
+              int &k = index[cell.vertices[v]];
               if (k < 0)
                 {
                   k = points.size();
-                  points.push_back(cell->vertex(v));
+                  points.push_back(half.vertices[cell.vertices[v]]);
                 }
               data.vertices[v] = k;
             }
@@ -968,7 +966,7 @@ namespace forma
                                     16 * std::pow(parameters.boundary_size, 2))
                 retry.push_back(k < outer.size() ? where_outer[k] : where[k]);
           if (!retry.empty())
-            return std::string();
+            return internal::GmshTriangles();
           for (unsigned int k = 0; k < outer.size(); ++k)
             AssertThrow(!outer_crossed[k],
                         ExcMessage(context +
@@ -1057,14 +1055,14 @@ namespace forma
                             " (is a gap or a joint of the structure "
                             "thinner than the boundary element size?)"));
             }
-        return std::string();
+        return internal::GmshTriangles();
       };
-      const std::string msh =
+      internal::GmshTriangles mesh =
         internal::gmsh_on_root(comm, "forma-level-set-mesh", context, [&]() {
           for (;;)
             {
               retry.clear();
-              std::string result = attempt();
+              internal::GmshTriangles result = attempt();
               if (retry.empty())
                 return result;
               // Before any Gmsh model is made.
@@ -1081,24 +1079,20 @@ namespace forma
                 }
             }
         });
-      Triangulation<2>   read;
-      std::istringstream in(msh);
-      GridIn<2>          grid_in(read);
-      grid_in.read_msh(in);
       if (symmetric)
         {
-          std::vector<Point<2>>    vertices;
-          std::vector<CellData<2>> cells;
+          internal::GmshTriangles whole;
           join_rotated_copy(
-            read, box, vertices, cells, local_info.dropped_islands);
-          AssertThrow(!cells.empty(),
+            mesh, box, whole.vertices, whole.cells, local_info.dropped_islands);
+          AssertThrow(!whole.cells.empty(),
                       ExcMessage(context +
                                  ": the material does not reach the sides "
                                  "of the cell, so it cannot form a "
                                  "periodic structure"));
-          read.clear();
-          read.create_triangulation(vertices, cells, SubCellData());
+          mesh = std::move(whole);
         }
+      Triangulation<2> read;
+      read.create_triangulation(mesh.vertices, mesh.cells, SubCellData());
       double area = 0;
       for (const auto &cell : read.active_cell_iterators())
         {

@@ -1,6 +1,5 @@
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
-#include <deal.II/grid/grid_in.h>
 #include <deal.II/grid/tria.h>
 
 #include <forma/base/application.h>
@@ -14,7 +13,6 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <sstream>
 #include <tuple>
 
 namespace forma
@@ -47,7 +45,7 @@ namespace forma
       return result;
     }
 
-    std::string
+    internal::GmshTriangles
     generate(const std::vector<std::pair<std::vector<Point<2>>, unsigned int>>
                             &polygons,
              const Point<2> &box,
@@ -167,14 +165,12 @@ namespace forma
                            std::to_string(size) +
                            " is not smaller than the box"));
     // Meshed once, on the root, so that every rank reads the same mesh.
-    const std::string msh =
+    const internal::GmshTriangles mesh =
       internal::gmsh_on_root(comm, "forma-periodic-phase-mesh", context, [&]() {
         return generate(polygons, box, size);
       });
-    Triangulation<2>   read;
-    std::istringstream in(msh);
-    GridIn<2>          grid_in(read);
-    grid_in.read_msh(in);
+    Triangulation<2> read;
+    read.create_triangulation(mesh.vertices, mesh.cells, SubCellData());
     for (const auto &cell : read.active_cell_iterators())
       cell->set_material_id(cell->material_id() -
                             1); // physical tags are id + 1
