@@ -315,10 +315,8 @@ namespace forma
     // constraints (periodic ties, odd images, pins; homogeneous) resolve
     // once here instead of per cell, and half the rows of a symmetric
     // cell's matrix are not built at all.
-    bool                 serial_direct = false;
-    SparseCholesky       cholesky;
-    SparsityPattern      serial_pattern;
-    SparseMatrix<double> serial_matrix;
+    bool           serial_direct = false;
+    SparseCholesky cholesky;
     /// Row i of T: the free dofs (and weights) dof i follows, in
     /// reduction_entries[reduction_start[i], reduction_start[i + 1]).
     std::vector<unsigned int>                    reduction_start;
@@ -672,11 +670,11 @@ namespace forma
                 rows.push_back(reduction_entries[k].first);
             std::sort(rows.begin(), rows.end());
             rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
-            for (const unsigned int r : rows)
-              dsp.add_entries(r, rows.begin(), rows.end(), true);
+            // The lower triangle: what SparseCholesky stores.
+            for (auto r = rows.begin(); r != rows.end(); ++r)
+              dsp.add_entries(*r, rows.begin(), r + 1, true);
           }
-        serial_pattern.copy_from(dsp);
-        serial_matrix.reinit(serial_pattern);
+        cholesky.reinit(dsp);
       }
     else
       {
@@ -941,12 +939,12 @@ namespace forma
 
     // One pass: the matrix and the right-hand sides of all test strains.
     if (m.serial_direct)
-      m.serial_matrix = 0;
+      m.cholesky.set_zero();
     else
       m.matrix = 0;
     // The right-hand sides: T^T F on the free dofs (serial direct) or the
     // condensed F.
-    const unsigned int n_free = m.serial_direct ? m.serial_matrix.m() : 0;
+    const unsigned int n_free = m.serial_direct ? m.cholesky.size() : 0;
     std::vector<Vector<double>> free_rhs(m.serial_direct ? nv : 0,
                                          Vector<double>(n_free));
     std::vector<TrilinosWrappers::MPI::Vector> rhs(
@@ -968,20 +966,23 @@ namespace forma
             cell_T.emplace_back(i,
                                 m.reduction_entries[k].first,
                                 m.reduction_entries[k].second);
-        columns.resize(cell_T.size());
-        values.resize(cell_T.size());
         for (const auto &[i, r, t_i] : cell_T)
           {
-            for (unsigned int q = 0; q < cell_T.size(); ++q)
-              {
-                const auto &[j, c, t_j] = cell_T[q];
-                columns[q]              = c;
-                values[q]               = t_i * t_j * K(i, j);
-              }
-            // Unsorted, so a free dof met twice (a cell holding a dof and its
-            // image) adds up.
-            m.serial_matrix.add(
-              r, columns.size(), columns.data(), values.data(), false, false);
+            // The lower triangle (SparseCholesky's half).
+            columns.clear();
+            values.clear();
+            for (const auto &[j, c, t_j] : cell_T)
+              if (c <= r)
+                {
+                  columns.push_back(c);
+                  values.push_back(t_i * t_j * K(i, j));
+                }
+            // A free dof met twice (a cell holding a dof and its image)
+            // adds up.
+            m.cholesky.add_row(r,
+                               columns.size(),
+                               columns.data(),
+                               values.data());
             for (unsigned int c = 0; c < nv; ++c)
               free_rhs[c](r) += t_i * F[c](i);
           }
@@ -1055,7 +1056,7 @@ namespace forma
     FullMatrix<double> load_work(nv, nv);
     if (m.serial_direct)
       {
-        m.cholesky.factorize(m.serial_matrix);
+        m.cholesky.factorize();
         std::vector<Vector<double>> x = free_rhs;
         Vector<double>              u(m.dof_handler.n_dofs());
         for (unsigned int c = 0; c < nv; ++c)

@@ -1,5 +1,5 @@
 #include <deal.II/base/exceptions.h>
-#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/vector.h>
 
 #include <forma/solvers/sparse_cholesky.h>
@@ -182,6 +182,8 @@ namespace forma
       // LL' also when simplicial (its default LDL' reports only exactly
       // zero pivots): a matrix that is not positive definite is an error.
       common.final_ll = 1;
+      // Failures are reported by the exceptions below, not on stderr.
+      common.print = 0;
     }
 
     ~Impl()
@@ -194,9 +196,10 @@ namespace forma
     }
 
     mutable cholmod_common common;
-    cholmod_sparse        *matrix  = nullptr;
-    cholmod_factor        *factor  = nullptr;
-    const SparsityPattern *pattern = nullptr;
+    // Upper triangle, compressed columns: column r holds the sorted rows
+    // c <= r (row r of the lower triangle).
+    cholmod_sparse *matrix = nullptr;
+    cholmod_factor *factor = nullptr;
   };
 
 
@@ -212,50 +215,96 @@ namespace forma
 
 
   void
-  SparseCholesky::factorize(const SparseMatrix<double> &A)
+  SparseCholesky::reinit(const DynamicSparsityPattern &pattern)
   {
-    Impl      &m = *impl;
-    const auto n = A.m();
-    const bool same_pattern =
-      m.matrix != nullptr && m.pattern == &A.get_sparsity_pattern();
-    // Row r of the (symmetric) CSR matrix is column r of its CSC form; keep
-    // the entries with column index <= r: the upper triangle.
+    Impl &m = *impl;
+    AssertThrow(pattern.n_rows() == pattern.n_cols(),
+                ExcMessage("SparseCholesky: the matrix must be square"));
+    if (m.factor)
+      cholmod_free_factor(&m.factor, &m.common);
+    if (m.matrix)
+      cholmod_free_sparse(&m.matrix, &m.common);
+    const auto  n   = pattern.n_rows();
     std::size_t nnz = 0;
     for (unsigned int r = 0; r < n; ++r)
-      for (auto it = A.begin(r); it != A.end(r); ++it)
+      for (auto it = pattern.begin(r); it != pattern.end(r); ++it)
         nnz += (it->column() <= r);
-    if (!same_pattern)
-      {
-        if (m.factor)
-          cholmod_free_factor(&m.factor, &m.common);
-        if (m.matrix)
-          cholmod_free_sparse(&m.matrix, &m.common);
-        m.matrix  = cholmod_allocate_sparse(n,
-                                           n,
-                                           nnz,
-                                           /*sorted*/ 0,
-                                           /*packed*/ 1,
-                                           /*stype*/ 1,
-                                           CHOLMOD_REAL,
-                                           &m.common);
-        m.pattern = &A.get_sparsity_pattern();
-      }
+    m.matrix = cholmod_allocate_sparse(n,
+                                       n,
+                                       nnz,
+                                       /*sorted*/ 1,
+                                       /*packed*/ 1,
+                                       /*stype*/ 1,
+                                       CHOLMOD_REAL,
+                                       &m.common);
+    AssertThrow(m.matrix != nullptr,
+                ExcMessage("SparseCholesky: out of memory for the matrix"));
     int        *p = static_cast<int *>(m.matrix->p);
     int        *i = static_cast<int *>(m.matrix->i);
-    double     *x = static_cast<double *>(m.matrix->x);
     std::size_t k = 0;
     for (unsigned int r = 0; r < n; ++r)
       {
         p[r] = k;
-        for (auto it = A.begin(r); it != A.end(r); ++it)
+        // The pattern's rows are sorted.
+        for (auto it = pattern.begin(r); it != pattern.end(r); ++it)
           if (it->column() <= r)
-            {
-              i[k]   = it->column();
-              x[k++] = it->value();
-            }
+            i[k++] = it->column();
       }
     p[n] = k;
-    if (!same_pattern)
+    set_zero();
+  }
+
+
+
+  void
+  SparseCholesky::set_zero()
+  {
+    Impl &m = *impl;
+    Assert(m.matrix != nullptr, ExcMessage("SparseCholesky: no pattern"));
+    std::fill_n(static_cast<double *>(m.matrix->x), m.matrix->nzmax, 0.);
+  }
+
+
+
+  void
+  SparseCholesky::add_row(const unsigned int  r,
+                          const unsigned int  n,
+                          const unsigned int *columns,
+                          const double       *values)
+  {
+    Impl      &m     = *impl;
+    const int *p     = static_cast<const int *>(m.matrix->p);
+    const int *begin = static_cast<const int *>(m.matrix->i) + p[r];
+    const int *end   = static_cast<const int *>(m.matrix->i) + p[r + 1];
+    double    *x     = static_cast<double *>(m.matrix->x) + p[r];
+    for (unsigned int q = 0; q < n; ++q)
+      if (columns[q] <= r)
+        {
+          const int *at =
+            std::lower_bound(begin, end, static_cast<int>(columns[q]));
+          Assert(at != end && *at == static_cast<int>(columns[q]),
+                 ExcMessage("SparseCholesky: an entry outside the pattern"));
+          x[at - begin] += values[q];
+        }
+  }
+
+
+
+  unsigned int
+  SparseCholesky::size() const
+  {
+    return impl->matrix ? impl->matrix->nrow : 0;
+  }
+
+
+
+  void
+  SparseCholesky::factorize()
+  {
+    Impl &m = *impl;
+    AssertThrow(m.matrix != nullptr,
+                ExcMessage("SparseCholesky::factorize() before reinit()"));
+    if (!m.factor)
       {
         m.factor = cholmod_analyze(m.matrix, &m.common);
         AssertThrow(m.factor != nullptr && m.common.status == CHOLMOD_OK,

@@ -5,8 +5,7 @@
 
 namespace dealii
 {
-  template <typename number>
-  class SparseMatrix;
+  class DynamicSparsityPattern;
   template <typename number>
   class Vector;
 } // namespace dealii
@@ -14,12 +13,13 @@ namespace dealii
 namespace forma
 {
   /**
-   * Sparse Cholesky factorization LL' (CHOLMOD: simplicial, or supernodal
-   * with the BLAS for fill-heavy factors) of a
-   * symmetric positive definite deal.II matrix on one process. The
-   * fill-reducing analysis is kept across factorize() calls with the same
-   * sparsity pattern, so a sweep over many materials on one mesh pays it
-   * once. Several times faster than a general LU on 2D elasticity.
+   * A symmetric positive definite matrix on one process, assembled in
+   * place and factorized LL' by CHOLMOD (simplicial, or supernodal with the
+   * BLAS for fill-heavy factors). Only the upper triangle is stored, in
+   * CHOLMOD's own arrays: no second copy of the matrix, half the entries to
+   * add. The fill-reducing analysis is kept across factorize() calls on one
+   * pattern, so a sweep over many materials on one mesh pays it once.
+   * Several times faster than a general LU on 2D elasticity.
    */
   class SparseCholesky
   {
@@ -27,10 +27,32 @@ namespace forma
     SparseCholesky();
     ~SparseCholesky();
 
-    /// Factorize A (its upper triangle is read); throws if A is not
-    /// positive definite. Re-analyzes only if the pattern changed.
+    /// Take the pattern of the matrix (square, symmetric): its entries
+    /// (r, c) with c <= r, which are all a caller needs to add. Values
+    /// are zero; the next factorize() analyzes the pattern.
     void
-    factorize(const dealii::SparseMatrix<double> &A);
+    reinit(const dealii::DynamicSparsityPattern &pattern);
+
+    /// Set every value to zero, keeping the pattern and its analysis.
+    void
+    set_zero();
+
+    /// A(r, c) += values[q] for the c = columns[q] <= r (the others are
+    /// the transposed entries, added through their own row); a column may
+    /// appear several times. Every entry must be in the pattern.
+    void
+    add_row(const unsigned int  r,
+            const unsigned int  n,
+            const unsigned int *columns,
+            const double       *values);
+
+    /// The matrix's size.
+    unsigned int
+    size() const;
+
+    /// Factorize the matrix added; throws if it is not positive definite.
+    void
+    factorize();
 
     /// Solve A x = b in place.
     void
