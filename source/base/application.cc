@@ -5,6 +5,7 @@
 #include <forma/base/application.h>
 #include <forma/base/parameter_override.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -88,6 +89,12 @@ namespace forma
   int
   run_application(int argc, char **argv, const ApplicationDescription &app)
   {
+    // Started without mpirun, Open MPI's singleton start spawns an `orted`
+    // daemon, 0.2 s of every run here; one process needs none. An explicit
+    // setting wins; other MPI libraries ignore the variable.
+    if (std::getenv("OMPI_COMM_WORLD_SIZE") == nullptr &&
+        std::getenv("PMIX_RANK") == nullptr)
+      ::setenv("OMPI_MCA_ess_singleton_isolated", "1", /*overwrite*/ 0);
     dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
     const MPI_Comm                           comm = MPI_COMM_WORLD;
     const bool root = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
