@@ -124,7 +124,7 @@ namespace forma
         const auto by_key = [](const auto &a, const auto &b) {
           return a.first < b.first;
         };
-        std::stable_sort(entries.begin(), entries.end(), by_key);
+        std::sort(entries.begin(), entries.end(), by_key);
         entries.erase(std::unique(entries.begin(),
                                   entries.end(),
                                   [](const auto &a, const auto &b) {
@@ -685,19 +685,21 @@ namespace forma
       }
 
     // Translations for the AMG near null space.
-    translation_modes.assign(dim, std::vector<double>(owned.n_elements()));
-    {
-      std::vector<types::global_dof_index> local(fe->n_dofs_per_cell());
-      for (const auto &cell : dof_handler.active_cell_iterators())
-        if (cell->is_locally_owned())
-          {
-            cell->get_dof_indices(local);
-            for (unsigned int i = 0; i < local.size(); ++i)
-              if (owned.is_element(local[i]))
-                translation_modes[fe->system_to_component_index(i).first]
-                                 [owned.index_within_set(local[i])] = 1;
-          }
-    }
+    translation_modes.assign(serial_direct ? 0 : dim,
+                             std::vector<double>(owned.n_elements()));
+    if (!serial_direct)
+      {
+        std::vector<types::global_dof_index> local(fe->n_dofs_per_cell());
+        for (const auto &cell : dof_handler.active_cell_iterators())
+          if (cell->is_locally_owned())
+            {
+              cell->get_dof_indices(local);
+              for (unsigned int i = 0; i < local.size(); ++i)
+                if (owned.is_element(local[i]))
+                  translation_modes[fe->system_to_component_index(i).first]
+                                   [owned.index_within_set(local[i])] = 1;
+            }
+      }
 
     // Regular grids: every cell is a translate of the first.
     if (congruent_cells)
@@ -1051,7 +1053,7 @@ namespace forma
     result.solver = m.solver_parameters.type;
     m.fluctuation.resize(nv);
     std::vector<TrilinosWrappers::MPI::Vector> w(
-      nv, TrilinosWrappers::MPI::Vector(m.owned, m.comm));
+      m.serial_direct ? 0 : nv, TrilinosWrappers::MPI::Vector(m.owned, m.comm));
     // f_c . w_d (f_c the condensed right-hand side, w_d the solution).
     FullMatrix<double> load_work(nv, nv);
     if (m.serial_direct)
@@ -1072,7 +1074,8 @@ namespace forma
                            x[c](m.reduction_entries[k].first);
                 u(i) = value;
               }
-            w[c] = u;
+            m.fluctuation[c].reinit(m.owned, m.relevant, m.comm);
+            m.fluctuation[c] = u;
             result.linear_iterations.push_back(1);
           }
         for (unsigned int c = 0; c < nv; ++c)
@@ -1092,14 +1095,11 @@ namespace forma
             c == 0 ? solver.solve(m.matrix, w[c], rhs[c], false) :
                      solver.solve_reusing(m.matrix, w[c], rhs[c]));
       }
-    for (unsigned int c = 0; c < nv; ++c)
+    for (unsigned int c = 0; c < w.size(); ++c) // u = T x needs none of it
       {
-        if (!m.serial_direct) // u = T x satisfies the constraints already
-          {
-            for (unsigned int d = 0; d < nv; ++d)
-              load_work(d, c) = rhs[d] * w[c];
-            m.constraints.distribute(w[c]);
-          }
+        for (unsigned int d = 0; d < nv; ++d)
+          load_work(d, c) = rhs[d] * w[c];
+        m.constraints.distribute(w[c]);
         m.fluctuation[c].reinit(m.owned, m.relevant, m.comm);
         m.fluctuation[c] = w[c];
       }
