@@ -14,8 +14,6 @@
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/full_matrix.h>
-#include <deal.II/lac/sparse_matrix.h>
-#include <deal.II/lac/sparsity_pattern.h>
 #include <deal.II/lac/sparsity_tools.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/trilinos_vector.h>
@@ -117,7 +115,8 @@ namespace forma
         entries.emplace_back(position_key(p, c, box), value);
       }
 
-      /// After the insertions; one entry per key is kept.
+      /// After the insertions; one entry per key is kept (any one: the
+      /// callers insert equal values under equal keys).
       void
       sort()
       {
@@ -310,8 +309,8 @@ namespace forma
     IndexSet                         owned, relevant;
     TrilinosWrappers::SparseMatrix   matrix;
     // One rank and a direct solver: sparse Cholesky (CHOLMOD, several times
-    // faster than KLU) on a deal.II matrix, analysis kept across calls.
-    // That matrix is T^T K T on the free dofs alone, u = T x: the
+    // faster than KLU), assembled in place, analysis kept across calls.
+    // The matrix is T^T K T on the free dofs alone, u = T x: the
     // constraints (periodic ties, odd images, pins; homogeneous) resolve
     // once here instead of per cell, and half the rows of a symmetric
     // cell's matrix are not built at all.
@@ -670,7 +669,7 @@ namespace forma
                 rows.push_back(reduction_entries[k].first);
             std::sort(rows.begin(), rows.end());
             rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
-            // The lower triangle: what SparseCholesky stores.
+            // Entries (r, c <= r): the half SparseCholesky keeps.
             for (auto r = rows.begin(); r != rows.end(); ++r)
               dsp.add_entries(*r, rows.begin(), r + 1, true);
           }
@@ -949,8 +948,9 @@ namespace forma
     const unsigned int n_free = m.serial_direct ? m.cholesky.size() : 0;
     std::vector<Vector<double>> free_rhs(m.serial_direct ? nv : 0,
                                          Vector<double>(n_free));
-    std::vector<TrilinosWrappers::MPI::Vector> rhs(
-      m.serial_direct ? 0 : nv, TrilinosWrappers::MPI::Vector(m.owned, m.comm));
+    std::vector<TrilinosWrappers::MPI::Vector> rhs;
+    if (!m.serial_direct)
+      rhs.assign(nv, TrilinosWrappers::MPI::Vector(m.owned, m.comm));
     // Adds the cell's K and F to T^T K T and T^T F: (local dof, free dof,
     // weight) for the cell's rows of T.
     std::vector<std::tuple<unsigned int, unsigned int, double>> cell_T;
@@ -970,7 +970,7 @@ namespace forma
                                 m.reduction_entries[k].second);
         for (const auto &[i, r, t_i] : cell_T)
           {
-            // The lower triangle (SparseCholesky's half).
+            // Entries (r, c <= r): the half SparseCholesky keeps.
             columns.clear();
             values.clear();
             for (const auto &[j, c, t_j] : cell_T)
@@ -1052,8 +1052,9 @@ namespace forma
     Result result;
     result.solver = m.solver_parameters.type;
     m.fluctuation.resize(nv);
-    std::vector<TrilinosWrappers::MPI::Vector> w(
-      m.serial_direct ? 0 : nv, TrilinosWrappers::MPI::Vector(m.owned, m.comm));
+    std::vector<TrilinosWrappers::MPI::Vector> w;
+    if (!m.serial_direct)
+      w.assign(nv, TrilinosWrappers::MPI::Vector(m.owned, m.comm));
     // f_c . w_d (f_c the condensed right-hand side, w_d the solution).
     FullMatrix<double> load_work(nv, nv);
     if (m.serial_direct)

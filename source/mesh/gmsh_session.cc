@@ -110,8 +110,7 @@ namespace forma
     GmshTriangles
     gmsh_triangles()
     {
-      GmshTriangles result;
-      // Node tags to vertex numbers, in tag order.
+      GmshTriangles            result;
       std::vector<std::size_t> node_tags;
       std::vector<double>      coordinates, parametric;
       gmsh::model::mesh::getNodes(
@@ -119,6 +118,8 @@ namespace forma
       std::size_t largest = 0;
       for (const std::size_t t : node_tags)
         largest = std::max(largest, t);
+      // Node tag -> vertex number, for the nodes the triangles use.
+      std::vector<bool>         used(largest + 1, false);
       std::vector<unsigned int> vertex(largest + 1,
                                        numbers::invalid_unsigned_int);
       constexpr int             triangle = 2; // Gmsh's 3-node triangle
@@ -131,6 +132,10 @@ namespace forma
           gmsh::model::getPhysicalGroupsForEntity(2, surface.second, groups);
           if (groups.empty())
             continue;
+          // A .msh file would list the triangles once per group.
+          AssertThrow(groups.size() == 1,
+                      ExcMessage("Gmsh mesh: a surface in several physical "
+                                 "groups"));
           std::vector<int>                      types;
           std::vector<std::vector<std::size_t>> tags, nodes;
           gmsh::model::mesh::getElements(types, tags, nodes, 2, surface.second);
@@ -141,18 +146,19 @@ namespace forma
                                      "triangles (type " +
                                      std::to_string(types[k]) + ")"));
               for (const std::size_t t : nodes[k])
-                vertex[t] = 0; // used
+                used[t] = true;
               elements.emplace_back(groups[0], std::move(nodes[k]));
             }
         }
-      // The used nodes numbered in tag order, as the .msh text lists them.
+      // Numbered in tag order: Gmsh numbers a generated mesh's nodes entity
+      // by entity, the order a .msh file lists them in.
       std::vector<std::size_t> order(node_tags.size());
       std::iota(order.begin(), order.end(), 0);
       std::sort(order.begin(), order.end(), [&](const auto a, const auto b) {
         return node_tags[a] < node_tags[b];
       });
       for (const std::size_t i : order)
-        if (vertex[node_tags[i]] == 0)
+        if (used[node_tags[i]])
           {
             vertex[node_tags[i]] = result.vertices.size();
             result.vertices.emplace_back(coordinates[3 * i],
@@ -167,6 +173,8 @@ namespace forma
             cell.material_id = group;
             result.cells.push_back(cell);
           }
+      AssertThrow(!result.cells.empty(),
+                  ExcMessage("Gmsh mesh: no triangles in a physical group"));
       // Clockwise triangles (a surface whose normal is -z) turned, as
       // GridIn does.
       GridTools::invert_cells_with_negative_measure(result.vertices,

@@ -57,10 +57,11 @@ namespace forma
     };
 
     /// The triangles of the model's surfaces that belong to a physical
-    /// group, read from memory (what gmsh_written_mesh() would write, with
-    /// no text in between): the nodes they use, in Gmsh's order and
-    /// numbered from 0; the cells in Gmsh's order, each with the tag of its
-    /// surface's physical group as material id.
+    /// group (one each), read from memory: what GridIn would make of
+    /// gmsh_written_mesh()'s text, without the text. The nodes they use,
+    /// numbered from 0 in Gmsh's order; the cells in Gmsh's order, clockwise
+    /// ones turned, each with its surface's physical group tag as material
+    /// id.
     GmshTriangles
     gmsh_triangles();
 

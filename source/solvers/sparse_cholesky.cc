@@ -260,7 +260,8 @@ namespace forma
   SparseCholesky::set_zero()
   {
     Impl &m = *impl;
-    Assert(m.matrix != nullptr, ExcMessage("SparseCholesky: no pattern"));
+    AssertThrow(m.matrix != nullptr,
+                ExcMessage("SparseCholesky::set_zero() before reinit()"));
     std::fill_n(static_cast<double *>(m.matrix->x), m.matrix->nzmax, 0.);
   }
 
@@ -272,7 +273,12 @@ namespace forma
                           const unsigned int *columns,
                           const double       *values)
   {
-    Impl      &m     = *impl;
+    Impl &m = *impl;
+    // Checked in release builds too: a stray entry would corrupt the
+    // neighbouring column silently, and the checks cost a compare each.
+    AssertThrow(m.matrix != nullptr && r < m.matrix->nrow,
+                ExcMessage("SparseCholesky::add_row(): row " +
+                           std::to_string(r) + " outside the matrix"));
     const int *p     = static_cast<const int *>(m.matrix->p);
     const int *begin = static_cast<const int *>(m.matrix->i) + p[r];
     const int *end   = static_cast<const int *>(m.matrix->i) + p[r + 1];
@@ -282,8 +288,11 @@ namespace forma
         {
           const int *at =
             std::lower_bound(begin, end, static_cast<int>(columns[q]));
-          Assert(at != end && *at == static_cast<int>(columns[q]),
-                 ExcMessage("SparseCholesky: an entry outside the pattern"));
+          AssertThrow(at != end && *at == static_cast<int>(columns[q]),
+                      ExcMessage("SparseCholesky::add_row(): the entry (" +
+                                 std::to_string(r) + ", " +
+                                 std::to_string(columns[q]) +
+                                 ") is not in the pattern"));
           x[at - begin] += values[q];
         }
   }
@@ -311,10 +320,15 @@ namespace forma
                     ExcMessage("CHOLMOD could not analyze the matrix"));
       }
     cholmod_factorize(m.matrix, m.factor, &m.common);
-    AssertThrow(m.common.status == CHOLMOD_OK,
+    AssertThrow(m.common.status != CHOLMOD_NOT_POSDEF,
                 ExcMessage("the Cholesky factorization failed: the matrix is "
                            "not positive definite (column " +
                            std::to_string(m.factor->minor) + ")"));
+    AssertThrow(m.common.status == CHOLMOD_OK,
+                ExcMessage("the Cholesky factorization failed (CHOLMOD "
+                           "status " +
+                           std::to_string(m.common.status) +
+                           ", e.g. out of memory)"));
   }
 
 
@@ -325,13 +339,19 @@ namespace forma
     Impl &m = *impl;
     AssertThrow(m.factor != nullptr,
                 ExcMessage("SparseCholesky::solve() before factorize()"));
+    AssertThrow(b.size() == m.factor->n,
+                ExcMessage("SparseCholesky::solve(): the vector's size " +
+                           std::to_string(b.size()) + " is not the matrix's " +
+                           std::to_string(m.factor->n)));
     cholmod_dense *rhs =
       cholmod_allocate_dense(b.size(), 1, b.size(), CHOLMOD_REAL, &m.common);
+    AssertThrow(rhs != nullptr,
+                ExcMessage("SparseCholesky::solve(): out of memory"));
     std::memcpy(rhs->x, b.data(), b.size() * sizeof(double));
     cholmod_dense *x = cholmod_solve(CHOLMOD_A, m.factor, rhs, &m.common);
+    cholmod_free_dense(&rhs, &m.common);
     AssertThrow(x != nullptr, ExcMessage("the Cholesky solve failed"));
     std::memcpy(b.data(), x->x, b.size() * sizeof(double));
     cholmod_free_dense(&x, &m.common);
-    cholmod_free_dense(&rhs, &m.common);
   }
 } // namespace forma
