@@ -684,10 +684,10 @@ namespace forma
       }
 
     // Translations for the AMG near null space.
-    translation_modes.assign(serial_direct ? 0 : dim,
-                             std::vector<double>(owned.n_elements()));
+    translation_modes.clear();
     if (!serial_direct)
       {
+        translation_modes.assign(dim, std::vector<double>(owned.n_elements()));
         std::vector<types::global_dof_index> local(fe->n_dofs_per_cell());
         for (const auto &cell : dof_handler.active_cell_iterators())
           if (cell->is_locally_owned())
