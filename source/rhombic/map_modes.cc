@@ -623,6 +623,35 @@ namespace forma
                         "E / E_b",
                         {{-1, 1}},
                         {{0, 1.1 * std::max(top, 1e-3)}});
+          // Fig. 4.33: every check as a segment from its target (E*, nu*)
+          // to what the map's structure gives.
+          if (!accuracy.empty())
+            {
+              std::vector<PlotSeries> segments(1);
+              segments[0].label = "target";
+              segments[0].size  = 3;
+              for (const auto &p : accuracy)
+                {
+                  const double E = p["E"], nu = p["nu"];
+                  segments[0].points.push_back({{nu, E}});
+                  PlotSeries s;
+                  s.points = {{{nu, E}},
+                              {{p["nu_achieved"].get<double>(),
+                                p["E_achieved"].get<double>()}}};
+                  s.line   = true;
+                  s.color  = {{200, 30, 30}};
+                  segments.push_back(s);
+                }
+              segments[1].label   = "what the map gives";
+              const double margin = (nus.back() - nus.front()) / 10;
+              write_xy_plot(context.path("map_accuracy.png"),
+                            segments,
+                            "Map accuracy off the samples",
+                            "Poisson's ratio",
+                            "E / E_b",
+                            {{nus.front() - margin, nus.back() + margin}},
+                            {{0, 1.1 * Es.back()}});
+            }
         }
     }
 
