@@ -2,9 +2,11 @@
 #include <deal.II/base/timer.h>
 #include <deal.II/grid/tria.h>
 
+#include <forma/base/plot.h>
 #include <forma/homogenization/parallelogram_cell.h>
 #include <forma/mesh/level_set_motion.h>
 #include <forma/mesh/mesh.h>
+#include <forma/mesh/polygon_domain.h>
 #include <forma/rhombic/cell_model.h>
 
 #include <Sacado.hpp>
@@ -84,6 +86,25 @@ namespace forma
           return std::vector<double>();
         },
         design.cell_map());
+    }
+
+
+
+    void
+    CellModel::write_svg(const std::string &file_name, const double side) const
+    {
+      const Tensor<2, 2>                              F = design.cell_map();
+      std::vector<std::vector<std::array<double, 2>>> loops;
+      for (const auto &loop : PolygonDomain::boundary_of(*mesh, false).loops)
+        {
+          loops.emplace_back();
+          for (const Point<2> &v : loop.vertices)
+            {
+              const Tensor<1, 2> x = (side / L) * (F * v);
+              loops.back().push_back({{x[0], x[1]}});
+            }
+        }
+      write_polygons_svg(file_name, loops, 1e-3 * side);
     }
 
 

@@ -70,7 +70,10 @@ namespace forma
       context.summary["structure"] = structure_json(s);
       context.summary["result"]    = sample_json(r, setup);
       if (context.is_root())
-        write_structure_png(context.path("structure.png"), s);
+        {
+          write_structure_png(context.path("structure.png"), s);
+          model.write_svg(context.path("structure.svg"), setup.svg_cell_side);
+        }
       if (setup.write_vtu)
         model.write_vtu(context.path("cell"));
     }

@@ -717,7 +717,10 @@ namespace forma
       S["E_relative_error"] = dE;
       S["nu_error"]         = dnu;
       if (context.is_root())
-        write_structure_png(context.path("structure.png"), s);
+        {
+          write_structure_png(context.path("structure.png"), s);
+          model.write_svg(context.path("structure.svg"), setup.svg_cell_side);
+        }
       if (setup.write_vtu)
         model.write_vtu(context.path("cell"));
     }

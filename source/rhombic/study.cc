@@ -647,6 +647,12 @@ namespace forma
                         Patterns::Bool(),
                         "homogenize: write the cell mesh with the "
                         "fluctuations (cell.vtu).");
+      prm.declare_entry("SVG cell side",
+                        "20",
+                        Patterns::Double(1e-3),
+                        "homogenize, query: the side of the cell in "
+                        "structure.svg, in millimetres (one cell's "
+                        "material for a cutter; copies tile).");
       prm.declare_entry("Isotropy tolerance",
                         "0.005",
                         Patterns::Double(0),
@@ -698,6 +704,7 @@ namespace forma
 
       prm.enter_subsection("Output");
       setup.write_vtu          = prm.get_bool("Write vtu");
+      setup.svg_cell_side      = prm.get_double("SVG cell side");
       setup.isotropy_tolerance = prm.get_double("Isotropy tolerance");
       prm.leave_subsection();
 

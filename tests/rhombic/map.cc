@@ -2,7 +2,8 @@
 // continuation (2 x 2 isotropic targets on the square cell) reaches every
 // node, writes a loadable map.json with coverage, and a query between its
 // samples gives a structure whose homogenized (E, nu) are within a few
-// percent of the request; extended to a smaller angle (Initial map = file)
+// percent of the request (and a structure.svg whose area is the volume
+// fraction); extended to a smaller angle (Initial map = file)
 // it keeps its samples and covers the new angle too. The shipped map
 // (contrib/rhombic/map.json) is queried off its samples at an angle between two
 // of its angles, and for a base material with nu = 0.3 (the CLM transform,
@@ -13,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <sstream>
 
 namespace
 {
@@ -42,6 +44,31 @@ namespace
         "\n set Poisson's ratio = " + std::to_string(nu) +
         "\n set Angle = " + std::to_string(angle) + "\nend\n");
     const auto s = nlohmann::json::parse(read_file(name + "/summary.json"));
+    // structure.svg: the cell's material, side 20 mm (the default); its
+    // even-odd area over the cell's is the volume fraction.
+    double area = 0;
+    {
+      const std::string  svg = read_file(name + "/structure.svg");
+      std::istringstream path(svg.substr(svg.find(" d=\"") + 4));
+      std::vector<std::array<double, 2>> loop;
+      const auto                         close = [&]() {
+        for (unsigned int k = 0; k < loop.size(); ++k)
+          area += loop[k][0] * loop[(k + 1) % loop.size()][1] -
+                  loop[(k + 1) % loop.size()][0] * loop[k][1];
+        loop.clear();
+      };
+      char c;
+      while (path >> c && c != '"')
+        if (c == 'M' || c == 'L')
+          {
+            std::array<double, 2> x;
+            path >> x[0] >> x[1];
+            loop.push_back(x);
+          }
+        else if (c == 'Z')
+          close();
+      area = std::abs(area) / 2 / (400 * std::sin(angle * M_PI / 180));
+    }
     dealii::deallog << name << ": exit code " << code << ", inside coverage "
                     << s["inside_coverage"].get<bool>() << ", |E/E* - 1| "
                     << (std::abs(s["E_relative_error"].get<double>()) <
@@ -52,6 +79,9 @@ namespace
                     << (std::abs(s["nu_error"].get<double>()) < tolerance_nu ?
                           "< " + std::to_string(tolerance_nu) :
                           "LARGE")
+                    << ", structure.svg's area is the volume fraction: "
+                    << (std::abs(area - s["result"]["phi"].get<double>()) <
+                        1e-6)
                     << std::endl;
   }
 

@@ -54,6 +54,8 @@ namespace forma
       bool                                        symmetric_mesh = true;
       PeriodicHomogenization<2>::SolverParameters solver;
       bool                                        write_vtu = true;
+      /// Side of the cell in structure.svg, in millimetres.
+      double svg_cell_side = 20;
       /// a1, a2 at most this: the structure counts as isotropic (thesis
       /// ch. 4.6.2 uses 0.005).
       double isotropy_tolerance = 0.005;
