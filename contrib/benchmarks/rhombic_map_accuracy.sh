@@ -23,6 +23,9 @@ set Output directory = $work/q
 subsection Map
   set Map file = $map
 end
+subsection Output
+  set Write vtu = false
+end
 PRM
 echo "angle,E,nu,E_achieved_rel_error,nu_error" > "$out"
 for a in ${angles//,/ }; do

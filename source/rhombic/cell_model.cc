@@ -11,6 +11,8 @@
 
 #include <Sacado.hpp>
 
+#include <algorithm>
+
 namespace forma
 {
   namespace rhombic
@@ -95,14 +97,24 @@ namespace forma
     {
       const Tensor<2, 2>                              F = design.cell_map();
       std::vector<std::vector<std::array<double, 2>>> loops;
-      for (const auto &loop : PolygonDomain::boundary_of(*mesh, false).loops)
+      for (const auto &loop : PolygonDomain::boundary_of(*mesh).loops)
         {
-          loops.emplace_back();
+          auto  &polygon = loops.emplace_back();
+          double area    = 0;
           for (const Point<2> &v : loop.vertices)
             {
               const Tensor<1, 2> x = (side / L) * (F * v);
-              loops.back().push_back({{x[0], x[1]}});
+              if (!polygon.empty())
+                area += polygon.back()[0] * x[1] - x[0] * polygon.back()[1];
+              polygon.push_back({{x[0], x[1]}});
             }
+          area += polygon.back()[0] * polygon[0][1] -
+                  polygon[0][0] * polygon.back()[1];
+          // Outer loops counter-clockwise, holes clockwise (F keeps the
+          // orientation): cutters that ignore the even-odd rule fill by
+          // the nonzero winding number, which then agrees.
+          if ((area < 0) != loop.hole)
+            std::reverse(polygon.begin(), polygon.end());
         }
       write_polygons_svg(file_name, loops, 1e-3 * side);
     }

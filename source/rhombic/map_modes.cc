@@ -630,27 +630,35 @@ namespace forma
               std::vector<PlotSeries> segments(1);
               segments[0].label = "target";
               segments[0].size  = 3;
+              // The plot shows every segment whole (write_xy_plot drops
+              // those that leave it).
+              std::array<double, 2> nu_range = {{nus.front(), nus.back()}};
+              double                top      = Es.back();
               for (const auto &p : accuracy)
                 {
-                  const double E = p["E"], nu = p["nu"];
+                  const double E           = p["E"].get<double>(),
+                               nu          = p["nu"].get<double>(),
+                               E_achieved  = p["E_achieved"].get<double>(),
+                               nu_achieved = p["nu_achieved"].get<double>();
                   segments[0].points.push_back({{nu, E}});
                   PlotSeries s;
-                  s.points = {{{nu, E}},
-                              {{p["nu_achieved"].get<double>(),
-                                p["E_achieved"].get<double>()}}};
+                  s.points = {{{nu, E}}, {{nu_achieved, E_achieved}}};
                   s.line   = true;
                   s.color  = {{200, 30, 30}};
                   segments.push_back(s);
+                  nu_range[0] = std::min(nu_range[0], nu_achieved);
+                  nu_range[1] = std::max(nu_range[1], nu_achieved);
+                  top         = std::max(top, E_achieved);
                 }
               segments[1].label   = "what the map gives";
-              const double margin = (nus.back() - nus.front()) / 10;
+              const double margin = (nu_range[1] - nu_range[0]) / 10;
               write_xy_plot(context.path("map_accuracy.png"),
                             segments,
                             "Map accuracy off the samples",
                             "Poisson's ratio",
                             "E / E_b",
-                            {{nus.front() - margin, nus.back() + margin}},
-                            {{0, 1.1 * Es.back()}});
+                            {{nu_range[0] - margin, nu_range[1] + margin}},
+                            {{0, 1.1 * top}});
             }
         }
     }

@@ -37,6 +37,7 @@ namespace
       name,
       "set Dimension = 2\nset Mode = query\nset Output directory = " + name +
         "\n" + (coarse ? mesh : "") +
+        "subsection Output\n set SVG cell side = 10\nend\n" +
         "subsection Base material\n set Poisson's ratio = " +
         std::to_string(base_nu) +
         "\nend\nsubsection Map\n set Map file = " + map +
@@ -44,12 +45,16 @@ namespace
         "\n set Poisson's ratio = " + std::to_string(nu) +
         "\n set Angle = " + std::to_string(angle) + "\nend\n");
     const auto s = nlohmann::json::parse(read_file(name + "/summary.json"));
-    // structure.svg: the cell's material, side 20 mm (the default); its
-    // even-odd area over the cell's is the volume fraction.
+    // structure.svg: the cell's material, side 10 mm, outer loops and
+    // holes oppositely oriented; its area over the cell's is the volume
+    // fraction.
     double area = 0;
     {
-      const std::string  svg = read_file(name + "/structure.svg");
-      std::istringstream path(svg.substr(svg.find(" d=\"") + 4));
+      const std::string svg   = read_file(name + "/structure.svg");
+      const auto        start = svg.find(" d=\"");
+      AssertThrow(start != std::string::npos,
+                  dealii::ExcMessage("structure.svg: no path"));
+      std::istringstream                 path(svg.substr(start + 4));
       std::vector<std::array<double, 2>> loop;
       const auto                         close = [&]() {
         for (unsigned int k = 0; k < loop.size(); ++k)
@@ -63,11 +68,14 @@ namespace
           {
             std::array<double, 2> x;
             path >> x[0] >> x[1];
+            AssertThrow(path, dealii::ExcMessage("structure.svg: bad path"));
             loop.push_back(x);
           }
         else if (c == 'Z')
           close();
-      area = std::abs(area) / 2 / (400 * std::sin(angle * M_PI / 180));
+      AssertThrow(loop.empty(),
+                  dealii::ExcMessage("structure.svg: an open loop"));
+      area = std::abs(area) / 2 / (100 * std::sin(angle * M_PI / 180));
     }
     dealii::deallog << name << ": exit code " << code << ", inside coverage "
                     << s["inside_coverage"].get<bool>() << ", |E/E* - 1| "
