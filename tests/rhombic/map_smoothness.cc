@@ -1,16 +1,16 @@
 // The shipped material-to-geometry maps have bounded second differences
 // (thesis ch. 4.6: smoothness is what makes the interpolation of sparse
 // samples accurate). Per map and direction (E, nu, angle), the second
-// difference of every parameter over one step of the construction grid
-// (5 degrees in the angle), relative to that parameter's range over the
-// map's samples, largest over:
+// difference of every parameter relative to its range over the map's
+// samples (fixed parameters left out), largest over:
 // - the samples, the continuation's inverse solutions, over three
-//   consecutive covered nodes (unequal angle steps: p'' times the step
-//   squared). A solve on another branch of solutions gives more than the
-//   parameter's range (the control below);
-// - the fitted splines at points x with x and x +- step inside D(alpha).
-//   Cubic B-splines are C^2 by construction; what is checked is that the
-//   fit is not rougher than its data.
+//   consecutive covered nodes (unequal angle steps: p'' h1 h2). A solve on
+//   another branch of solutions gives more than the parameter's range (the
+//   control below);
+// - the fitted splines over one step of the construction grid in E and nu
+//   and 2.5 degrees in the angle, at points x with x and x +- step inside
+//   D(alpha). Cubic B-splines are C^2 by construction; what is checked is
+//   that the fit is bounded and, along E and nu, not rougher than its data.
 // And the tileable map (p5 fixed, as in the thesis's V) keeps the joint
 // radius p5 the same everywhere, so neighbouring cells of one size meet
 // exactly.
@@ -67,7 +67,7 @@ namespace
         }
     Parameters range;
     for (unsigned int i = 0; i < n_p; ++i)
-      range[i] = std::max(hi[i] - lo[i], 1e-12);
+      range[i] = hi[i] - lo[i];
     return range;
   }
 
@@ -78,12 +78,10 @@ namespace
     unsigned int n     = 0;
   };
 
-  /// Over the samples along direction d (0: E, 1: nu, 2: angle), as
-  /// p'' step^2.
+  /// Over the samples along direction d (0: E, 1: nu, 2: angle).
   Measured
   samples_along(const MaterialMap &m,
                 const unsigned int d,
-                const double       step,
                 const Parameters  &range)
   {
     // Samples by (angle, E, nu) grid index.
@@ -121,12 +119,13 @@ namespace
         const double h1 = std::abs(coord(key[k]) - coord(lo[k])),
                      h2 = std::abs(coord(hi[k]) - coord(key[k]));
         for (unsigned int i = 0; i < n_p; ++i)
-          r.worst = std::max(r.worst,
-                             std::abs(2 *
-                                      ((h->second[i] - p[i]) / h2 -
-                                       (p[i] - l->second[i]) / h1) /
-                                      (h1 + h2)) *
-                               step * step / range[i]);
+          if (range[i] > 0)
+            r.worst = std::max(r.worst,
+                               std::abs(2 *
+                                        ((h->second[i] - p[i]) / h2 -
+                                         (p[i] - l->second[i]) / h1) /
+                                        (h1 + h2)) *
+                                 h1 * h2 / range[i]);
         ++r.n;
       }
     return r;
@@ -158,8 +157,10 @@ namespace
             const auto pl = spline(m, lo[0], lo[1], lo[2]);
             const auto ph = spline(m, hi[0], hi[1], hi[2]);
             for (unsigned int i = 0; i < n_p; ++i)
-              r.worst = std::max(r.worst,
-                                 std::abs(pl[i] - 2 * p[i] + ph[i]) / range[i]);
+              if (range[i] > 0)
+                r.worst =
+                  std::max(r.worst,
+                           std::abs(pl[i] - 2 * p[i] + ph[i]) / range[i]);
             ++r.n;
           }
     return r;
@@ -173,17 +174,19 @@ namespace
     const Parameters  range = sample_ranges(m);
     deallog << name << ": " << m.samples.size() << " samples" << std::endl;
     const char  *direction[] = {"E", "nu", "angle"};
-    const double step[]      = {m.E[1] - m.E[0], m.nu[1] - m.nu[0], 5.};
+    const double step[]      = {m.E[1] - m.E[0], m.nu[1] - m.nu[0], 2.5};
     for (unsigned int d = 0; d < 3; ++d)
       {
-        const Measured s = samples_along(m, d, step[d], range);
+        const Measured s = samples_along(m, d, range);
         const Measured f = splines_along(m, d, step[d], range);
         deallog << "  along " << direction[d] << ", of the range: samples "
                 << s.worst << " (" << s.n << " triples), splines " << f.worst
-                << " (" << f.n
-                << " points); samples below 1: " << (s.n > 0 && s.worst < 1)
-                << ", splines at most 1.5 x samples: "
-                << (f.n > 0 && f.worst <= 1.5 * s.worst) << std::endl;
+                << " (" << f.n << " points); below 1: "
+                << (s.n > 0 && f.n > 0 && s.worst < 1 && f.worst < 1);
+        if (d < 2)
+          deallog << ", splines at most 1.5 x samples: "
+                  << (f.worst <= 1.5 * s.worst);
+        deallog << std::endl;
       }
   }
 } // namespace
@@ -195,6 +198,36 @@ main()
   deallog << std::setprecision(2);
   check("map.json");
   check("map_full.json");
+  check("map_tileable.json");
+
+  // The tileable map: its samples and splines keep the joint radius p5 at
+  // one value.
+  {
+    const MaterialMap m = MaterialMap::read(
+      std::string(FORMA_SOURCE_DIR) + "/contrib/rhombic/map_tileable.json");
+    AssertThrow(!m.samples.empty(), ExcMessage("no samples"));
+    const double p5             = m.samples.front()[7];
+    double       spread_samples = 0, spread_splines = 0;
+    for (const auto &s : m.samples)
+      spread_samples = std::max(spread_samples, std::abs(s[7] - p5));
+    const auto   angles = m.covered_angles();
+    unsigned int n      = 0;
+    for (double a = angles[0]; a <= angles[1] + 1e-9; a += 1.25)
+      for (double E = m.E.front(); E <= m.E.back() + 1e-9; E += 0.005)
+        for (double nu = m.nu.front(); nu <= m.nu.back() + 1e-9; nu += 0.025)
+          if (inside(m, E, nu, a))
+            {
+              spread_splines =
+                std::max(spread_splines, std::abs(spline(m, E, nu, a)[4] - p5));
+              ++n;
+            }
+    deallog << "map_tileable.json: covered angles "
+            << std::to_string(angles[0]).substr(0, 5) << "-"
+            << std::to_string(angles[1]).substr(0, 5) << "; p5 = " << p5
+            << " at every sample: " << (spread_samples == 0) << ", at " << n
+            << " points inside D(alpha) to 1e-7: " << (spread_splines < 1e-7)
+            << std::endl;
+  }
 
   // The check sees a branch jump: one sample of the full-size map moved
   // onto the branch the rebuild below 60 degrees met (p2 = 0.49, p4 = 0.13;
@@ -205,7 +238,7 @@ main()
     auto       &s    = m.samples[m.samples.size() / 2];
     s[4]             = 0.49;
     s[6]             = 0.13;
-    const Measured r = samples_along(m, 0, m.E[1] - m.E[0], sample_ranges(m));
+    const Measured r = samples_along(m, 0, sample_ranges(m));
     deallog << "map_full.json, one sample on another branch: samples along "
                "E below 1: "
             << (r.worst < 1) << std::endl;
