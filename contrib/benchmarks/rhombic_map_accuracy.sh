@@ -5,14 +5,15 @@
 # structure the map gives is homogenized and compared with the target.
 # Writes one CSV row per point and prints the mean and largest errors.
 #
-#   bash contrib/benchmarks/rhombic_map_accuracy.sh [map file] [angles]
+#   bash contrib/benchmarks/rhombic_map_accuracy.sh [map file] [angles] [csv]
+#   (two processes on two cores: split the angles, give each its csv)
 #   (defaults: contrib/rhombic/map_full.json, 87.5,...,57.5)
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 app=${FORMA_RHOMBIC:-$root/build/bin/forma-rhombic}
 map=$(realpath "${1:-$root/contrib/rhombic/map_full.json}")
 angles=${2:-87.5,82.5,77.5,72.5,67.5,62.5,57.5}
-out=$root/contrib/benchmarks/results/rhombic_map_accuracy_$(basename "$map" .json).csv
+out=${3:-$root/contrib/benchmarks/results/rhombic_map_accuracy_$(basename "$map" .json).csv}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 

@@ -633,7 +633,7 @@ namespace forma
               // The plot shows every segment whole (write_xy_plot drops
               // those that leave it).
               std::array<double, 2> nu_range = {{nus.front(), nus.back()}};
-              double                top      = Es.back();
+              double                E_top    = Es.back();
               for (const auto &p : accuracy)
                 {
                   const double E           = p["E"].get<double>(),
@@ -648,7 +648,7 @@ namespace forma
                   segments.push_back(s);
                   nu_range[0] = std::min(nu_range[0], nu_achieved);
                   nu_range[1] = std::max(nu_range[1], nu_achieved);
-                  top         = std::max(top, E_achieved);
+                  E_top       = std::max(E_top, E_achieved);
                 }
               segments[1].label   = "what the map gives";
               const double margin = (nu_range[1] - nu_range[0]) / 10;
@@ -658,7 +658,7 @@ namespace forma
                             "Poisson's ratio",
                             "E / E_b",
                             {{nu_range[0] - margin, nu_range[1] + margin}},
-                            {{0, 1.1 * top}});
+                            {{0, 1.1 * E_top}});
             }
         }
     }

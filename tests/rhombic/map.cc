@@ -66,6 +66,8 @@ namespace
       while (path >> c && c != '"')
         if (c == 'M' || c == 'L')
           {
+            AssertThrow(c == 'L' || loop.empty(),
+                        dealii::ExcMessage("structure.svg: an open loop"));
             std::array<double, 2> x;
             path >> x[0] >> x[1];
             AssertThrow(path, dealii::ExcMessage("structure.svg: bad path"));
