@@ -7,6 +7,7 @@
 #include <forma/base/records.h>
 #include <forma/mesh/level_set_mesh.h>
 #include <forma/mesh/mesh.h>
+#include <forma/mesh/polygon_domain.h>
 
 #include "gmsh_session.h"
 #include <gmsh.h>
@@ -32,19 +33,6 @@ namespace forma
       bool     fixed = false; ///< box corner or where the contour meets a side
       bool     side_segment_follows = false; ///< the next segment is on a side
     };
-
-    double
-    signed_area(const std::vector<Point<2>> &polygon)
-    {
-      double a = 0;
-      for (unsigned int i = 0; i < polygon.size(); ++i)
-        {
-          const Point<2> &p = polygon[i],
-                         &q = polygon[(i + 1) % polygon.size()];
-          a += p[0] * q[1] - q[0] * p[1];
-        }
-      return a / 2;
-    }
 
     bool
     inside(const std::vector<Point<2>> &polygon, const Point<2> &x)

@@ -33,6 +33,20 @@ namespace forma
 
 
 
+  double
+  signed_area(const std::vector<Point<2>> &polygon)
+  {
+    double a = 0;
+    for (unsigned int i = 0; i < polygon.size(); ++i)
+      {
+        const Point<2> &p = polygon[i], &q = polygon[(i + 1) % polygon.size()];
+        a += p[0] * q[1] - q[0] * p[1];
+      }
+    return a / 2;
+  }
+
+
+
   PolygonDomain::PolygonDomain(const std::vector<Segment> &input,
                                const bool                  classify_holes)
     : segments(input)

@@ -3,6 +3,7 @@
 #include <deal.II/grid/tria.h>
 
 #include <forma/mesh/mesh.h>
+#include <forma/mesh/polygon_domain.h>
 #include <forma/mesh/remesh.h>
 
 #include "gmsh_session.h"
@@ -78,18 +79,6 @@ namespace forma
     }
 
     // ------------------------------------------------------------- 2D
-
-    double
-    signed_area(const std::vector<Point<2>> &polygon)
-    {
-      double a = 0;
-      for (unsigned int i = 0; i < polygon.size(); ++i)
-        {
-          const auto &p = polygon[i], &q = polygon[(i + 1) % polygon.size()];
-          a += p[0] * q[1] - q[0] * p[1];
-        }
-      return a / 2;
-    }
 
     bool
     inside_polygon(const Point<2> &x, const std::vector<Point<2>> &polygon)

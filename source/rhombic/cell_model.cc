@@ -99,21 +99,16 @@ namespace forma
       std::vector<std::vector<std::array<double, 2>>> loops;
       for (const auto &loop : PolygonDomain::boundary_of(*mesh).loops)
         {
-          auto  &polygon = loops.emplace_back();
-          double area    = 0;
+          auto &polygon = loops.emplace_back();
           for (const Point<2> &v : loop.vertices)
             {
               const Tensor<1, 2> x = (side / L) * (F * v);
-              if (!polygon.empty())
-                area += polygon.back()[0] * x[1] - x[0] * polygon.back()[1];
               polygon.push_back({{x[0], x[1]}});
             }
-          area += polygon.back()[0] * polygon[0][1] -
-                  polygon[0][0] * polygon.back()[1];
           // Outer loops counter-clockwise, holes clockwise (F keeps the
           // orientation): cutters that ignore the even-odd rule fill by
           // the nonzero winding number, which then agrees.
-          if ((area < 0) != loop.hole)
+          if ((signed_area(loop.vertices) < 0) != loop.hole)
             std::reverse(polygon.begin(), polygon.end());
         }
       write_polygons_svg(file_name, loops, 1e-3 * side);

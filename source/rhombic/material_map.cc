@@ -431,9 +431,10 @@ namespace forma
       RhombicStructure s;
       s.alpha    = alpha_degrees * M_PI / 180;
       s.blending = blending;
-      // Clamped only to what the geometry allows (an extrapolating spline
-      // can leave it): a map's samples may lie below the sweep ranges
-      // (Inverse/Parameter bounds), and query() must return them.
+      // Clamped from below only to what the geometry allows (an
+      // extrapolating spline can leave it): a map's samples may lie below
+      // the sweep ranges (Inverse/Parameter bounds), and query() must
+      // return them. The upper bounds stay inside the geometry's.
       const auto limits = RhombicStructure::limits();
       for (unsigned int i = 0; i < RhombicStructure::n_parameters; ++i)
         s.p[i] = std::clamp(parameters[i].value({E, nu_map, alpha_degrees}),

@@ -14,6 +14,10 @@ namespace dealii
 
 namespace forma
 {
+  /// The signed area (shoelace): positive for a counter-clockwise polygon.
+  double
+  signed_area(const std::vector<dealii::Point<2>> &polygon);
+
   /**
    * A 2D domain bounded by closed polygons (outer boundaries and holes, in
    * any orientation), each side carrying a boundary id: the outline of a
