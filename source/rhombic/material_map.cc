@@ -431,15 +431,28 @@ namespace forma
       RhombicStructure s;
       s.alpha    = alpha_degrees * M_PI / 180;
       s.blending = blending;
-      // Clamped from below only to what the geometry allows (an
-      // extrapolating spline can leave it): a map's samples may lie below
-      // the sweep ranges (Inverse/Parameter bounds), and query() must
-      // return them. The upper bounds stay inside the geometry's.
-      const auto limits = RhombicStructure::limits();
+      // Clamped to the samples' range: near the coverage's edges the
+      // splines overshoot it, and just past the construction's bounds the
+      // family can change topology (at 47 degrees node 4's joint reaches
+      // the cell's obtuse corner for p4 > 0.9 and joins its images there:
+      // E doubles). A map without samples is clamped to what the geometry
+      // allows (the upper bounds a little inside it).
+      std::array<std::array<double, 2>, RhombicStructure::n_parameters> range =
+        RhombicStructure::limits();
+      for (unsigned int i = 0; i < RhombicStructure::n_parameters; ++i)
+        range[i][1] = i < 4 ? 0.95 : 0.55;
+      if (!samples.empty())
+        for (unsigned int i = 0; i < RhombicStructure::n_parameters; ++i)
+          {
+            range[i] = {{samples[0][3 + i], samples[0][3 + i]}};
+            for (const auto &x : samples)
+              range[i] = {{std::min(range[i][0], x[3 + i]),
+                           std::max(range[i][1], x[3 + i])}};
+          }
       for (unsigned int i = 0; i < RhombicStructure::n_parameters; ++i)
         s.p[i] = std::clamp(parameters[i].value({E, nu_map, alpha_degrees}),
-                            limits[i][0],
-                            i < 4 ? 0.95 : 0.55);
+                            range[i][0],
+                            range[i][1]);
       return s;
     }
 

@@ -8,7 +8,10 @@
 // (contrib/rhombic/map.json) is queried off its samples at an angle between two
 // of its angles, and for a base material with nu = 0.3 (the CLM transform,
 // eq. 4.11), within its documented accuracy (doc/rhombic.md: E to 15% between
-// its sparse samples, nu to 0.03).
+// its sparse samples, nu to 0.03). The tileable map is queried at the edge of
+// its coverage at 46.875 degrees, where its splines overshoot the samples'
+// largest p4 (0.9) and the structure just past it joins its images at the
+// cell's corner (E 140% off): query() clamps to the samples' range.
 
 #include "../tests.h"
 #include <nlohmann/json.hpp>
@@ -176,6 +179,15 @@ main()
         80,
         0.3,
         0.15,
+        0.03,
+        false);
+  query("query_tileable_edge",
+        std::string(FORMA_SOURCE_DIR) + "/contrib/rhombic/map_tileable.json",
+        0.095,
+        0.075,
+        46.875,
+        0,
+        0.03,
         0.03,
         false);
 }

@@ -123,7 +123,8 @@ namespace forma
        * The structure for (E, nu) relative to a base of Poisson's ratio
        * `base_nu` (E relative to the base's modulus) at `alpha_degrees`.
        * `inside` tells whether the point lies in the covered region
-       * (coverage()).
+       * (coverage()). Each parameter is clamped to the range of the
+       * samples', which the splines can overshoot near the coverage's edges.
        */
       RhombicStructure
       query(const double E,
