@@ -431,18 +431,20 @@ namespace forma
       RhombicStructure s;
       s.alpha    = alpha_degrees * M_PI / 180;
       s.blending = blending;
-      // Clamped to the samples' range: near the coverage's edges the
-      // splines overshoot it, and just past the construction's bounds the
-      // family can change topology (at 47 degrees node 4's joint reaches
-      // the cell's obtuse corner for p4 > 0.9 and joins its images there:
-      // E doubles). A map without samples is clamped to what the geometry
-      // allows (the upper bounds a little inside it).
-      std::array<std::array<double, 2>, RhombicStructure::n_parameters> range =
-        RhombicStructure::limits();
+      // Node positions (p1..p4) are clamped to the samples' range: near the
+      // coverage's edges the splines overshoot it, and a node moved further
+      // than any sample can reach a neighbour and change the topology (at
+      // 47 degrees node 4's joint reaches the cell's obtuse corner for p4 >
+      // 0.9 and joins its images there: E doubles). Radii only to what the
+      // geometry allows: beyond the samples a strut thins or thickens
+      // continuously, and where the construction's bounds stopped the
+      // samples (p8 >= 0.015 below 60 degrees) the splines' thinner struts
+      // are the accurate ones (doc/rhombic.md).
+      auto range = RhombicStructure::limits();
       for (unsigned int i = 0; i < RhombicStructure::n_parameters; ++i)
         range[i][1] = i < 4 ? 0.95 : 0.55;
       if (!samples.empty())
-        for (unsigned int i = 0; i < RhombicStructure::n_parameters; ++i)
+        for (unsigned int i = 0; i < 4; ++i)
           {
             range[i] = {{samples[0][3 + i], samples[0][3 + i]}};
             for (const auto &x : samples)

@@ -11,7 +11,8 @@
 // its sparse samples, nu to 0.03). The tileable map is queried at the edge of
 // its coverage at 46.875 degrees, where its splines overshoot the samples'
 // largest p4 (0.9) and the structure just past it joins its images at the
-// cell's corner (E 140% off): query() clamps to the samples' range.
+// cell's corner (E 140% off): query() clamps node positions to the samples'
+// range.
 
 #include "../tests.h"
 #include <nlohmann/json.hpp>

@@ -123,8 +123,9 @@ namespace forma
        * The structure for (E, nu) relative to a base of Poisson's ratio
        * `base_nu` (E relative to the base's modulus) at `alpha_degrees`.
        * `inside` tells whether the point lies in the covered region
-       * (coverage()). Each parameter is clamped to the range of the
-       * samples', which the splines can overshoot near the coverage's edges.
+       * (coverage()). The node positions p1..p4 are clamped to the
+       * samples' range, which the splines can overshoot near the coverage's
+       * edges; the radii to what the geometry allows.
        */
       RhombicStructure
       query(const double E,
