@@ -78,24 +78,39 @@ awk '/gradient/ { gsub(",", ""); n++; f += $3 + $5 + $7; g += $9 }
      END { printf "shape gradient (8 parameters): %.3f s, forward (mesh + solve): %.3f s, ratio %.2f (%d designs)\n", g / n, f / n, g / f, n }' \
   "$work/i/log.txt"
 
-# Sweep throughput: 24 structures with the default mesh.
-cat > "$work/s.prm" <<PRM
+# Sweep throughput with the default mesh: 24 structures (start-up counts)
+# and 120 (closer to a real sweep's rate), on 1 and 2 ranks.
+sweep_prm() { # p3 values, p4 values, p6 values, angles
+  cat > "$work/s.prm" <<PRM
 set Output directory = $work/s
 set Mode = sweep
 subsection Sweep
-  set p3 = 0.3:0.7:4
-  set p4 = 0.5
-  set p6 = 0.08, 0.14
-  set Angles = 90, 75, 60
+  set p3 = $1
+  set p4 = $2
+  set p6 = $3
+  set Angles = $4
 end
 PRM
-for np in 1 2; do
-  start=$(date +%s.%N)
-  mpirun -np $np "$app" "$work/s.prm" > /dev/null
-  end=$(date +%s.%N)
-  awk -v a="$start" -v b="$end" -v np="$np" \
-    'BEGIN { printf "sweep on %d rank(s): 24 structures in %.1f s, %.2f structures/s\n", np, b - a, 24 / (b - a) }'
+}
+for size in 24 120; do
+  if [ $size = 24 ]; then
+    sweep_prm "0.3:0.7:4" "0.5" "0.08, 0.14" "90, 75, 60"
+  else
+    sweep_prm "0.3:0.7:5" "0.5, 0.7" "0.08, 0.11, 0.14" "90, 80, 70, 60"
+  fi
+  declare -A seconds
+  for np in 1 2; do
+    start=$(date +%s.%N)
+    mpirun -np $np "$app" "$work/s.prm" > /dev/null
+    end=$(date +%s.%N)
+    seconds[$np]=$(awk -v a="$start" -v b="$end" 'BEGIN { print b - a }')
+    awk -v t="${seconds[$np]}" -v np="$np" -v n="$size" \
+      'BEGIN { printf "sweep on %d rank(s): %d structures in %.1f s, %.2f structures/s\n", np, n, t, n / t }'
+  done
+  awk -v a="${seconds[1]}" -v b="${seconds[2]}" -v n="$size" \
+    'BEGIN { printf "sweep of %d: 2 ranks against 1, speed-up %.2f\n", n, a / b }'
 done
+sweep_prm "0.3:0.7:4" "0.5" "0.08, 0.14" "90, 75, 60"
 
 # The same sweep at about 4700 vertices on one rank, symmetric half
 # against the whole cell.

@@ -444,13 +444,16 @@ namespace forma
       for (unsigned int i = 0; i < RhombicStructure::n_parameters; ++i)
         range[i][1] = i < 4 ? 0.95 : 0.55;
       if (!samples.empty())
-        for (unsigned int i = 0; i < 4; ++i)
-          {
+        {
+          for (unsigned int i = 0; i < 4; ++i)
             range[i] = {{samples[0][3 + i], samples[0][3 + i]}};
-            for (const auto &x : samples)
-              range[i] = {{std::min(range[i][0], x[3 + i]),
-                           std::max(range[i][1], x[3 + i])}};
-          }
+          for (const auto &x : samples)
+            for (unsigned int i = 0; i < 4; ++i)
+              {
+                range[i][0] = std::min(range[i][0], x[3 + i]);
+                range[i][1] = std::max(range[i][1], x[3 + i]);
+              }
+        }
       for (unsigned int i = 0; i < RhombicStructure::n_parameters; ++i)
         s.p[i] = std::clamp(parameters[i].value({E, nu_map, alpha_degrees}),
                             range[i][0],
