@@ -301,13 +301,18 @@ namespace forma
         }
       for (unsigned int a = 0; a < angles.size(); ++a)
         {
-          std::vector<bool>       solved(n_nodes, false), tried(n_nodes, false);
+          // A node's solved neighbours when it was last tried (-1: never;
+          // 0: from the seed or its previous angle's structure). A failed
+          // node is tried again once it has more: a start it has not had.
+          std::vector<bool>       solved(n_nodes, false);
+          std::vector<int>        neighbours_at_try(n_nodes, -1);
           std::vector<Parameters> p(n_nodes);
           const auto              take = [&](const std::vector<Outcome> &out) {
             unsigned int reached = 0;
             for (const auto &o : out)
               {
-                tried[o.node] = true;
+                neighbours_at_try[o.node] =
+                  std::max(neighbours_at_try[o.node], 0);
                 ++n_solves;
                 if (o.reached)
                   {
@@ -403,13 +408,13 @@ namespace forma
               take(solve(angles[a], jobs));
             }
           // Grow outward: unsolved nodes next to solved ones start from the
-          // mean of their solved neighbours.
+          // mean of their solved neighbours (again when they gain some).
           while (true)
             {
               std::vector<Job> jobs;
               for (unsigned int n = 0; n < n_nodes; ++n)
                 {
-                  if (solved[n] || tried[n])
+                  if (solved[n])
                     continue;
                   const int    i = n / nus.size(), j = n % nus.size();
                   Parameters   start{};
@@ -429,8 +434,10 @@ namespace forma
                         start[q] += p[m][q];
                       ++count;
                     }
-                  if (count == 0)
+                  if (static_cast<int>(count) <= neighbours_at_try[n] ||
+                      count == 0)
                     continue;
+                  neighbours_at_try[n] = count;
                   for (auto &v : start)
                     v /= count;
                   jobs.push_back({n, start});
