@@ -79,7 +79,10 @@ awk '/gradient/ { gsub(",", ""); n++; f += $3 + $5 + $7; g += $9 }
   "$work/i/log.txt"
 
 # Sweep throughput with the default mesh: 24 structures (start-up counts)
-# and 120 (closer to a real sweep's rate), on 1 and 2 ranks.
+# and 120 (closer to a real sweep's rate), on 1 and 2 ranks. Each sweep:
+# p3, p4, p6 values and angles (the counts are the products).
+small=("0.3:0.7:4" "0.5" "0.08, 0.14" "90, 75, 60")                # 4 x 1 x 2 x 3
+large=("0.3:0.7:5" "0.5, 0.7" "0.08, 0.11, 0.14" "90, 80, 70, 60") # 5 x 2 x 3 x 4
 sweep_prm() { # p3 values, p4 values, p6 values, angles
   cat > "$work/s.prm" <<PRM
 set Output directory = $work/s
@@ -92,13 +95,9 @@ subsection Sweep
 end
 PRM
 }
+seconds=()
 for size in 24 120; do
-  if [ $size = 24 ]; then
-    sweep_prm "0.3:0.7:4" "0.5" "0.08, 0.14" "90, 75, 60"
-  else
-    sweep_prm "0.3:0.7:5" "0.5, 0.7" "0.08, 0.11, 0.14" "90, 80, 70, 60"
-  fi
-  declare -A seconds
+  if [ $size = 24 ]; then sweep_prm "${small[@]}"; else sweep_prm "${large[@]}"; fi
   for np in 1 2; do
     start=$(date +%s.%N)
     mpirun -np $np "$app" "$work/s.prm" > /dev/null
@@ -110,7 +109,7 @@ for size in 24 120; do
   awk -v a="${seconds[1]}" -v b="${seconds[2]}" -v n="$size" \
     'BEGIN { printf "sweep of %d: 2 ranks against 1, speed-up %.2f\n", n, a / b }'
 done
-sweep_prm "0.3:0.7:4" "0.5" "0.08, 0.14" "90, 75, 60"
+sweep_prm "${small[@]}"
 
 # The same sweep at about 4700 vertices on one rank, symmetric half
 # against the whole cell.

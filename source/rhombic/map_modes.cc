@@ -434,8 +434,8 @@ namespace forma
                         start[q] += p[m][q];
                       ++count;
                     }
-                  if (static_cast<int>(count) <= neighbours_at_try[n] ||
-                      count == 0)
+                  if (count == 0 ||
+                      static_cast<int>(count) <= neighbours_at_try[n])
                     continue;
                   neighbours_at_try[n] = count;
                   for (auto &v : start)
@@ -698,7 +698,7 @@ namespace forma
 
       bool             inside = false;
       RhombicStructure s      = map.query(E, nu, angle, setup.base.nu, inside);
-      // The evaluation cost of the map (splines only).
+      // The evaluation cost of the map (the splines and the clamp).
       {
         Timer        timer;
         bool         dummy;

@@ -431,18 +431,21 @@ namespace forma
       RhombicStructure s;
       s.alpha    = alpha_degrees * M_PI / 180;
       s.blending = blending;
-      // Node positions (p1..p4) are clamped to the samples' range: near the
-      // coverage's edges the splines overshoot it, and a node moved further
-      // than any sample can reach a neighbour and change the topology (at
-      // 47 degrees node 4's joint reaches the cell's obtuse corner for p4 >
-      // 0.9 and joins its images there: E doubles). Radii only to what the
-      // geometry allows: beyond the samples a strut thins or thickens
-      // continuously, and where the construction's bounds stopped the
-      // samples (p8 >= 0.015 below 60 degrees) the splines' thinner struts
-      // are the accurate ones (doc/rhombic.md).
-      auto range = RhombicStructure::limits();
+      // Node positions (p1..p4) are clamped to the samples' range (one range
+      // over all angles): near the coverage's edges the splines overshoot
+      // it, and a node moved further than any sample can reach a neighbour
+      // and change the topology (at 47 degrees node 4's joint reaches the
+      // cell's obtuse corner for p4 > 0.9 and joins its images there: E
+      // doubles). Radii are clamped only a little inside the geometry's
+      // limits: beyond the samples a strut thins or thickens continuously,
+      // and where the construction's bounds stopped the samples (p8 >=
+      // 0.015 below 60 degrees) the splines' thinner struts are the accurate
+      // ones (doc/rhombic.md). The upper bounds without samples keep nodes
+      // and joints off the cell's corners (the geometry allows 0.99, 0.6).
+      constexpr double max_position = 0.95, max_radius = 0.55;
+      auto             range = RhombicStructure::limits();
       for (unsigned int i = 0; i < RhombicStructure::n_parameters; ++i)
-        range[i][1] = i < 4 ? 0.95 : 0.55;
+        range[i][1] = i < 4 ? max_position : max_radius;
       if (!samples.empty())
         {
           for (unsigned int i = 0; i < 4; ++i)
@@ -458,6 +461,9 @@ namespace forma
         s.p[i] = std::clamp(parameters[i].value({E, nu_map, alpha_degrees}),
                             range[i][0],
                             range[i][1]);
+      // Node 2 stays inside its triangle (check()): p1 and p2 are clamped
+      // separately, and their largest values need not come from one sample.
+      s.p[1] = std::max(range[1][0], std::min(s.p[1], 0.99 - s.p[0]));
       return s;
     }
 

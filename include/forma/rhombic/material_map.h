@@ -125,7 +125,7 @@ namespace forma
        * `inside` tells whether the point lies in the covered region
        * (coverage()). The node positions p1..p4 are clamped to the
        * samples' range, which the splines can overshoot near the coverage's
-       * edges; the radii to what the geometry allows.
+       * edges; the radii only a little inside the geometry's limits.
        */
       RhombicStructure
       query(const double E,
