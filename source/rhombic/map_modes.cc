@@ -8,6 +8,7 @@
 #include <forma/base/rank_strided.h>
 #include <forma/base/run_context.h>
 #include <forma/optimization/optimizer.h>
+#include <forma/rhombic/grid_growth.h>
 #include <forma/rhombic/inverse_problem.h>
 #include <forma/rhombic/material_map.h>
 #include <forma/rhombic/transversal_map.h>
@@ -301,22 +302,17 @@ namespace forma
         }
       for (unsigned int a = 0; a < angles.size(); ++a)
         {
-          // A node's solved neighbours when it was last tried (-1: never;
-          // 0: from the seed or its previous angle's structure). A failed
-          // node is tried again once it has more: a start it has not had.
-          std::vector<bool>       solved(n_nodes, false);
-          std::vector<int>        neighbours_at_try(n_nodes, -1);
-          std::vector<Parameters> p(n_nodes);
-          const auto              take = [&](const std::vector<Outcome> &out) {
+          GridGrowth growth(Es.size(), nus.size());
+          const auto take = [&](const std::vector<Outcome> &out) {
             unsigned int reached = 0;
             for (const auto &o : out)
               {
-                neighbours_at_try[o.node] =
-                  std::max(neighbours_at_try[o.node], 0);
+                growth.tried(o.node);
                 ++n_solves;
                 if (o.reached)
                   {
-                    solved[o.node] = true, p[o.node] = o.p, ++reached;
+                    growth.reached(o.node, o.p);
+                    ++reached;
                     map.samples.push_back({{node_E(o.node),
                                             node_nu(o.node),
                                             angles[a],
@@ -385,9 +381,7 @@ namespace forma
                         });
               for (unsigned int start = 0;
                    start < std::min<unsigned int>(n_nodes, 3 * n_ranks) &&
-                   std::none_of(solved.begin(),
-                                solved.end(),
-                                [](bool b) { return b; });
+                   growth.n_solved() == 0;
                    start += n_ranks)
                 {
                   std::vector<Job> jobs;
@@ -407,57 +401,26 @@ namespace forma
                   jobs.push_back({n, previous[n]});
               take(solve(angles[a], jobs));
             }
-          // Grow outward: unsolved nodes next to solved ones start from the
-          // mean of their solved neighbours (again when they gain some).
-          while (true)
+          // Grow outward from the solved nodes; failed nodes are tried
+          // again as they gain solved neighbours.
+          for (auto starts = growth.next_starts(); !starts.empty();
+               starts      = growth.next_starts())
             {
-              std::vector<Job> jobs;
-              for (unsigned int n = 0; n < n_nodes; ++n)
-                {
-                  if (solved[n])
-                    continue;
-                  const int    i = n / nus.size(), j = n % nus.size();
-                  Parameters   start{};
-                  unsigned int count = 0;
-                  for (const auto &[di, dj] : std::vector<std::pair<int, int>>{
-                         {-1, 0}, {1, 0}, {0, -1}, {0, 1}})
-                    {
-                      const int ii = i + di, jj = j + dj;
-                      if (ii < 0 || jj < 0 ||
-                          ii >= static_cast<int>(Es.size()) ||
-                          jj >= static_cast<int>(nus.size()))
-                        continue;
-                      const unsigned int m = ii * nus.size() + jj;
-                      if (!solved[m])
-                        continue;
-                      for (unsigned int q = 0; q < start.size(); ++q)
-                        start[q] += p[m][q];
-                      ++count;
-                    }
-                  if (count == 0 ||
-                      static_cast<int>(count) <= neighbours_at_try[n])
-                    continue;
-                  neighbours_at_try[n] = count;
-                  for (auto &v : start)
-                    v /= count;
-                  jobs.push_back({n, start});
-                }
-              if (jobs.empty())
-                break;
+                   std::vector<Job> jobs;
+                   for (const auto &[n, start] : starts)
+                jobs.push_back({n, start});
               take(solve(angles[a], jobs));
-              context.print(
-                "map: angle " + sig(angles[a]) + ": " +
-                std::to_string(std::count(solved.begin(), solved.end(), true)) +
-                " of " + std::to_string(n_nodes) + " nodes reached");
+                   context.print("map: angle " + sig(angles[a]) + ": " +
+                            std::to_string(growth.n_solved()) + " of " +
+                            std::to_string(n_nodes) + " nodes reached");
             }
-          const unsigned int n_solved =
-            std::count(solved.begin(), solved.end(), true);
+          const unsigned int n_solved = growth.n_solved();
           context.print("map: angle " + sig(angles[a]) +
                         " done: " + std::to_string(n_solved) + " of " +
                         std::to_string(n_nodes) + " (E, nu) nodes covered");
-          map.covered.push_back(solved);
-          previous        = p;
-          previous_solved = solved;
+          map.covered.push_back(growth.solved());
+          previous        = growth.structures();
+          previous_solved = growth.solved();
         }
       // From here on, every angle of the map (an extension's old ones too).
       angles = map.angles;
