@@ -31,6 +31,7 @@
 #include <iomanip>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <tuple>
 
@@ -588,11 +589,15 @@ namespace forma
       lap("map");
 
       // The cells' structures homogenized: how far the map's structures are
-      // from their targets (identical structures are homogenized once).
+      // from their targets (identical structures are homogenized once). A
+      // structure the cell mesher cannot mesh is reported and left out: this
+      // is a diagnosis, the tiling does not use the cell meshes.
       if (check_moduli)
         {
-          std::map<std::vector<double>, Sample> done;
+          std::map<std::vector<double>, std::optional<Sample>> done;
           double mean_E = 0, max_E = 0, mean_nu = 0, max_nu = 0, mean_a = 0;
+          unsigned int n_checked = 0;
+          std::string  first_failure;
           for (unsigned int c = 0; c < n_cells; ++c)
             {
               // Rounded: the same structure from round-off-different fits.
@@ -601,25 +606,54 @@ namespace forma
                 key.push_back(std::round(v * 1e9));
               key.push_back(std::round(structures[c].alpha * 1e9));
               if (!done.count(key))
-                done[key] =
-                  evaluate(structures[c], setup, context.communicator());
-              const Sample &r  = done.at(key);
+                try
+                  {
+                    done[key] =
+                      evaluate(structures[c], setup, context.communicator());
+                  }
+                catch (const std::exception &e)
+                  {
+                    done[key] = std::nullopt;
+                    if (first_failure.empty())
+                      first_failure = "cell " + std::to_string(c) + " (E/E_b " +
+                                      sig(E[c], 3) + ", nu " + sig(nu[c], 3) +
+                                      ", " +
+                                      sig(structures[c].alpha * 180 / M_PI, 4) +
+                                      " degrees): " + error_message(e);
+                  }
+              if (!done.at(key))
+                continue;
+              const Sample &r  = *done.at(key);
               const double  eE = std::abs(r.fit.E / setup.base.E / E[c] - 1);
               const double  en = std::abs(r.fit.nu - nu[c]);
-              mean_E += eE / n_cells;
-              mean_nu += en / n_cells;
+              ++n_checked;
+              mean_E += eE;
+              mean_nu += en;
               max_E  = std::max(max_E, eE);
               max_nu = std::max(max_nu, en);
-              mean_a += std::max(r.anisotropy.a1, r.anisotropy.a2) / n_cells;
+              mean_a += std::max(r.anisotropy.a1, r.anisotropy.a2);
             }
+          if (n_checked > 0)
+            mean_E /= n_checked, mean_nu /= n_checked, mean_a /= n_checked;
+          const unsigned int n_failed = n_cells - n_checked;
+          if (n_failed > 0)
+            context.print(
+              "cell structures homogenized: " + std::to_string(n_failed) +
+              " cells not meshed (left out below), the first " + first_failure);
           context.print(
-            "cell structures homogenized (" + std::to_string(done.size()) +
+            "cell structures homogenized (" +
+            std::to_string(std::count_if(done.begin(),
+                                         done.end(),
+                                         [](const auto &d) {
+                                           return d.second.has_value();
+                                         })) +
             " distinct): |E/E* - 1| mean " + sig(mean_E, 3) + ", max " +
             sig(max_E, 3) + "; |nu - nu*| mean " + sig(mean_nu, 3) + ", max " +
             sig(max_nu, 3) + "; anisotropy max(a1, a2) mean " + sig(mean_a, 3));
           lap("cell moduli");
           context.summary["cell_moduli"] = {{"distinct_structures",
                                              done.size()},
+                                            {"cells_not_meshed", n_failed},
                                             {"mean_relative_E_error", mean_E},
                                             {"max_relative_E_error", max_E},
                                             {"mean_nu_error", mean_nu},
