@@ -2,6 +2,7 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/timer.h>
+#include <deal.II/base/utilities.h>
 
 #include <forma/base/application.h>
 #include <forma/base/plot.h>
@@ -18,6 +19,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <optional>
 
 namespace forma
@@ -102,6 +104,7 @@ namespace forma
       const unsigned int n_checks   = prm.get_integer("Accuracy checks");
       const double height_weight    = prm.get_double("Coverage height weight");
       const bool   transversal      = prm.get("Initial map") == "transversal";
+      const bool   resume           = prm.get_bool("Resume");
       // Initial map = file: the map being extended to smaller angles.
       std::optional<MaterialMap> extended;
       if (prm.get("Initial map") == "file")
@@ -149,6 +152,33 @@ namespace forma
                       list->end(),
                     ExcMessage("Map: the Young's moduli, Poisson's ratios "
                                "and angles must not repeat a value"));
+      // The accuracy checks cover the angles this run was asked for (all of
+      // a refit's), also when it resumes below some of them.
+      const double first_new_angle = angles.empty() ?
+                                       std::numeric_limits<double>::infinity() :
+                                       angles.front();
+      // Resume: the progress file holds every angle done so far (an
+      // extension's kept ones too) and stands for the initial map.
+      const std::string progress = context.persistent_path("map_progress.json");
+      if (resume && !refit && std::filesystem::exists(progress))
+        {
+          extended = MaterialMap::read(progress, false);
+          AssertThrow(!extended->angles.empty(),
+                      ExcMessage("Map/Resume: " + progress +
+                                 " holds no angle"));
+          const double last = extended->angles.back();
+          angles.erase(std::remove_if(angles.begin(),
+                                      angles.end(),
+                                      [&](const double a) {
+                                        return a >= last - 1e-9;
+                                      }),
+                       angles.end());
+          context.print("map: resuming from map_progress.json: " +
+                        std::to_string(extended->samples.size()) +
+                        " samples at angles " + sig(extended->angles.front()) +
+                        " ... " + sig(last) + "; " +
+                        std::to_string(angles.size()) + " angles left");
+        }
       if (extended)
         {
           const auto same = [](const std::vector<double> &a,
@@ -268,7 +298,7 @@ namespace forma
       unsigned int            n_solves = 0;
       // An extension keeps the map's angles and samples; its smallest
       // angle's samples are where the continuation starts.
-      const unsigned int n_kept = extended ? extended->angles.size() : 0;
+
       if (extended)
         {
           map.angles = extended->angles;
@@ -328,7 +358,7 @@ namespace forma
               }
             return reached;
           };
-          if (a == 0 && transversal)
+          if (a == 0 && transversal && !extended)
             {
               // The thesis's initial map (ch. 4.6.2): the simplex inverse
               // of H on the transversal subspace gives every target it
@@ -418,9 +448,29 @@ namespace forma
           context.print("map: angle " + sig(angles[a]) +
                         " done: " + std::to_string(n_solved) + " of " +
                         std::to_string(n_nodes) + " (E, nu) nodes covered");
+          // Memory in the log (not stdout: machine-dependent), to tell a
+          // leak over the build from a single runaway solve.
+          {
+            Utilities::System::MemoryStats stats;
+            Utilities::System::get_memory_stats(stats);
+            context.log(
+              "map: angle " + sig(angles[a]) +
+              ": resident memory, largest rank " +
+              std::to_string(Utilities::MPI::max(stats.VmRSS, comm) / 1024) +
+              " MB");
+          }
           map.covered.push_back(growth.solved());
           previous        = growth.structures();
           previous_solved = growth.solved();
+          // Progress: what a resumed run continues from (written whole, then
+          // renamed, so that a kill leaves the previous one).
+          if (context.is_root())
+            {
+              MaterialMap done = map;
+              done.angles.resize(done.covered.size());
+              done.write(progress + ".tmp");
+              std::filesystem::rename(progress + ".tmp", progress);
+            }
         }
       // From here on, every angle of the map (an extension's old ones too).
       angles = map.angles;
@@ -479,18 +529,19 @@ namespace forma
       // neighbours, queried and homogenized (an extension's new angles;
       // every angle of a refit).
       std::vector<std::array<double, 3>> checks;
-      for (unsigned int a = refit ? 0 : n_kept; a < angles.size(); ++a)
-        for (unsigned int n = 0; n < n_nodes; ++n)
-          {
-            const unsigned int j = n % nus.size();
-            if (map.covered[a][n] && j + 1 < nus.size() &&
-                map.covered[a][n + 1] && n + nus.size() < n_nodes &&
-                map.covered[a][n + nus.size()] &&
-                map.covered[a][n + nus.size() + 1])
-              checks.push_back({{(node_E(n) + node_E(n + nus.size())) / 2,
-                                 (node_nu(n) + node_nu(n + 1)) / 2,
-                                 angles[a]}});
-          }
+      for (unsigned int a = 0; a < angles.size(); ++a)
+        if (angles[a] <= first_new_angle + 1e-9)
+          for (unsigned int n = 0; n < n_nodes; ++n)
+            {
+              const unsigned int j = n % nus.size();
+              if (map.covered[a][n] && j + 1 < nus.size() &&
+                  map.covered[a][n + 1] && n + nus.size() < n_nodes &&
+                  map.covered[a][n + nus.size()] &&
+                  map.covered[a][n + nus.size() + 1])
+                checks.push_back({{(node_E(n) + node_E(n + nus.size())) / 2,
+                                   (node_nu(n) + node_nu(n + 1)) / 2,
+                                   angles[a]}});
+            }
       if (checks.size() > n_checks)
         {
           std::vector<std::array<double, 3>> every;
@@ -630,6 +681,8 @@ namespace forma
                             {{nu_range[0] - margin, nu_range[1] + margin}},
                             {{0, 1.1 * E_top}});
             }
+          // The build is complete: a later run with Resume starts afresh.
+          std::filesystem::remove(progress);
         }
     }
 

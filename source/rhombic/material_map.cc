@@ -479,8 +479,10 @@ namespace forma
       j["blending"] = blending;
       j["grid"]     = {{"E", E}, {"nu", nu}, {"angles", angles}};
       j["covered"]  = covered;
-      for (const auto &p : parameters)
-        j["parameters"].push_back(p.to_json());
+      // A build's progress file has no splines yet.
+      if (parameters[0].n_coefficients() > 0)
+        for (const auto &p : parameters)
+          j["parameters"].push_back(p.to_json());
       j["samples"] = samples;
       for (const auto &p : polygons)
         j["coverage_polygons"].push_back(p.coefficients());
@@ -492,7 +494,7 @@ namespace forma
 
 
     MaterialMap
-    MaterialMap::read(const std::string &file_name)
+    MaterialMap::read(const std::string &file_name, const bool with_splines)
     {
       std::ifstream in(file_name);
       AssertThrow(in,
@@ -504,16 +506,11 @@ namespace forma
           const auto j = nlohmann::json::parse(in);
           AssertThrow(j.at("format") == "forma-rhombic material map 1",
                       ExcMessage("not a forma-rhombic material map"));
-          map.blending  = j.at("blending").get<double>();
-          map.E         = j.at("grid").at("E").get<std::vector<double>>();
-          map.nu        = j.at("grid").at("nu").get<std::vector<double>>();
-          map.angles    = j.at("grid").at("angles").get<std::vector<double>>();
-          map.covered   = j.at("covered").get<std::vector<std::vector<bool>>>();
-          const auto &p = j.at("parameters");
-          AssertThrow(p.size() == RhombicStructure::n_parameters,
-                      ExcMessage("the map needs 8 parameter splines"));
-          for (unsigned int i = 0; i < p.size(); ++i)
-            map.parameters[i] = TensorSpline::from_json(p[i]);
+          map.blending = j.at("blending").get<double>();
+          map.E        = j.at("grid").at("E").get<std::vector<double>>();
+          map.nu       = j.at("grid").at("nu").get<std::vector<double>>();
+          map.angles   = j.at("grid").at("angles").get<std::vector<double>>();
+          map.covered  = j.at("covered").get<std::vector<std::vector<bool>>>();
           if (j.contains("samples"))
             map.samples =
               j.at("samples").get<std::vector<std::array<double, 11>>>();
@@ -524,12 +521,19 @@ namespace forma
             AssertThrow(c.size() == map.E.size() * map.nu.size(),
                         ExcMessage("the map's coverage does not match its "
                                    "(E, nu) grid"));
+          AssertThrow(map.E.size() >= 2 && map.nu.size() >= 2,
+                      ExcMessage("the map's (E, nu) grid needs 2 x 2 nodes"));
+          if (!with_splines)
+            return map;
+          const auto &p = j.at("parameters");
+          AssertThrow(p.size() == RhombicStructure::n_parameters,
+                      ExcMessage("the map needs 8 parameter splines"));
           for (const auto &spline : p)
             AssertThrow(spline.at("control_points").size() == 3,
                         ExcMessage("the map's splines must be functions of "
                                    "(E, nu, alpha)"));
-          AssertThrow(map.E.size() >= 2 && map.nu.size() >= 2,
-                      ExcMessage("the map's (E, nu) grid needs 2 x 2 nodes"));
+          for (unsigned int i = 0; i < p.size(); ++i)
+            map.parameters[i] = TensorSpline::from_json(p[i]);
           if (j.contains("coverage_polygons"))
             {
               const auto c =

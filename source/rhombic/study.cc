@@ -418,6 +418,15 @@ namespace forma
                         "the .prm file), e.g. "
                         "../../contrib/rhombic/map_full.json.");
       prm.declare_entry(
+        "Resume",
+        "false",
+        Patterns::Bool(),
+        "Continue an interrupted build map from "
+        "<Output directory>/map_progress.json (the grid, coverage and "
+        "samples of every angle done, written after each angle and removed "
+        "when the build completes): its angles are kept and the run goes on "
+        "below the last one, with the same settings.");
+      prm.declare_entry(
         "Fixed parameters",
         "p1 = 0.25, p2 = 0.225, p5 = 0.23",
         Patterns::Anything(),

@@ -4,7 +4,9 @@
 // samples gives a structure whose homogenized (E, nu) are within a few
 // percent of the request (and a structure.svg whose area is the volume
 // fraction); extended to a smaller angle (Initial map = file)
-// it keeps its samples and covers the new angle too. The shipped map
+// it keeps its samples and covers the new angle too; a build interrupted
+// after its first angle and resumed (Map/Resume) gives the same samples. The
+// shipped map
 // (contrib/rhombic/map.json) is queried off its samples at an angle between two
 // of its angles, and for a base material with nu = 0.3 (the CLM transform,
 // eq. 4.11), within its documented accuracy (doc/rhombic.md: E to 15% between
@@ -18,6 +20,8 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <sstream>
 
 namespace
@@ -151,6 +155,41 @@ main()
                   << e["covered"][1]["nodes"].get<unsigned int>() << " of 4"
                   << std::endl;
   query("query_extended", "extended/map.json", 0.05, 0.25, 87.5, 0, 0.05, 0.03);
+
+  // Resume: a build killed after its 90 degree angle leaves
+  // map_progress.json (the map without splines); run again with Resume it
+  // solves only the 85 degree nodes and gives the extension's samples. A
+  // complete build leaves no progress file.
+  {
+    auto progress = nlohmann::json::parse(read_file("built/map.json"));
+    progress.erase("parameters");
+    progress.erase("coverage_polygons");
+    std::filesystem::create_directories("resumed");
+    std::ofstream("resumed/map_progress.json") << progress.dump();
+  }
+  const int  resumed = build_map("resumed",
+                                " set Parameter bounds = p8 = 0.03:0.3\n",
+                                " set Resume = true\n set Angles = 90, 85\n");
+  const auto rs      = nlohmann::json::parse(read_file("resumed/summary.json"));
+  const auto same    = [](const std::string &a, const std::string &b) {
+    const auto x = nlohmann::json::parse(read_file(a + "/map.json"))["samples"];
+    const auto y = nlohmann::json::parse(read_file(b + "/map.json"))["samples"];
+    bool       equal = x.size() == y.size();
+    for (unsigned int k = 0; equal && k < x.size(); ++k)
+      for (unsigned int i = 0; i < x[k].size(); ++i)
+        equal = equal &&
+                std::abs(x[k][i].get<double>() - y[k][i].get<double>()) < 1e-10;
+    return equal;
+  };
+  dealii::deallog << "resumed map: exit code " << resumed << ", inverse solves "
+                  << rs["inverse_solves"].get<unsigned int>() << ", samples "
+                  << rs["samples"].get<unsigned int>()
+                  << ", the extension's samples: "
+                  << same("resumed", "extended") << ", progress file removed: "
+                  << !std::filesystem::exists("resumed/map_progress.json")
+                  << " (after the complete build: "
+                  << !std::filesystem::exists("built/map_progress.json") << ")"
+                  << std::endl;
 
   // With no new angle the extension only refits the splines.
   build_map("refit",

@@ -177,8 +177,13 @@ namespace forma
       write_parameter_surfaces(const std::string &file_name,
                                const double       angle) const;
 
+      /**
+       * A map written by write(). `with_splines` false reads a build's
+       * progress file (grid, coverage and samples; its splines are not fitted
+       * yet): the map can be extended, not queried.
+       */
       static MaterialMap
-      read(const std::string &file_name);
+      read(const std::string &file_name, const bool with_splines = true);
     };
 
     /**
