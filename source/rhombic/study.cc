@@ -564,7 +564,8 @@ namespace forma
                         "Homogenize every cell's structure (on its rhombus, "
                         "with the Mesh section's cell mesh) and report how far "
                         "its moduli are from the cell's target: the map's "
-                        "share of the fine-scale error.");
+                        "share of the fine-scale error. A structure the cell "
+                        "mesher cannot mesh is reported and left out.");
       prm.declare_entry("Fine-scale check",
                         "true",
                         Patterns::Bool(),
