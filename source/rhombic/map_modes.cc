@@ -19,8 +19,11 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <optional>
+#include <sstream>
 
 namespace forma
 {
@@ -158,11 +161,23 @@ namespace forma
                                        std::numeric_limits<double>::infinity() :
                                        angles.front();
       // Resume: the progress file holds every angle done so far (an
-      // extension's kept ones too) and stands for the initial map.
+      // extension's kept ones too) and stands for the initial map. Root
+      // reads it for all ranks, so that they take the same branches.
       const std::string progress = context.persistent_path("map_progress.json");
-      if (resume && !refit && std::filesystem::exists(progress))
+      std::string       progress_text;
+      if (resume && !refit && context.is_root() &&
+          std::filesystem::exists(progress))
         {
-          extended = MaterialMap::read(progress, false);
+          std::ifstream in(progress);
+          progress_text.assign(std::istreambuf_iterator<char>(in), {});
+        }
+      progress_text = Utilities::MPI::broadcast(comm, progress_text);
+      if (resume && !refit && progress_text.empty())
+        context.print("map: Map/Resume: no map_progress.json, starting afresh");
+      if (!progress_text.empty())
+        {
+          std::istringstream in(progress_text);
+          extended = MaterialMap::read(in, progress, false);
           AssertThrow(!extended->angles.empty(),
                       ExcMessage("Map/Resume: " + progress +
                                  " holds no angle"));
@@ -298,7 +313,6 @@ namespace forma
       unsigned int            n_solves = 0;
       // An extension keeps the map's angles and samples; its smallest
       // angle's samples are where the continuation starts.
-
       if (extended)
         {
           map.angles = extended->angles;
@@ -464,13 +478,21 @@ namespace forma
           previous_solved = growth.solved();
           // Progress: what a resumed run continues from (written whole, then
           // renamed, so that a kill leaves the previous one).
+          // A failed write costs only the resumability: logged, not thrown
+          // (on root alone it would leave the other ranks waiting).
           if (context.is_root())
-            {
-              MaterialMap done = map;
-              done.angles.resize(done.covered.size());
-              done.write(progress + ".tmp");
-              std::filesystem::rename(progress + ".tmp", progress);
-            }
+            try
+              {
+                MaterialMap done = map;
+                done.angles.resize(done.covered.size());
+                done.write(progress + ".tmp");
+                std::filesystem::rename(progress + ".tmp", progress);
+              }
+            catch (const std::exception &e)
+              {
+                context.log("map: map_progress.json not written: " +
+                            error_message(e));
+              }
         }
       // From here on, every angle of the map (an extension's old ones too).
       angles = map.angles;
@@ -681,8 +703,15 @@ namespace forma
                             {{nu_range[0] - margin, nu_range[1] + margin}},
                             {{0, 1.1 * E_top}});
             }
-          // The build is complete: a later run with Resume starts afresh.
-          std::filesystem::remove(progress);
+        }
+      // The build is complete: a later run with Resume starts afresh. (Its
+      // map.json reaches the output directory when the run commits, just
+      // after this.)
+      if (context.is_root())
+        {
+          std::error_code ignored;
+          std::filesystem::remove(progress, ignored);
+          std::filesystem::remove(progress + ".tmp", ignored);
         }
     }
 

@@ -500,6 +500,16 @@ namespace forma
       AssertThrow(in,
                   ExcMessage("cannot read the material map '" + file_name +
                              "'"));
+      return read(in, file_name, with_splines);
+    }
+
+
+
+    MaterialMap
+    MaterialMap::read(std::istream      &in,
+                      const std::string &file_name,
+                      const bool         with_splines)
+    {
       MaterialMap map;
       try
         {

@@ -32,9 +32,10 @@ namespace forma
 
       GridGrowth(const unsigned int n_E, const unsigned int n_nu);
 
-      /// A solve of `node` from a start that is not its neighbours' mean
-      /// (the seed, its previous angle's structure): any later start from
-      /// solved neighbours is new.
+      /// A solve of `node` (after any start: the seed, its previous
+      /// angle's structure or one of next_starts()). After a start that is
+      /// not a neighbours' mean, any later start from solved neighbours is
+      /// new.
       void
       tried(const unsigned int node);
 
@@ -65,7 +66,7 @@ namespace forma
       }
 
     private:
-      unsigned int            n_E, n_nu;
+      const unsigned int      n_E, n_nu;
       std::vector<bool>       is_solved;
       std::vector<Parameters> structure;
       // Solved neighbours at the last try: -1 never tried, 0 tried from a

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include <array>
+#include <iosfwd>
 #include <string>
 #include <vector>
 
@@ -184,6 +185,13 @@ namespace forma
        */
       static MaterialMap
       read(const std::string &file_name, const bool with_splines = true);
+
+      /// The same from a stream (e.g. a file's text one rank read and
+      /// broadcast); `file_name` names it in errors.
+      static MaterialMap
+      read(std::istream      &in,
+           const std::string &file_name,
+           const bool         with_splines = true);
     };
 
     /**
