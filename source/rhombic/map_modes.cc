@@ -447,14 +447,16 @@ namespace forma
             }
           // Grow outward from the solved nodes; failed nodes are tried
           // again as they gain solved neighbours.
-          for (auto starts = growth.next_starts(); !starts.empty();
-               starts      = growth.next_starts())
+          while (true)
             {
-                   std::vector<Job> jobs;
-                   for (const auto &[n, start] : starts)
+              const auto starts = growth.next_starts();
+              if (starts.empty())
+                break;
+              std::vector<Job> jobs;
+              for (const auto &[n, start] : starts)
                 jobs.push_back({n, start});
               take(solve(angles[a], jobs));
-                   context.print("map: angle " + sig(angles[a]) + ": " +
+              context.print("map: angle " + sig(angles[a]) + ": " +
                             std::to_string(growth.n_solved()) + " of " +
                             std::to_string(n_nodes) + " nodes reached");
             }
@@ -477,9 +479,9 @@ namespace forma
           previous        = growth.structures();
           previous_solved = growth.solved();
           // Progress: what a resumed run continues from (written whole, then
-          // renamed, so that a kill leaves the previous one).
-          // A failed write costs only the resumability: logged, not thrown
-          // (on root alone it would leave the other ranks waiting).
+          // renamed, so that a kill leaves the previous one). A failed write
+          // costs only the resumability: logged, not thrown (on root alone
+          // it would leave the other ranks waiting).
           if (context.is_root())
             try
               {

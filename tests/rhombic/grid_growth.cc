@@ -50,13 +50,15 @@ main()
   deallog << "continuation: " << growth.n_solved() << " solved" << std::endl;
 
   unsigned int round = 0;
-  for (auto starts = growth.next_starts(); !starts.empty();
-       starts      = growth.next_starts())
+  while (true)
     {
-           deallog << "round " << ++round << ':';
-           for (const auto &[n, start] : starts)
+      const auto starts = growth.next_starts();
+      if (starts.empty())
+        break;
+      deallog << "round " << ++round << ':';
+      for (const auto &[n, start] : starts)
         {
-               // The start is the mean of the solved neighbours' structures.
+          // The start is the mean of the solved neighbours' structures.
           unsigned int count  = 0;
           double       mean_i = 0, mean_j = 0;
           for (const unsigned int m : {n - n_nu, n + n_nu, n - 1, n + 1})
