@@ -10,6 +10,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <numeric>
@@ -31,9 +33,50 @@ namespace forma
 
 
 
+    namespace
+    {
+      // Gmsh 4.8's initialize() appends its own directory to PATH and
+      // PYTHONPATH, every time. glibc never frees a replaced variable, so
+      // with one session per cell mesh the environment grew by a copy of an
+      // ever longer PATH per mesh: quadratic memory, 12 GB after an hour of
+      // build map. Restoring the variables makes Gmsh's next setenv() an
+      // identical string, which glibc reuses.
+      class EnvironmentGuard
+      {
+      public:
+        EnvironmentGuard()
+        {
+          for (const char *name : names)
+            {
+              const char *value = std::getenv(name);
+              saved.emplace_back(value != nullptr, value ? value : "");
+            }
+        }
+
+        ~EnvironmentGuard()
+        {
+          for (unsigned int i = 0; i < names.size(); ++i)
+            if (saved[i].first)
+              ::setenv(names[i], saved[i].second.c_str(), 1);
+            else
+              ::unsetenv(names[i]);
+        }
+
+      private:
+        static constexpr std::array<const char *, 2> names{
+          {"PATH", "PYTHONPATH"}};
+        std::vector<std::pair<bool, std::string>> saved;
+      };
+    } // namespace
+
+
+
     GmshSession::GmshSession(const std::string &model)
     {
-      gmsh::initialize();
+      {
+        const EnvironmentGuard guard;
+        gmsh::initialize();
+      }
       gmsh::option::setNumber("General.Terminal", 0);
       // Errors must not be thrown from inside Gmsh's OpenMP regions (that
       // terminates the program): they are logged, and the result is

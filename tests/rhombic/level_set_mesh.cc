@@ -13,6 +13,9 @@
 //    elements of 0.05, makes crossing contours: an error that says where,
 //    or with max_thickenings a mesh thickened next to the wall only;
 //    largest_piece_only keeps the larger of two distant disks.
+//  - Each mesh opens a Gmsh session; PATH and PYTHONPATH are as before
+//    (Gmsh 4.8 appends to them on every initialize: quadratic memory in a
+//    long build map).
 
 #include <deal.II/grid/tria.h>
 
@@ -23,6 +26,8 @@
 #include "../tests.h"
 
 #include <cstdio>
+#include <cstdlib>
+#include <string>
 
 using namespace dealii;
 using namespace forma;
@@ -82,7 +87,15 @@ main(int argc, char **argv)
 {
   Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   initlog();
-  const double r = 0.3, exact = 1 - M_PI * r * r;
+  const auto environment = []() {
+    std::string text;
+    for (const char *name : {"PATH", "PYTHONPATH"})
+      text += std::string(name) + "=" +
+              (std::getenv(name) ? std::getenv(name) : "(unset)") + "\n";
+    return text;
+  };
+  const std::string environment_before = environment();
+  const double      r = 0.3, exact = 1 - M_PI * r * r;
 
   std::vector<double>   sizes, errors;
   SymmetricTensor<4, 2> C_center, C_corner;
@@ -240,4 +253,6 @@ main(int argc, char **argv)
             << ", area = pi 0.2^2 to 2e-3: "
             << (std::abs(info.area - M_PI * 0.04) < 2e-3) << std::endl;
   }
+  deallog << "PATH and PYTHONPATH unchanged by the Gmsh sessions: "
+          << (environment() == environment_before ? "yes" : "NO") << std::endl;
 }
