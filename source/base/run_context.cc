@@ -20,7 +20,15 @@ namespace forma
         try
           {
             fs::create_directories(output_directory);
-            fs::remove_all(staging_directory);
+            // A staging directory left behind is a killed run's (a failed
+            // one renames its own): kept for inspection, its log above all.
+            if (fs::exists(staging_directory))
+              {
+                const fs::path interrupted =
+                  fs::path(output_directory) / "interrupted-run";
+                fs::remove_all(interrupted);
+                fs::rename(staging_directory, interrupted);
+              }
             fs::create_directories(staging_directory);
             log_file = std::make_unique<std::ofstream>(path("log.txt").c_str());
             if (!*log_file)
@@ -51,6 +59,14 @@ namespace forma
   RunContext::persistent_path(const std::string &file_name) const
   {
     return (fs::path(output_directory) / file_name).string();
+  }
+
+
+
+  void
+  RunContext::remove_on_commit(const std::string &file_name)
+  {
+    obsolete_on_commit.push_back(file_name);
   }
 
 
@@ -107,6 +123,7 @@ namespace forma
       {
         log_file.reset();
         fs::remove_all(fs::path(output_directory) / "failed-run");
+        fs::remove_all(fs::path(output_directory) / "interrupted-run");
         for (const auto &entry : fs::directory_iterator(staging_directory))
           {
             const fs::path target =
@@ -115,6 +132,13 @@ namespace forma
             fs::rename(entry.path(), target);
           }
         fs::remove_all(staging_directory);
+        // Only now that the results are in place: a kill before this leaves
+        // e.g. a progress file to resume from.
+        for (const auto &file : obsolete_on_commit)
+          {
+            std::error_code ignored;
+            fs::remove(persistent_path(file), ignored);
+          }
       }
     finished = true;
     MPI_Barrier(comm);

@@ -57,6 +57,57 @@ namespace forma
           ar &node &reached &p &misfit &E &nu;
         }
       };
+
+      /**
+       * The entries that decide a map build's samples, "Section/Entry" ->
+       * value (prm at the top level). Not the ones that act after the
+       * sampling (splines, accuracy checks, output) nor Map/Angles: a
+       * resumed build may change those.
+       */
+      nlohmann::json
+      sampling_settings(ParameterHandler &prm)
+      {
+        const std::vector<std::pair<std::string, std::vector<std::string>>>
+                       entries  = {{"", {"Dimension"}},
+                                   {"Base material",
+                                    {"Young's modulus", "Poisson's ratio", "Plane model"}},
+                                   {"Structure", {"Parameters", "Blending"}},
+                                   {"Mesh",
+                                    {"Marching squares grid",
+                                     "Element size",
+                                     "Boundary element size",
+                                     "Element degree",
+                                     "Symmetric mesh"}},
+                                   {"Inverse",
+                                    {"Free parameters",
+                                     "Parameter bounds",
+                                     "Volume weight",
+                                     "Proximity weight",
+                                     "Tolerance",
+                                     "Max iterations"}},
+                                   {"Map",
+                                    {"Young's moduli",
+                                     "Poisson's ratios",
+                                     "Branch tolerance",
+                                     "Initial map",
+                                     "Initial map file",
+                                     "Fixed parameters",
+                                     "Sampling ranges",
+                                     "Subspace samples",
+                                     "Transversal grid samples"}}};
+        nlohmann::json settings = nlohmann::json::object();
+        for (const auto &[section, names] : entries)
+          {
+            if (!section.empty())
+              prm.enter_subsection(section);
+            for (const auto &name : names)
+              settings[section.empty() ? name : section + "/" + name] =
+                prm.get(name);
+            if (!section.empty())
+              prm.leave_subsection();
+          }
+        return settings;
+      }
     } // namespace
 
 
@@ -77,8 +128,9 @@ namespace forma
                    const Setup       &setup,
                    RunContext        &context)
     {
-      const MPI_Comm         comm = context.communicator();
-      const RhombicStructure seed = read_structure(prm, setup);
+      const MPI_Comm         comm     = context.communicator();
+      const nlohmann::json   settings = sampling_settings(prm);
+      const RhombicStructure seed     = read_structure(prm, setup);
       const InverseProblem base = InverseProblem::read(prm, setup, seed, comm);
       OptimizationParameters op;
       prm.enter_subsection("Inverse");
@@ -181,6 +233,20 @@ namespace forma
           AssertThrow(!extended->angles.empty(),
                       ExcMessage("Map/Resume: " + progress +
                                  " holds no angle"));
+          // Samples of other settings would be continued as if they were
+          // this build's.
+          std::string changed;
+          for (const auto &[name, value] : settings.items())
+            if (extended->build_settings.contains(name) &&
+                extended->build_settings[name] != value)
+              changed += "\n  " + name + " = " +
+                         extended->build_settings[name].get<std::string>() +
+                         " (now " + value.get<std::string>() + ")";
+          AssertThrow(changed.empty(),
+                      ExcMessage("Map/Resume: " + progress +
+                                 " was built with other settings:" + changed +
+                                 "\nRestore them, or remove the file to "
+                                 "start afresh."));
           const double last = extended->angles.back();
           angles.erase(std::remove_if(angles.begin(),
                                       angles.end(),
@@ -304,10 +370,11 @@ namespace forma
       };
 
       MaterialMap map;
-      map.E        = Es;
-      map.nu       = nus;
-      map.angles   = angles;
-      map.blending = setup.blending;
+      map.E              = Es;
+      map.nu             = nus;
+      map.angles         = angles;
+      map.blending       = setup.blending;
+      map.build_settings = settings;
       std::vector<Parameters> previous(n_nodes);
       std::vector<bool>       previous_solved(n_nodes, false);
       unsigned int            n_solves = 0;
@@ -537,12 +604,26 @@ namespace forma
                        std::abs(map.parameters[i].value(x[k]) - y[k]));
         }
       map.fit_coverage_polygons(height_weight);
+      // Written on root, failed on all ranks (a throw on root alone would
+      // leave the others waiting). The progress file stays: a run resumed
+      // with a writable Map/Map file only fits the splines.
+      std::string write_error;
       if (context.is_root())
-        {
-          map.write(context.path(map_file));
-          map.write_parameter_surfaces(context.path("map_parameters.png"),
-                                       angles.front());
-        }
+        try
+          {
+            map.write(context.path(map_file));
+            map.write_parameter_surfaces(context.path("map_parameters.png"),
+                                         angles.front());
+          }
+        catch (const std::exception &e)
+          {
+            write_error =
+              "Map/Map file = " + map_file + ": " + error_message(e) +
+              " (the samples are kept in map_progress.json: run again with "
+              "Map/Resume = true, which only fits the splines)";
+          }
+      write_error = Utilities::MPI::broadcast(comm, write_error);
+      AssertThrow(write_error.empty(), ExcMessage(write_error));
       context.print("map: " + std::to_string(map.samples.size()) +
                     " samples from " + std::to_string(n_solves) +
                     " inverse solves; splines with " +
@@ -706,15 +787,10 @@ namespace forma
                             {{0, 1.1 * E_top}});
             }
         }
-      // The build is complete: a later run with Resume starts afresh. (Its
-      // map.json reaches the output directory when the run commits, just
-      // after this.)
-      if (context.is_root())
-        {
-          std::error_code ignored;
-          std::filesystem::remove(progress, ignored);
-          std::filesystem::remove(progress + ".tmp", ignored);
-        }
+      // The build is complete: a later run with Resume starts afresh (the
+      // progress file goes once the map is in place).
+      context.remove_on_commit("map_progress.json");
+      context.remove_on_commit("map_progress.json.tmp");
     }
 
 

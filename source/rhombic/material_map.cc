@@ -479,6 +479,8 @@ namespace forma
       j["blending"] = blending;
       j["grid"]     = {{"E", E}, {"nu", nu}, {"angles", angles}};
       j["covered"]  = covered;
+      if (!build_settings.empty())
+        j["build_settings"] = build_settings;
       // A build's progress file has no splines yet.
       if (parameters[0].n_coefficients() > 0)
         for (const auto &p : parameters)
@@ -521,6 +523,8 @@ namespace forma
           map.nu       = j.at("grid").at("nu").get<std::vector<double>>();
           map.angles   = j.at("grid").at("angles").get<std::vector<double>>();
           map.covered  = j.at("covered").get<std::vector<std::vector<bool>>>();
+          if (j.contains("build_settings"))
+            map.build_settings = j.at("build_settings");
           if (j.contains("samples"))
             map.samples =
               j.at("samples").get<std::vector<std::array<double, 11>>>();

@@ -431,9 +431,9 @@ namespace forma
            {"value", f.value},
            {"coverage", f.coverage},
            {"samples", f.samples}});
-      // Complete: the progress file has served its purpose.
-      if (context.is_root())
-        std::filesystem::remove(progress);
+      // Complete: the progress file has served its purpose once the
+      // results are in place.
+      context.remove_on_commit("sweep_progress.csv");
     }
   } // namespace rhombic
 } // namespace forma

@@ -5,7 +5,9 @@
 // percent of the request (and a structure.svg whose area is the volume
 // fraction); extended to a smaller angle (Initial map = file)
 // it keeps its samples and covers the new angle too; a build interrupted
-// after its first angle and resumed (Map/Resume) gives the same samples. The
+// after its first angle and resumed (Map/Resume) gives the same samples, and
+// refuses a progress file of other settings; a build that fails after its
+// sampling keeps the progress file it wrote. The
 // shipped map
 // (contrib/rhombic/map.json) is queried off its samples at an angle between two
 // of its angles, and for a base material with nu = 0.3 (the CLM transform,
@@ -159,21 +161,43 @@ main()
   // Resume: a build killed after its 90 degree angle leaves
   // map_progress.json (the map without splines); run again with Resume it
   // solves only the 85 degree nodes and gives the extension's samples. A
-  // complete build leaves no progress file.
-  {
-    auto progress = nlohmann::json::parse(read_file("built/map.json"));
-    progress.erase("parameters");
-    progress.erase("coverage_polygons");
-    std::filesystem::create_directories("resumed");
-    std::ofstream("resumed/map_progress.json") << progress.dump();
-  }
-  const int  resumed = build_map("resumed",
-                                " set Parameter bounds = p8 = 0.03:0.3\n",
-                                " set Resume = true\n set Angles = 90, 85\n");
+  // complete build leaves no progress file. The progress file here is the
+  // built map's; it records the built map's settings, which the resumed
+  // run (with the extension's p8 bounds) refuses: its samples would not be
+  // this build's. As if the build had had those bounds (its 90 degree
+  // samples have p8 > 0.05, the bound is inactive there), it is resumed.
+  auto progress = nlohmann::json::parse(read_file("built/map.json"));
+  progress.erase("parameters");
+  progress.erase("coverage_polygons");
+  std::filesystem::create_directories("resumed/.forma-staging");
+  std::ofstream("resumed/map_progress.json") << progress.dump();
+  // What the kill left in the staging directory: the next run keeps it in
+  // interrupted-run/ until one commits.
+  std::ofstream("resumed/.forma-staging/log.txt") << "the killed run's log\n";
+  const std::string resume_bounds = " set Parameter bounds = p8 = 0.03:0.3\n";
+  const std::string resume_map = " set Resume = true\n set Angles = 90, 85\n";
+  const int stale_code = build_map("resumed", resume_bounds, resume_map);
+  dealii::deallog
+    << "resume from other settings: exit code "
+    << (stale_code != 0 ? "non-zero" : "0") << ", says which: "
+    << (read_file("resumed.stderr").find("Inverse/Parameter bounds = ") !=
+          std::string::npos &&
+        read_file("resumed.stderr").find("(now p8 = 0.03:0.3)") !=
+          std::string::npos)
+    << ", progress file kept: "
+    << std::filesystem::exists("resumed/map_progress.json")
+    << ", the killed run's log kept: "
+    << (read_file("resumed/interrupted-run/log.txt") ==
+        "the killed run's log\n")
+    << std::endl;
+  progress["build_settings"]["Inverse/Parameter bounds"] = "p8 = 0.03:0.3";
+  std::ofstream("resumed/map_progress.json") << progress.dump();
+  const int  resumed = build_map("resumed", resume_bounds, resume_map);
   const auto rs      = nlohmann::json::parse(read_file("resumed/summary.json"));
-  const auto same    = [](const std::string &a, const std::string &b) {
-    const auto x = nlohmann::json::parse(read_file(a + "/map.json"))["samples"];
-    const auto y = nlohmann::json::parse(read_file(b + "/map.json"))["samples"];
+  // The samples of two map files (the same to round-off).
+  const auto same = [](const std::string &a, const std::string &b) {
+    const auto x     = nlohmann::json::parse(read_file(a))["samples"];
+    const auto y     = nlohmann::json::parse(read_file(b))["samples"];
     bool       equal = x.size() == y.size();
     for (unsigned int k = 0; equal && k < x.size(); ++k)
       for (unsigned int i = 0; i < x[k].size(); ++i)
@@ -185,10 +209,32 @@ main()
                   << rs["inverse_solves"].get<unsigned int>() << ", samples "
                   << rs["samples"].get<unsigned int>()
                   << ", the extension's samples: "
-                  << same("resumed", "extended") << ", progress file removed: "
+                  << same("resumed/map.json", "extended/map.json")
+                  << ", progress file removed: "
                   << !std::filesystem::exists("resumed/map_progress.json")
                   << " (after the complete build: "
                   << !std::filesystem::exists("built/map_progress.json") << ")"
+                  << ", interrupted-run removed: "
+                  << !std::filesystem::exists("resumed/interrupted-run")
+                  << std::endl;
+  // The progress file as a build writes it: this one fails after its
+  // sampling (its map file cannot be written), so it keeps the file; the
+  // file holds the built map's samples and settings.
+  const int  written   = build_map("written",
+                                "",
+                                " set Angles = 90\n"
+                                   " set Map file = missing/map.json\n");
+  const auto built_map = nlohmann::json::parse(read_file("built/map.json"));
+  const auto written_progress =
+    nlohmann::json::parse(read_file("written/map_progress.json"));
+  dealii::deallog << "failed after the sampling: exit code "
+                  << (written != 0 ? "non-zero" : "0")
+                  << ", progress file with the built map's samples: "
+                  << same("written/map_progress.json", "built/map.json")
+                  << ", settings: "
+                  << (written_progress["build_settings"] ==
+                      built_map["build_settings"])
+                  << ", splines: " << written_progress.contains("parameters")
                   << std::endl;
 
   // With no new angle the extension only refits the splines.

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace forma
 {
@@ -17,7 +18,9 @@ namespace forma
    * hidden directory inside the output directory and moved into place only
    * when the run succeeds, so a failing run never leaves half a result over
    * an earlier good one; the failed run's files (with summary.json saying
-   * "status": "failed") are kept in `<output directory>/failed-run/`.
+   * "status": "failed") are kept in `<output directory>/failed-run/`, a
+   * killed run's (the staging directory it left) in `interrupted-run/` by the
+   * next run; both until a run commits.
    *
    * Progress lines go to stdout (rank 0) and to the log file; the log file
    * may also receive timings, which stdout never does (tests compare stdout).
@@ -42,6 +45,14 @@ namespace forma
      */
     std::string
     persistent_path(const std::string &file_name) const;
+
+    /**
+     * Remove the persistent file `file_name` (see persistent_path()) when the
+     * run commits, after its results are in place: a progress file the
+     * complete result makes obsolete.
+     */
+    void
+    remove_on_commit(const std::string &file_name);
 
     /// Path of a result file inside the staging directory.
     std::string
@@ -91,6 +102,7 @@ namespace forma
     std::string                            output_directory;
     std::string                            staging_directory;
     mutable std::unique_ptr<std::ofstream> log_file;
+    std::vector<std::string>               obsolete_on_commit;
     bool                                   finished = false;
   };
 } // namespace forma

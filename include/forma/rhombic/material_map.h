@@ -165,6 +165,11 @@ namespace forma
       std::array<double, 2>
       covered_angles() const;
 
+      /// The settings that decided a build's samples ("Section/Entry" ->
+      /// value; empty for maps built before they were recorded): a resumed
+      /// build checks them.
+      nlohmann::json build_settings = nlohmann::json::object();
+
       void
       write(const std::string &file_name) const;
 
