@@ -20,15 +20,18 @@ namespace forma
         try
           {
             fs::create_directories(output_directory);
-            // A staging directory left behind is a killed run's (a failed
-            // one renames its own): kept for inspection, its log above all.
-            if (fs::exists(staging_directory))
+            // A staging directory left behind is from a run that did not
+            // finish (killed, typically; a failed one renames its own):
+            // kept for inspection, its log above all, unless it is empty.
+            if (fs::exists(staging_directory) &&
+                !fs::is_empty(staging_directory))
               {
                 const fs::path interrupted =
                   fs::path(output_directory) / "interrupted-run";
                 fs::remove_all(interrupted);
                 fs::rename(staging_directory, interrupted);
               }
+            fs::remove_all(staging_directory);
             fs::create_directories(staging_directory);
             log_file = std::make_unique<std::ofstream>(path("log.txt").c_str());
             if (!*log_file)
@@ -119,29 +122,41 @@ namespace forma
   {
     summary["status"] = "ok";
     write_summary();
+    // Moved on root, failed on all ranks (a throw on root alone would leave
+    // the others waiting).
+    std::string error;
     if (is_root())
       {
         log_file.reset();
-        fs::remove_all(fs::path(output_directory) / "failed-run");
-        fs::remove_all(fs::path(output_directory) / "interrupted-run");
-        for (const auto &entry : fs::directory_iterator(staging_directory))
+        try
           {
-            const fs::path target =
-              fs::path(output_directory) / entry.path().filename();
-            fs::remove_all(target);
-            fs::rename(entry.path(), target);
+            fs::remove_all(fs::path(output_directory) / "failed-run");
+            fs::remove_all(fs::path(output_directory) / "interrupted-run");
+            for (const auto &entry : fs::directory_iterator(staging_directory))
+              {
+                const fs::path target =
+                  fs::path(output_directory) / entry.path().filename();
+                fs::remove_all(target);
+                fs::rename(entry.path(), target);
+              }
+            fs::remove_all(staging_directory);
+            // Only now that the results are in place: a kill before this
+            // leaves e.g. a progress file to resume from.
+            for (const auto &file : obsolete_on_commit)
+              {
+                std::error_code ignored;
+                fs::remove(persistent_path(file), ignored);
+              }
           }
-        fs::remove_all(staging_directory);
-        // Only now that the results are in place: a kill before this leaves
-        // e.g. a progress file to resume from.
-        for (const auto &file : obsolete_on_commit)
+        catch (const std::exception &e)
           {
-            std::error_code ignored;
-            fs::remove(persistent_path(file), ignored);
+            error = "cannot move the results into '" + output_directory +
+                    "': " + e.what();
           }
       }
+    error = dealii::Utilities::MPI::broadcast(comm, error, 0);
+    AssertThrow(error.empty(), dealii::ExcMessage(error));
     finished = true;
-    MPI_Barrier(comm);
   }
 
 

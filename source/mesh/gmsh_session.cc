@@ -16,6 +16,7 @@
 #include <fstream>
 #include <numeric>
 #include <sstream>
+#include <utility>
 #include <vector>
 
 namespace forma
@@ -40,7 +41,9 @@ namespace forma
       // with one session per cell mesh the environment grew by a copy of an
       // ever longer PATH per mesh: quadratic memory, 12 GB after an hour of
       // build map. Restoring the variables makes Gmsh's next setenv() an
-      // identical string, which glibc reuses.
+      // identical string, which glibc reuses. (setenv is not thread-safe:
+      // sessions are serialized by gmsh_mutex(), and nothing else reads the
+      // environment meanwhile.)
       class EnvironmentGuard
       {
       public:

@@ -60,51 +60,53 @@ namespace forma
 
       /**
        * The entries that decide a map build's samples, "Section/Entry" ->
-       * value (prm at the top level). Not the ones that act after the
-       * sampling (splines, accuracy checks, output) nor Map/Angles: a
-       * resumed build may change those.
+       * value as written (prm at the top level; compared as text, so a
+       * reformatted value counts as changed). Not the ones that act after
+       * the sampling (branch drop, splines, accuracy checks, output) nor
+       * Map/Angles: a resumed build may change those. The initial map's
+       * entries only for the kind of initial map chosen.
        */
       nlohmann::json
       sampling_settings(ParameterHandler &prm)
       {
-        const std::vector<std::pair<std::string, std::vector<std::string>>>
-                       entries  = {{"", {"Dimension"}},
-                                   {"Base material",
-                                    {"Young's modulus", "Poisson's ratio", "Plane model"}},
-                                   {"Structure", {"Parameters", "Blending"}},
-                                   {"Mesh",
-                                    {"Marching squares grid",
-                                     "Element size",
-                                     "Boundary element size",
-                                     "Element degree",
-                                     "Symmetric mesh"}},
-                                   {"Inverse",
-                                    {"Free parameters",
-                                     "Parameter bounds",
-                                     "Volume weight",
-                                     "Proximity weight",
-                                     "Tolerance",
-                                     "Max iterations"}},
-                                   {"Map",
-                                    {"Young's moduli",
-                                     "Poisson's ratios",
-                                     "Branch tolerance",
-                                     "Initial map",
-                                     "Initial map file",
-                                     "Fixed parameters",
-                                     "Sampling ranges",
-                                     "Subspace samples",
-                                     "Transversal grid samples"}}};
+        using Section = std::pair<std::string, std::vector<std::string>>;
+        std::vector<Section> sections = {
+          {"Base material",
+           {"Young's modulus", "Poisson's ratio", "Plane model"}},
+          {"Structure", {"Parameters", "Blending"}},
+          {"Mesh",
+           {"Marching squares grid",
+            "Element size",
+            "Boundary element size",
+            "Element degree",
+            "Symmetric mesh"}},
+          {"Inverse",
+           {"Free parameters",
+            "Parameter bounds",
+            "Volume weight",
+            "Proximity weight",
+            "Tolerance",
+            "Max iterations"}},
+          {"Map", {"Young's moduli", "Poisson's ratios", "Initial map"}}};
+        prm.enter_subsection("Map");
+        const std::string initial = prm.get("Initial map");
+        prm.leave_subsection();
+        auto &map_entries = sections.back().second;
+        if (initial == "file")
+          map_entries.emplace_back("Initial map file");
+        else if (initial == "transversal")
+          map_entries.insert(map_entries.end(),
+                             {"Fixed parameters",
+                              "Sampling ranges",
+                              "Subspace samples",
+                              "Transversal grid samples"});
         nlohmann::json settings = nlohmann::json::object();
-        for (const auto &[section, names] : entries)
+        for (const auto &[section, names] : sections)
           {
-            if (!section.empty())
-              prm.enter_subsection(section);
+            prm.enter_subsection(section);
             for (const auto &name : names)
-              settings[section.empty() ? name : section + "/" + name] =
-                prm.get(name);
-            if (!section.empty())
-              prm.leave_subsection();
+              settings[section + "/" + name] = prm.get(name);
+            prm.leave_subsection();
           }
         return settings;
       }
@@ -240,8 +242,8 @@ namespace forma
             if (extended->build_settings.contains(name) &&
                 extended->build_settings[name] != value)
               changed += "\n  " + name + " = " +
-                         extended->build_settings[name].get<std::string>() +
-                         " (now " + value.get<std::string>() + ")";
+                         extended->build_settings[name].dump() + " (now " +
+                         value.dump() + ")";
           AssertThrow(changed.empty(),
                       ExcMessage("Map/Resume: " + progress +
                                  " was built with other settings:" + changed +
@@ -606,22 +608,27 @@ namespace forma
       map.fit_coverage_polygons(height_weight);
       // Written on root, failed on all ranks (a throw on root alone would
       // leave the others waiting). The progress file stays: a run resumed
-      // with a writable Map/Map file only fits the splines.
+      // with a writable Map/Map file fits the splines and checks them
+      // again, without new inverse solves.
       std::string write_error;
       if (context.is_root())
-        try
-          {
-            map.write(context.path(map_file));
-            map.write_parameter_surfaces(context.path("map_parameters.png"),
-                                         angles.front());
-          }
-        catch (const std::exception &e)
-          {
-            write_error =
-              "Map/Map file = " + map_file + ": " + error_message(e) +
-              " (the samples are kept in map_progress.json: run again with "
-              "Map/Resume = true, which only fits the splines)";
-          }
+        {
+          std::string file = "Map/Map file = " + map_file;
+          try
+            {
+              map.write(context.path(map_file));
+              file = "map_parameters.png";
+              map.write_parameter_surfaces(context.path(file), angles.front());
+            }
+          catch (const std::exception &e)
+            {
+              write_error = file + ": " + error_message(e);
+              if (!refit && std::filesystem::exists(progress))
+                write_error += " (the samples are kept in map_progress.json: "
+                               "run again with Map/Resume = true, which "
+                               "solves nothing new)";
+            }
+        }
       write_error = Utilities::MPI::broadcast(comm, write_error);
       AssertThrow(write_error.empty(), ExcMessage(write_error));
       context.print("map: " + std::to_string(map.samples.size()) +
@@ -789,8 +796,11 @@ namespace forma
         }
       // The build is complete: a later run with Resume starts afresh (the
       // progress file goes once the map is in place).
-      context.remove_on_commit("map_progress.json");
-      context.remove_on_commit("map_progress.json.tmp");
+      if (!refit)
+        {
+          context.remove_on_commit("map_progress.json");
+          context.remove_on_commit("map_progress.json.tmp");
+        }
     }
 
 

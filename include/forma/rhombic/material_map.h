@@ -95,6 +95,10 @@ namespace forma
       std::array<std::vector<double>, CoveragePolygon::n_coefficients>
                             polygon_spline_values;
       std::array<double, 2> polygon_angles = {{1, 0}}; ///< empty if lo > hi
+      /// The settings that decided a build's samples ("Section/Entry" ->
+      /// value; empty for maps built before they were recorded): a resumed
+      /// build checks them.
+      nlohmann::json build_settings = nlohmann::json::object();
 
       /**
        * Fit the coverage polygons to `covered` (fit_coverage_polygon() per
@@ -164,11 +168,6 @@ namespace forma
       /// none.
       std::array<double, 2>
       covered_angles() const;
-
-      /// The settings that decided a build's samples ("Section/Entry" ->
-      /// value; empty for maps built before they were recorded): a resumed
-      /// build checks them.
-      nlohmann::json build_settings = nlohmann::json::object();
 
       void
       write(const std::string &file_name) const;
