@@ -2,6 +2,7 @@
 #include <deal.II/base/utilities.h>
 
 #include <forma/base/application.h>
+#include <forma/base/replace_file.h>
 #include <forma/base/run_context.h>
 #include <forma/optimization/optimizer.h>
 
@@ -277,9 +278,9 @@ namespace forma
             c["mesh"]                  = run.model.mesh;
             c["history"]               = run.history;
             c["decrease_window_start"] = run.window_start;
-            const std::string tmp      = run.checkpoint + ".tmp";
-            std::ofstream(tmp) << c.dump();
-            std::filesystem::rename(tmp, run.checkpoint);
+            replace_file(run.checkpoint, [&](const std::string &file) {
+              std::ofstream(file) << c.dump();
+            });
           }
         if (k < run.parameters.max_iterations && run.model.remesh_needed &&
             run.model.remesh_needed())

@@ -7,6 +7,7 @@
 #include <forma/base/application.h>
 #include <forma/base/plot.h>
 #include <forma/base/rank_strided.h>
+#include <forma/base/replace_file.h>
 #include <forma/base/run_context.h>
 #include <forma/optimization/optimizer.h>
 #include <forma/rhombic/grid_growth.h>
@@ -556,8 +557,9 @@ namespace forma
               {
                 MaterialMap done = map;
                 done.angles.resize(done.covered.size());
-                done.write(progress + ".tmp");
-                std::filesystem::rename(progress + ".tmp", progress);
+                replace_file(progress, [&](const std::string &file) {
+                  done.write(file);
+                });
               }
             catch (const std::exception &e)
               {
