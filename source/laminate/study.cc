@@ -154,14 +154,8 @@ namespace forma
                                {"inside", r.hs_violation <= 0},
                                {"violation", r.hs_violation}};
       // The same structure made of other base Poisson's ratios (CLM).
-      for (const double nu : setup.clm_poisson)
-        {
-          const auto to =
-            IsotropicModuli::of_material(setup.base_E, nu, setup.plane);
-          const auto moved = isotropic_fit(clm_transform(r.C, setup.base, to));
-          j["clm"].push_back(
-            {{"base_nu", nu}, {"E", moved.E}, {"nu", moved.nu}});
-        }
+      for (const auto &[nu, m] : setup.material.clm_fits(r.C))
+        j["clm"].push_back({{"base_nu", nu}, {"E", m.E}, {"nu", m.nu}});
       return j;
     }
 
@@ -303,33 +297,14 @@ namespace forma
     void
     declare_parameters(ParameterHandler &prm)
     {
+      BaseMaterial::declare(prm);
       prm.enter_subsection("Base material");
-      prm.declare_entry(
-        "Young's modulus",
-        "1",
-        Patterns::Double(0),
-        "E of the printable base material; results scale with it.");
-      prm.declare_entry("Poisson's ratio",
-                        "0",
-                        Patterns::Double(-1, 0.5),
-                        "nu of the base material (3D); the thesis uses 0.");
-      prm.declare_entry("Plane model",
-                        "plane stress",
-                        Patterns::Selection("plane stress|plane strain"),
-                        "2D model of the base material. Results are 2D moduli "
-                        "(see doc/laminate.md).");
       prm.declare_entry(
         "Void stiffness ratio",
         "1e-6",
         Patterns::Double(0, 1),
         "Void is a weak phase: this fraction of the base tensor "
         "(thesis: 1e-6).");
-      prm.declare_entry(
-        "CLM Poisson's ratios",
-        "",
-        Patterns::Anything(),
-        "Comma separated base Poisson's ratios for which homogenize "
-        "also reports (E, nu) by the CLM transform (eq. 4.11).");
       prm.leave_subsection();
 
       prm.enter_subsection("Grid");
@@ -558,22 +533,15 @@ namespace forma
     parse_setup(ParameterHandler &prm, RunContext &context)
     {
       Setup setup;
+      setup.material = BaseMaterial::parse(prm);
       prm.enter_subsection("Base material");
-      setup.base_E      = prm.get_double("Young's modulus");
-      setup.base_nu     = prm.get_double("Poisson's ratio");
-      setup.plane       = plane_model_from_string(prm.get("Plane model"));
-      setup.weak_ratio  = prm.get_double("Void stiffness ratio");
-      setup.clm_poisson = parse_numbers(prm.get("CLM Poisson's ratios"),
-                                        "Base material/CLM Poisson's ratios",
-                                        -1,
-                                        0.5);
+      setup.weak_ratio = prm.get_double("Void stiffness ratio");
       prm.leave_subsection();
       AssertThrow(setup.weak_ratio > 0,
                   ExcMessage(
                     "Base material/Void stiffness ratio must be positive "
                     "(the void is a weak phase)"));
-      setup.base =
-        IsotropicModuli::of_material(setup.base_E, setup.base_nu, setup.plane);
+      setup.base = setup.material.moduli();
       setup.weak =
         IsotropicModuli::from_bulk_shear(setup.weak_ratio * setup.base.kappa,
                                          setup.weak_ratio * setup.base.mu);
@@ -590,17 +558,11 @@ namespace forma
       prm.enter_subsection("Output");
       setup.write_vtu = prm.get_bool("Write vtu");
       prm.leave_subsection();
-      context.summary["base_material"] = {
-        {"E", setup.base_E},
-        {"nu", setup.base_nu},
-        {"plane_model",
-         setup.plane == PlaneModel::plane_stress ? "plane stress" :
-                                                   "plane strain"},
-        {"E_2d", setup.base.E},
-        {"nu_2d", setup.base.nu},
-        {"void_stiffness_ratio", setup.weak_ratio},
-        {"gray_pixels",
-         setup.gray == GrayPixels::linear ? "linear" : "hashin-shtrikman"}};
+      context.summary["base_material"] = setup.material.summary();
+      context.summary["base_material"]["void_stiffness_ratio"] =
+        setup.weak_ratio;
+      context.summary["base_material"]["gray_pixels"] =
+        setup.gray == GrayPixels::linear ? "linear" : "hashin-shtrikman";
 
       return setup;
     }

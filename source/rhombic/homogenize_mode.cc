@@ -58,15 +58,9 @@ namespace forma
                          r.anisotropy.a2 <= setup.isotropy_tolerance ?
                        " (isotropic)" :
                        " (not isotropic)"));
-      for (const double nu : setup.clm_poisson)
-        {
-          const IsotropicModuli to =
-            IsotropicModuli::of_material(setup.base_E, nu, setup.plane);
-          const IsotropicModuli m =
-            isotropic_fit(clm_transform(r.C, setup.base, to));
-          context.print("CLM, base nu = " + sig(nu) + ": E = " + sig(m.E, 5) +
-                        ", nu = " + sig(m.nu, 5));
-        }
+      for (const auto &[nu, m] : setup.material.clm_fits(r.C))
+        context.print("CLM, base nu = " + sig(nu) + ": E = " + sig(m.E, 5) +
+                      ", nu = " + sig(m.nu, 5));
       context.summary["structure"] = structure_json(s);
       context.summary["result"]    = sample_json(r, setup);
       if (context.is_root())

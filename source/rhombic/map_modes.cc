@@ -197,7 +197,7 @@ namespace forma
                   ExcMessage("Map/Spline control points: three integers >= 4 "
                              "(along E, nu, alpha)"));
       check_target_grid(Es, nus, "Map");
-      AssertThrow(setup.base_nu == 0,
+      AssertThrow(setup.material.poisson == 0,
                   ExcMessage("build map: the map is built for a base with "
                              "Poisson's ratio 0 (other bases follow by the "
                              "CLM transform when it is queried)"));

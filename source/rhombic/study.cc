@@ -102,14 +102,8 @@ namespace forma
                             {"boundary_loops", r.mesh.boundary_loops},
                             {"dropped_islands", r.mesh.dropped_islands},
                             {"dropped_holes", r.mesh.dropped_holes}}}};
-      for (const double nu : setup.clm_poisson)
-        {
-          const IsotropicModuli to =
-            IsotropicModuli::of_material(setup.base_E, nu, setup.plane);
-          const IsotropicModuli m =
-            isotropic_fit(clm_transform(r.C, setup.base, to));
-          j["clm"].push_back({{"base_nu", nu}, {"E", m.E}, {"nu", m.nu}});
-        }
+      for (const auto &[nu, m] : setup.material.clm_fits(r.C))
+        j["clm"].push_back({{"base_nu", nu}, {"E", m.E}, {"nu", m.nu}});
       return j;
     }
 
@@ -169,27 +163,7 @@ namespace forma
     void
     declare_parameters(ParameterHandler &prm)
     {
-      prm.enter_subsection("Base material");
-      prm.declare_entry("Young's modulus",
-                        "1",
-                        Patterns::Double(0),
-                        "E of the base material; results scale with it.");
-      prm.declare_entry("Poisson's ratio",
-                        "0",
-                        Patterns::Double(-1, 0.5),
-                        "nu of the base material (3D); the thesis uses 0.");
-      prm.declare_entry("Plane model",
-                        "plane stress",
-                        Patterns::Selection("plane stress|plane strain"),
-                        "2D model of the base material; results are 2D "
-                        "moduli (see doc/rhombic.md).");
-      prm.declare_entry(
-        "CLM Poisson's ratios",
-        "",
-        Patterns::Anything(),
-        "Comma separated base Poisson's ratios for which the results are "
-        "also given by the CLM transform (eq. 4.11), without recomputing.");
-      prm.leave_subsection();
+      BaseMaterial::declare(prm);
 
       prm.enter_subsection("Structure");
       prm.declare_entry("Angle",
@@ -677,19 +651,8 @@ namespace forma
     parse_setup(ParameterHandler &prm, RunContext &context)
     {
       Setup setup;
-      prm.enter_subsection("Base material");
-      setup.base_E      = prm.get_double("Young's modulus");
-      setup.base_nu     = prm.get_double("Poisson's ratio");
-      setup.plane       = plane_model_from_string(prm.get("Plane model"));
-      setup.clm_poisson = parse_numbers(prm.get("CLM Poisson's ratios"),
-                                        "Base material/CLM Poisson's ratios",
-                                        -1,
-                                        0.5);
-      prm.leave_subsection();
-      AssertThrow(setup.base_E > 0,
-                  ExcMessage("Base material/Young's modulus must be positive"));
-      setup.base =
-        IsotropicModuli::of_material(setup.base_E, setup.base_nu, setup.plane);
+      setup.material = BaseMaterial::parse(prm);
+      setup.base     = setup.material.moduli();
 
       prm.enter_subsection("Structure");
       setup.blending = prm.get_double("Blending");
@@ -718,14 +681,7 @@ namespace forma
       setup.isotropy_tolerance = prm.get_double("Isotropy tolerance");
       prm.leave_subsection();
 
-      context.summary["base_material"] = {
-        {"E", setup.base_E},
-        {"nu", setup.base_nu},
-        {"plane_model",
-         setup.plane == PlaneModel::plane_stress ? "plane stress" :
-                                                   "plane strain"},
-        {"E_2d", setup.base.E},
-        {"nu_2d", setup.base.nu}};
+      context.summary["base_material"]   = setup.material.summary();
       context.summary["mesh_parameters"] = {
         {"marching_squares_grid", setup.mesh.grid},
         {"element_size", setup.mesh.size},

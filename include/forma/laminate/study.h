@@ -5,6 +5,7 @@
 #include <deal.II/base/symmetric_tensor.h>
 
 #include <forma/base/records.h>
+#include <forma/homogenization/base_material.h>
 #include <forma/homogenization/bounds.h>
 #include <forma/homogenization/elastic_tensor.h>
 #include <forma/homogenization/periodic_homogenization.h>
@@ -41,11 +42,11 @@ namespace forma
     /// Base material, grid and solver: what every mode shares.
     struct Setup
     {
-      IsotropicModuli     base, weak;
-      PlaneModel          plane  = PlaneModel::plane_stress;
-      double              base_E = 1, base_nu = 0, weak_ratio = 1e-6;
-      std::vector<double> clm_poisson;
-      unsigned int        cells_along_height = 148;
+      BaseMaterial material;
+      /// Its 2D moduli, and the void's (a weak phase, weak_ratio of them).
+      IsotropicModuli                             base, weak;
+      double                                      weak_ratio         = 1e-6;
+      unsigned int                                cells_along_height = 148;
       PeriodicHomogenization<2>::SolverParameters solver;
       bool                                        write_vtu = true;
       GrayPixels gray     = GrayPixels::hashin_shtrikman;

@@ -5,6 +5,7 @@
 #include <deal.II/base/symmetric_tensor.h>
 
 #include <forma/base/records.h>
+#include <forma/homogenization/base_material.h>
 #include <forma/homogenization/elastic_tensor.h>
 #include <forma/homogenization/periodic_homogenization.h>
 #include <forma/mesh/level_set_mesh.h>
@@ -41,10 +42,9 @@ namespace forma
     /// Base material, cell mesh and solver: what every mode shares.
     struct Setup
     {
-      double                 base_E = 1, base_nu = 0;
-      PlaneModel             plane = PlaneModel::plane_stress;
+      BaseMaterial material;
+      /// Its 2D moduli, which results are relative to (E_b).
       IsotropicModuli        base;
-      std::vector<double>    clm_poisson;
       double                 blending = 0.01;
       LevelSetMeshParameters mesh;
       unsigned int           degree = 2;
