@@ -1,7 +1,8 @@
 // Bad input to forma-laminate is rejected with a message that names the
 // problem, a non-zero exit code, and the results of an earlier good run
 // untouched: parameters outside their ranges, malformed images, a
-// structure without material, a 3D request, a malformed sweep range, an
+// structure without material, a 3D request, a malformed sweep range, a
+// zero base modulus, a CLM ratio out of range, an
 // unreachable inverse target, a table file that is not a sweep's.
 
 #include "../tests.h"
@@ -57,6 +58,14 @@ main()
   expect_failure("bad_sweep_range",
                  base + "set Mode = sweep\nsubsection Sweep\n"
                         " set p1 = 0.5:0.9\nend\n",
+                 good);
+  expect_failure("zero_base_modulus",
+                 base + "set Mode = homogenize\nsubsection Base material\n"
+                        " set Young's modulus = 0\nend\n",
+                 good);
+  expect_failure("clm_ratio_out_of_range",
+                 base + "set Mode = homogenize\nsubsection Base material\n"
+                        " set CLM Poisson's ratios = 0.2, 0.7\nend\n",
                  good);
   expect_failure("sweep_beams_below_one",
                  base + "set Mode = sweep\nsubsection Sweep\n"
