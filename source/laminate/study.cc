@@ -239,7 +239,7 @@ namespace forma
         (cell->n_cells() < nx * ny ? " (the primitive half cell)" : ""));
       std::vector<double> table(structures.size() * n_fields, 0.);
       const unsigned int  batch =
-        std::max<unsigned int>(n_ranks, structures.size() / 10 + 1);
+        progress_batch_size(structures.size(), 10, n_ranks);
       for (unsigned int start = 0; start < structures.size(); start += batch)
         {
           const unsigned int end =

@@ -222,7 +222,7 @@ namespace forma
         std::ofstream(progress) << header() << '\n';
 
       const unsigned int batch =
-        std::max<unsigned int>(n_ranks, structures.size() / 20 + 1);
+        progress_batch_size(structures.size(), 20, n_ranks);
       for (unsigned int start = 0; start < structures.size(); start += batch)
         {
           const unsigned int end =

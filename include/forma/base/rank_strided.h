@@ -10,6 +10,7 @@
 #include <boost/serialization/utility.hpp>
 #include <boost/serialization/vector.hpp>
 
+#include <algorithm>
 #include <string>
 #include <utility>
 #include <vector>
@@ -54,6 +55,23 @@ namespace forma
       for (auto &[i, value] : from)
         all[i] = std::move(value);
     return all;
+  }
+
+
+
+  /**
+   * How many of `n_jobs` to give rank_strided() at a time so that a run
+   * reports progress about `n_steps` times: a multiple of the ranks, since
+   * the ranks wait for each other at every batch's end and a batch of
+   * 7 on 2 ranks leaves one idle for a job.
+   */
+  inline unsigned int
+  progress_batch_size(const unsigned int n_jobs,
+                      const unsigned int n_steps,
+                      const unsigned int n_ranks)
+  {
+    const unsigned int jobs = n_jobs / std::max(1u, n_steps) + 1;
+    return (jobs + n_ranks - 1) / n_ranks * n_ranks;
   }
 } // namespace forma
 
