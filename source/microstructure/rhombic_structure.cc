@@ -133,6 +133,60 @@ namespace forma
 
 
 
+  double
+  RhombicStructure::corner_clearance() const
+  {
+    // F maps the reference corner (0, 0) to the origin.
+    const Point<2> corner(0, 0);
+    return graph<double>(p, {}, &corner).value(corner);
+  }
+
+
+
+  bool
+  RhombicStructure::clear_corner(const double clearance, const double lowest)
+  {
+    const auto excess = [&](const double p4) {
+      RhombicStructure trial = *this;
+      trial.p[3]             = p4;
+      return trial.corner_clearance() - clearance;
+    };
+    double hi = p[3], f_hi = excess(hi);
+    if (f_hi >= 0 || hi <= lowest)
+      return false;
+    double lo = lowest, f_lo = excess(lo);
+    if (f_lo < 0)
+      return false;
+    // The clearance falls smoothly as node 4 nears the corner: regula falsi
+    // with the Illinois halving, lo kept clear; it stops a few 1e-9 above
+    // the requested clearance.
+    int side = 0;
+    for (unsigned int step = 0; step < 60 && hi - lo > 1e-7 && f_lo > 1e-9;
+         ++step)
+      {
+        const double x = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
+        const double f = excess(x);
+        if (f >= 0)
+          {
+            lo = x, f_lo = f;
+            if (side == 1)
+              f_hi /= 2;
+            side = 1;
+          }
+        else
+          {
+            hi = x, f_hi = f;
+            if (side == -1)
+              f_lo /= 2;
+            side = -1;
+          }
+      }
+    p[3] = lo;
+    return true;
+  }
+
+
+
   std::array<Point<2>, 12>
   RhombicStructure::reference_nodes() const
   {
@@ -160,7 +214,8 @@ namespace forma
   template <typename Number>
   InflationGraph<Number>
   RhombicStructure::graph(const std::array<Number, n_parameters> &parameters,
-                          const std::array<double, 4> &side_radii) const
+                          const std::array<double, 4>            &side_radii,
+                          const Point<2>                         *near) const
   {
     RhombicStructure checked = *this;
     for (unsigned int i = 0; i < n_parameters; ++i)
@@ -191,7 +246,7 @@ namespace forma
       for (const double b : {0., side})
         for (unsigned int d = 0; d < 2; ++d)
           {
-            const double x = F[d][0] * a + F[d][1] * b;
+            const double x = near ? (*near)[d] : F[d][0] * a + F[d][1] * b;
             lo[d]          = std::min(lo[d], x - pad);
             hi[d]          = std::max(hi[d], x + pad);
           }
@@ -284,9 +339,11 @@ namespace forma
 
   template InflationGraph<double>
   RhombicStructure::graph(const std::array<double, n_parameters> &,
-                          const std::array<double, 4> &) const;
+                          const std::array<double, 4> &,
+                          const Point<2> *) const;
   template InflationGraph<Sacado::Fad::DFad<double>>
   RhombicStructure::graph(
     const std::array<Sacado::Fad::DFad<double>, n_parameters> &,
-    const std::array<double, 4> &) const;
+    const std::array<double, 4> &,
+    const Point<2> *) const;
 } // namespace forma

@@ -193,6 +193,13 @@ namespace forma
       const std::function<void(unsigned int, const CellModel &, double)>
         &accepted) const
     {
+      // Node 4's joint stays clear of the cell's corner, where it would
+      // join its images and change the topology (E jumps): a start past
+      // that edge is moved back, a step past it fails and is shortened.
+      RhombicStructure first = start;
+      if (std::find(free.begin(), free.end(), 3u) != free.end())
+        first.clear_corner(RhombicStructure::min_corner_clearance,
+                           bounds[3][0]);
       // One cell model (mesh + homogenization + gradient) per design: the
       // line search's value and the gradient at an accepted point share it.
       std::map<std::vector<double>, std::shared_ptr<CellModel>> cache;
@@ -200,19 +207,25 @@ namespace forma
         auto it = cache.find(z);
         if (it == cache.end())
           {
+            const RhombicStructure s         = with(first, z);
+            const double           clearance = s.corner_clearance();
+            AssertThrow(clearance >= RhombicStructure::min_corner_clearance,
+                        ExcMessage(
+                          "inverse: node 4's joint is " + sig(clearance, 3) +
+                          " from the cell's corner, where it joins its "
+                          "image (at least " +
+                          sig(RhombicStructure::min_corner_clearance) +
+                          " kept)"));
             if (cache.size() > 4)
               cache.clear();
-            it =
-              cache
-                .emplace(
-                  z, std::make_shared<CellModel>(with(start, z), setup, comm))
-                .first;
+            it = cache.emplace(z, std::make_shared<CellModel>(s, setup, comm))
+                   .first;
           }
         return it->second;
       };
       const auto &ranges = bounds;
       DesignModel model;
-      model.initial = free_values(start);
+      model.initial = free_values(first);
       for (const unsigned int i : free)
         {
           // Node 2 stays in its triangle: p1 + p2 <= 0.98.

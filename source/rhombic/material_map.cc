@@ -464,6 +464,11 @@ namespace forma
       // Node 2 stays inside its triangle (check()): p1 and p2 are clamped
       // separately, and their largest values need not come from one sample.
       s.p[1] = std::max(range[1][0], std::min(s.p[1], 0.99 - s.p[0]));
+      // The range does not keep node 4's joint off the corner, which
+      // depends on the angle and the radii: at (0.025, 0.025, 55 degrees)
+      // the full map's p4 = 0.9 joins it to its image there (E/E_b 0.118
+      // for 0.025), and some of its samples are within 1e-6 of that edge.
+      s.clear_corner(RhombicStructure::min_corner_clearance, range[3][0]);
       return s;
     }
 

@@ -25,6 +25,7 @@
 
 using namespace dealii;
 using namespace forma::rhombic;
+using forma::RhombicStructure;
 
 namespace
 {
@@ -184,28 +185,37 @@ namespace
                                             "/contrib/rhombic/" + name);
     const Parameters  range = sample_ranges(m);
     // query() hands out the splines' structures at every sample, the node
-    // positions p1..p4 clamped to the samples' range, close to the sample's
-    // own parameters (the fit residual; a clamp tighter than the samples
-    // would move them).
-    const auto bounds = sample_bounds(m);
-    double     moved = 0, residual = 0;
+    // positions p1..p4 clamped to the samples' range and node 4 kept clear
+    // of the cell's corner, close to the sample's own parameters (the fit
+    // residual; a clamp tighter than the samples would move them).
+    const auto   bounds = sample_bounds(m);
+    double       moved = 0, residual = 0;
+    unsigned int cleared = 0, too_close = 0;
     for (const auto &x : m.samples)
       {
-        bool       in;
-        const auto q = m.query(x[0], x[1], x[2], 0, in);
-        auto       p = spline(m, x[0], x[1], x[2]);
+        bool             in;
+        const auto       q        = m.query(x[0], x[1], x[2], 0, in);
+        RhombicStructure expected = q;
+        expected.p                = spline(m, x[0], x[1], x[2]);
         for (unsigned int i = 0; i < 4; ++i)
-          p[i] = std::clamp(p[i], bounds[0][i], bounds[1][i]);
+          expected.p[i] = std::clamp(expected.p[i], bounds[0][i], bounds[1][i]);
+        cleared += expected.clear_corner(RhombicStructure::min_corner_clearance,
+                                         bounds[0][3]);
+        too_close +=
+          q.corner_clearance() < RhombicStructure::min_corner_clearance - 1e-12;
         for (unsigned int i = 0; i < n_p; ++i)
           {
-            moved    = std::max(moved, std::abs(q.p[i] - p[i]));
+            moved    = std::max(moved, std::abs(q.p[i] - expected.p[i]));
             residual = std::max(residual, std::abs(q.p[i] - x[3 + i]));
           }
       }
     deallog << name << ": " << m.samples.size()
             << " samples; query() returns the splines there (positions "
-               "clamped to the samples' range): "
-            << (moved == 0)
+               "clamped to the samples' range, node 4 moved off the corner at "
+            << cleared << "): " << (moved == 0)
+            << ", node 4's joint min_corner_clearance or more from the "
+               "corner: "
+            << (too_close == 0)
             << ", within 0.02 of the samples: " << (residual < 0.02)
             << std::endl;
     const char  *direction[] = {"E", "nu", "angle"};

@@ -3,6 +3,9 @@
 //    cell's periodicity;
 //  - derivatives of the level set with respect to p1..p8 by Sacado match
 //    central differences (what shape derivatives will use);
+//  - node 4's joint reaches the cell's corner and joins its image there
+//    where corner_clearance() changes sign, and clear_corner() moves it
+//    back;
 //  - C^H is orthotropic in the diagonal axes (ch. 4.6.1) up to the mesh's
 //    asymmetry, converges under mesh refinement, and the CLM transform
 //    (eq. 4.11) agrees with a direct computation for another base
@@ -88,6 +91,46 @@ main(int argc, char **argv)
       }
     deallog << "dphi/dp: Sacado vs central differences "
             << (worst < 1e-6 ? "< 1e-6" : "TOO LARGE") << std::endl;
+  }
+
+  // Node 4 at its corner: at 46.875 degrees with thin struts its joint
+  // reaches the obtuse corner between p4 = 0.9 and 0.905 and joins its
+  // image there: two more boundary loops, E nearly doubles (the full
+  // map's sensitive spot). corner_clearance() changes sign there,
+  // and clear_corner() moves node 4 back to the requested clearance.
+  {
+    RhombicStructure c;
+    c.alpha              = 46.875 * M_PI / 180;
+    c.p                  = {{0.1, 0.05, 0.5, 0.9, 0.3, 0.1, 0.05, 0.015}};
+    const double at_09   = c.corner_clearance();
+    c.p[3]               = 0.905;
+    const double at_0905 = c.corner_clearance();
+    deallog << "corner clearance at p4 = 0.9: "
+            << (at_09 > 0.002 && at_09 < 0.004 ? "in (0.002, 0.004)" : "WRONG")
+            << ", at 0.905: "
+            << (at_0905 < -0.001 && at_0905 > -0.002 ? "in (-0.002, -0.001)" :
+                                                       "WRONG")
+            << std::endl;
+    rhombic::Setup coarse;
+    coarse.base               = IsotropicModuli::from_young_poisson(1, 0);
+    coarse.mesh.size          = 0.05;
+    coarse.mesh.boundary_size = 0.005;
+    for (const double p4 : {0.88, 0.91})
+      {
+        c.p[3]       = p4;
+        const auto r = rhombic::evaluate(c, coarse, MPI_COMM_WORLD);
+        deallog << "p4 = " << p4 << ": corner clearance "
+                << (c.corner_clearance() > 0 ? "positive" : "negative")
+                << ", boundary loops " << r.mesh.boundary_loops << ", E/E_b "
+                << rounded(r.fit.E, 2) << std::endl;
+      }
+    c.p[3]             = 0.905;
+    const bool   moved = c.clear_corner(0.00625, 0.1);
+    const double left  = c.corner_clearance() - 0.00625;
+    deallog << "clear_corner from 0.905: moved " << moved << ", p4 "
+            << rounded(c.p[3], 4) << ", clearance - 0.00625 in [0, 1e-6]: "
+            << (left >= 0 && left <= 1e-6) << "; again: moved "
+            << c.clear_corner(0.00625, 0.1) << std::endl;
   }
 
   // Homogenization: orthotropy, convergence, CLM.

@@ -86,15 +86,45 @@ namespace forma
     cell_map() const;
 
     /**
+     * The level set at the cell's corner, where the four corners of the
+     * reference square meet periodically: about the distance from the
+     * corner to the material. Node 4 lies on the short diagonal, which
+     * ends at the obtuse corners; when its joint reaches the corner it
+     * joins its image in the cell across the corner, the material covers
+     * the corner (a negative clearance) and the structure changes topology
+     * (its boundary loops go from 2 to 4 and E jumps).
+     */
+    double
+    corner_clearance() const;
+
+    /// The smallest corner clearance the maps and inverse problems keep:
+    /// the gap between a joint and its image across the corner (twice the
+    /// clearance) is then at least one default boundary element (0.0125).
+    static constexpr double min_corner_clearance = 0.00625;
+
+    /**
+     * Lowers p4 (node 4 towards the center, not below `lowest`) just enough
+     * that corner_clearance() >= `clearance` (to 1e-9 in the clearance or
+     * 1e-7 in p4).
+     * Returns whether p4 moved; it stays where the corner is clear already
+     * or where p4 = `lowest` would not clear it either.
+     */
+    bool
+    clear_corner(const double clearance, const double lowest);
+
+    /**
      * The periodic inflation graph in R around the cell: the cell's 12
      * nodes and 16 edges and those of the neighbouring cells whose
      * primitives reach into R. `Number` is double or Sacado::Fad::DFad<double>
-     * (derivatives with respect to p).
+     * (derivatives with respect to p). With `near` (a point of R), only the
+     * primitives that can matter there: the graph for evaluating the level
+     * set at that point alone, built faster.
      */
     template <typename Number>
     InflationGraph<Number>
     graph(const std::array<Number, n_parameters> &parameters,
-          const std::array<double, 4>            &side_radii = {}) const;
+          const std::array<double, 4>            &side_radii = {},
+          const dealii::Point<2>                 *near       = nullptr) const;
 
     /**
      * The structure's level set on the reference square (negative in the
