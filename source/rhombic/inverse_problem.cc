@@ -211,11 +211,15 @@ namespace forma
             const double           clearance = s.corner_clearance();
             AssertThrow(clearance >= RhombicStructure::min_corner_clearance,
                         ExcMessage(
-                          "inverse: node 4's joint is " + sig(clearance, 3) +
-                          " from the cell's corner, where it joins its "
-                          "image (at least " +
+                          "inverse: node 4's joint " +
+                          (clearance < 0 ?
+                             std::string("covers the cell's corner") :
+                             "is " + sig(clearance, 3) +
+                               " from the cell's corner") +
+                          ", where it joins its image in the next cell (a "
+                          "clearance of " +
                           sig(RhombicStructure::min_corner_clearance) +
-                          " kept)"));
+                          " is kept; with p4 free a start is moved back)"));
             if (cache.size() > 4)
               cache.clear();
             it = cache.emplace(z, std::make_shared<CellModel>(s, setup, comm))

@@ -435,7 +435,7 @@ namespace forma
       // over all angles): near the coverage's edges the splines overshoot
       // it, and a node moved further than any sample can reach a neighbour
       // and change the topology (at 47 degrees node 4's joint reaches the
-      // cell's obtuse corner for p4 > 0.9 and joins its images there: E
+      // cell's obtuse corner for p4 > 0.9 and joins its image there: E
       // doubles). Radii are clamped only a little inside the geometry's
       // limits: beyond the samples a strut thins or thickens continuously,
       // and where the construction's bounds stopped the samples (p8 >=

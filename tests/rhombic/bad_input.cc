@@ -51,6 +51,14 @@ main()
                         " set p3 = 0.1:0.5\nend\n",
                  good);
   expect_failure("unknown_mode", base + "set Mode = optimize\n", good);
+  expect_failure("inverse_start_joined_at_corner",
+                 base +
+                   "set Mode = inverse\nsubsection Inverse\n"
+                   " set Free parameters = p1\nend\n" +
+                   "subsection Structure\n set Angle = 46.875\n"
+                   " set Parameters = 0.1, 0.05, 0.5, 0.91, 0.3, 0.1, 0.05, "
+                   "0.05\nend\n",
+                 good);
 
   // Quad meshes and the two-scale pipeline.
   std::ofstream("no_physicals.geo")
