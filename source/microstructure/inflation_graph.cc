@@ -92,6 +92,8 @@ namespace forma
         s_max = std::max(s_max, val(joint_blending[i]));
         r_max = std::max(r_max, val(vertices[i].radius));
       }
+    if (edges.empty())
+      return; // no material: value() is +infinity everywhere
     reach = std::max(20 * s_max, 1e-3 * r_max);
     box   = bounding_box();
     for (unsigned int d = 0; d < 2; ++d)
@@ -176,7 +178,8 @@ namespace forma
   {
     using std::exp;
     using std::log;
-    Assert(!edges.empty(), ExcMessage("inflation graph without edges"));
+    if (edges.empty())
+      return Number(std::numeric_limits<double>::infinity());
     std::array<int, 2> b;
     for (unsigned int d = 0; d < 2; ++d)
       {

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <sstream>
 
@@ -136,9 +137,12 @@ namespace forma
   double
   RhombicStructure::corner_clearance() const
   {
-    // F maps the reference corner (0, 0) to the origin.
+    // F maps the reference corner (0, 0) to the origin. Without a
+    // primitive near it, or beyond the level set's cut-off, it is far.
     const Point<2> corner(0, 0);
-    return graph<double>(p, {}, &corner).value(corner);
+    const auto     g = graph<double>(p, {}, &corner);
+    const double   v = g.value(corner);
+    return v >= g.max_value() ? std::numeric_limits<double>::infinity() : v;
   }
 
 
@@ -164,7 +168,10 @@ namespace forma
     for (unsigned int step = 0; step < 60 && hi - lo > 1e-7 && f_lo > 1e-9;
          ++step)
       {
-        const double x = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
+        // Bisection while lo is far (an infinite clearance).
+        const double x = std::isfinite(f_lo) ?
+                           (lo * f_hi - hi * f_lo) / (f_hi - f_lo) :
+                           (lo + hi) / 2;
         const double f = excess(x);
         if (f >= 0)
           {
@@ -246,10 +253,13 @@ namespace forma
       for (const double b : {0., side})
         for (unsigned int d = 0; d < 2; ++d)
           {
-            const double x = near ? (*near)[d] : F[d][0] * a + F[d][1] * b;
+            const double x = F[d][0] * a + F[d][1] * b;
             lo[d]          = std::min(lo[d], x - pad);
             hi[d]          = std::max(hi[d], x + pad);
           }
+    if (near)
+      for (unsigned int d = 0; d < 2; ++d)
+        lo[d] = (*near)[d] - pad, hi[d] = (*near)[d] + pad;
 
     using Vertex = typename InflationGraph<Number>::Vertex;
     std::vector<Vertex>                      vertices;

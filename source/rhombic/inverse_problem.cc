@@ -193,13 +193,25 @@ namespace forma
       const std::function<void(unsigned int, const CellModel &, double)>
         &accepted) const
     {
-      // Node 4's joint stays clear of the cell's corner, where it would
-      // join its images and change the topology (E jumps): a start past
-      // that edge is moved back, a step past it fails and is shortened.
-      RhombicStructure first = start;
+      // The material stays clear of the cell's corner, where node 4's joint
+      // would join its image and change the topology (E jumps): a start
+      // past that edge has node 4 moved back (and the proximity term then
+      // measures from there), a step past it fails and is shortened.
       if (std::find(free.begin(), free.end(), 3u) != free.end())
-        first.clear_corner(RhombicStructure::min_corner_clearance,
-                           bounds[3][0]);
+        {
+          RhombicStructure moved = start;
+          if (moved.clear_corner(RhombicStructure::min_corner_clearance,
+                                 bounds[3][0]))
+            {
+              context.log("inverse: the start's p4 moved from " +
+                          sig(start.p[3], 6) + " to " + sig(moved.p[3], 6) +
+                          " to keep node 4 clear of the cell's corner");
+              InverseProblem from_moved = *this;
+              from_moved.start          = moved.p;
+              return from_moved.solve(
+                moved, setup, comm, parameters, context, accepted);
+            }
+        }
       // One cell model (mesh + homogenization + gradient) per design: the
       // line search's value and the gradient at an accepted point share it.
       std::map<std::vector<double>, std::shared_ptr<CellModel>> cache;
@@ -207,19 +219,20 @@ namespace forma
         auto it = cache.find(z);
         if (it == cache.end())
           {
-            const RhombicStructure s         = with(first, z);
+            const RhombicStructure s         = with(start, z);
             const double           clearance = s.corner_clearance();
             AssertThrow(clearance >= RhombicStructure::min_corner_clearance,
                         ExcMessage(
-                          "inverse: node 4's joint " +
+                          "inverse: the material " +
                           (clearance < 0 ?
                              std::string("covers the cell's corner") :
                              "is " + sig(clearance, 3) +
                                " from the cell's corner") +
-                          ", where it joins its image in the next cell (a "
-                          "clearance of " +
+                          ", where a joint (node 4's, or node 3's) joins its "
+                          "image in the next cell; a clearance of " +
                           sig(RhombicStructure::min_corner_clearance) +
-                          " is kept; with p4 free a start is moved back)"));
+                          " is kept, and a start is moved back only by "
+                          "lowering p4 when p4 is free"));
             if (cache.size() > 4)
               cache.clear();
             it = cache.emplace(z, std::make_shared<CellModel>(s, setup, comm))
@@ -229,7 +242,7 @@ namespace forma
       };
       const auto &ranges = bounds;
       DesignModel model;
-      model.initial = free_values(first);
+      model.initial = free_values(start);
       for (const unsigned int i : free)
         {
           // Node 2 stays in its triangle: p1 + p2 <= 0.98.

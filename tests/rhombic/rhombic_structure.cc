@@ -124,13 +124,27 @@ main(int argc, char **argv)
                 << ", boundary loops " << r.mesh.boundary_loops << ", E/E_b "
                 << rounded(r.fit.E, 2) << std::endl;
       }
+    const double min   = RhombicStructure::min_corner_clearance;
     c.p[3]             = 0.905;
-    const bool   moved = c.clear_corner(0.00625, 0.1);
-    const double left  = c.corner_clearance() - 0.00625;
+    const bool   moved = c.clear_corner(min, 0.1);
+    const double left  = c.corner_clearance() - min;
     deallog << "clear_corner from 0.905: moved " << moved << ", p4 "
-            << rounded(c.p[3], 4) << ", clearance - 0.00625 in [0, 1e-6]: "
-            << (left >= 0 && left <= 1e-6) << "; again: moved "
-            << c.clear_corner(0.00625, 0.1) << std::endl;
+            << rounded(c.p[3], 4)
+            << ", clearance - min in [0, 1e-6]: " << (left >= 0 && left <= 1e-6)
+            << "; again: moved " << c.clear_corner(min, 0.1) << std::endl;
+
+    // A square cell with thin struts has no primitive near the corner
+    // (infinitely clear, nothing to move); node 3's thick joint at the
+    // acute corner covers it as node 4's does at the obtuse one.
+    RhombicStructure square;
+    square.p = {{0.3, 0.3, 0.5, 0.5, 0.1, 0.1, 0.1, 0.1}};
+    deallog << "square, thin struts: clearance infinite "
+            << std::isinf(square.corner_clearance()) << ", moved "
+            << square.clear_corner(min, 0.1);
+    square.p = {{0.3, 0.3, 0.9, 0.5, 0.1, 0.1, 0.2, 0.1}};
+    deallog << "; node 3 at 0.9 with radius 0.2: clearance negative "
+            << (square.corner_clearance() < 0) << ", cleared by p4 "
+            << square.clear_corner(min, 0.1) << std::endl;
   }
 
   // Homogenization: orthotropy, convergence, CLM.

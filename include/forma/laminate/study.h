@@ -43,7 +43,8 @@ namespace forma
     struct Setup
     {
       BaseMaterial material;
-      /// Its 2D moduli, and the void's (a weak phase, weak_ratio of them).
+      /// material.moduli() (parse_setup() sets both), and the void's (a weak
+      /// phase, weak_ratio of them).
       IsotropicModuli                             base, weak;
       double                                      weak_ratio         = 1e-6;
       unsigned int                                cells_along_height = 148;

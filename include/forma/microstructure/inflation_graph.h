@@ -5,6 +5,7 @@
 #include <deal.II/base/tensor.h>
 
 #include <array>
+#include <limits>
 #include <vector>
 
 namespace forma
@@ -70,6 +71,14 @@ namespace forma
     n_edges() const
     {
       return edges.size();
+    }
+
+    /// value() never exceeds this: beyond the fillets' reach the level set
+    /// is cut off (see `reach`); +infinity for a graph without edges.
+    double
+    max_value() const
+    {
+      return edges.empty() ? std::numeric_limits<double>::infinity() : reach;
     }
 
   private:

@@ -88,18 +88,20 @@ namespace forma
     /**
      * The level set at the cell's corner, where the four corners of the
      * reference square meet periodically: about the distance from the
-     * corner to the material. Node 4 lies on the short diagonal, which
-     * ends at the obtuse corners; when its joint reaches the corner it
+     * corner to the material, +infinity where no primitive comes near it.
+     * Node 4 lies on the short diagonal, which ends at the obtuse corners:
+     * when its joint reaches the corner (at small angles, p4 near 0.9) it
      * joins its image in the cell across the corner, the material covers
      * the corner (a negative clearance) and the structure changes topology
-     * (its boundary loops go from 2 to 4 and E jumps).
+     * (two more boundary loops; E nearly doubles). Node 3's joint at the
+     * acute corner (p3 near 0.9 with thick struts) counts the same.
      */
     double
     corner_clearance() const;
 
     /// The smallest corner clearance the maps and inverse problems keep:
-    /// the gap between a joint and its image across the corner (twice the
-    /// clearance) is then at least one default boundary element (0.0125).
+    /// the gap between a joint and its image across the corner (about twice
+    /// the clearance) is then at least one default boundary element.
     static constexpr double min_corner_clearance = 0.00625;
 
     /**
@@ -118,7 +120,8 @@ namespace forma
      * primitives reach into R. `Number` is double or Sacado::Fad::DFad<double>
      * (derivatives with respect to p). With `near` (a point of R), only the
      * primitives that can matter there: the graph for evaluating the level
-     * set at that point alone, built faster.
+     * set at that point alone, built faster (it may have no edges, and
+     * its value is cut off at its own reach).
      */
     template <typename Number>
     InflationGraph<Number>

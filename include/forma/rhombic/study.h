@@ -43,7 +43,8 @@ namespace forma
     struct Setup
     {
       BaseMaterial material;
-      /// Its 2D moduli, which results are relative to (E_b).
+      /// material.moduli() (parse_setup() sets both; a Setup made by hand
+      /// must keep them together): the 2D moduli results are relative to.
       IsotropicModuli        base;
       double                 blending = 0.01;
       LevelSetMeshParameters mesh;
