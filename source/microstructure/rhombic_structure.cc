@@ -3,6 +3,7 @@
 #include <forma/microstructure/rhombic_structure.h>
 
 #include "ad_value.h"
+#include <boost/math/tools/toms748_solve.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -150,45 +151,30 @@ namespace forma
   bool
   RhombicStructure::clear_corner(const double clearance, const double lowest)
   {
+    // The clearance falls as node 4 nears the corner; capped, so that a
+    // far corner (an infinite clearance) still brackets the root.
     const auto excess = [&](const double p4) {
       RhombicStructure trial = *this;
       trial.p[3]             = p4;
-      return trial.corner_clearance() - clearance;
+      return std::min(trial.corner_clearance(), 1.) - clearance;
     };
-    double hi = p[3], f_hi = excess(hi);
-    if (f_hi >= 0 || hi <= lowest)
+    const double f_hi = excess(p[3]);
+    if (f_hi >= 0 || p[3] <= lowest)
       return false;
-    double lo = lowest, f_lo = excess(lo);
+    const double f_lo = excess(lowest);
     if (f_lo < 0)
       return false;
-    // The clearance falls smoothly as node 4 nears the corner: regula falsi
-    // with the Illinois halving, lo kept clear; it stops a few 1e-9 above
-    // the requested clearance.
-    int side = 0;
-    for (unsigned int step = 0; step < 60 && hi - lo > 1e-7 && f_lo > 1e-9;
-         ++step)
-      {
-        // Bisection while lo is far (an infinite clearance).
-        const double x = std::isfinite(f_lo) ?
-                           (lo * f_hi - hi * f_lo) / (f_hi - f_lo) :
-                           (lo + hi) / 2;
-        const double f = excess(x);
-        if (f >= 0)
-          {
-            lo = x, f_lo = f;
-            if (side == 1)
-              f_hi /= 2;
-            side = 1;
-          }
-        else
-          {
-            hi = x, f_hi = f;
-            if (side == -1)
-              f_lo /= 2;
-            side = -1;
-          }
-      }
-    p[3] = lo;
+    // TOMS 748 keeps a bracket [clear, not clear]: its clear end to 1e-7.
+    std::uintmax_t iterations = 60;
+    const auto     bracket    = boost::math::tools::toms748_solve(
+      excess,
+      lowest,
+      p[3],
+      f_lo,
+      f_hi,
+      [](const double a, const double b) { return b - a <= 1e-7; },
+      iterations);
+    p[3] = bracket.first;
     return true;
   }
 

@@ -106,8 +106,7 @@ namespace forma
 
     /**
      * Lowers p4 (node 4 towards the center, not below `lowest`) just enough
-     * that corner_clearance() >= `clearance` (to 1e-9 in the clearance or
-     * 1e-7 in p4).
+     * that corner_clearance() >= `clearance` (to 1e-7 in p4).
      * Returns whether p4 moved; it stays where the corner is clear already
      * or where p4 = `lowest` would not clear it either.
      */
