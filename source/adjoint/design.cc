@@ -2,6 +2,7 @@
 #include <deal.II/base/utilities.h>
 
 #include <forma/adjoint/design.h>
+#include <forma/adjoint/parameterization.h>
 
 #include <algorithm>
 #include <cmath>
@@ -11,16 +12,6 @@ namespace forma
 {
   using namespace dealii;
 
-  namespace
-  {
-    const char *block_names =
-      "shape|cell material|material|damping|friction|loads|"
-      "initial displacement|"
-      "initial velocity|initial displacement per body|"
-      "initial velocity per body|initial displacement field|"
-      "initial velocity field";
-  }
-
   void
   DesignParameters::declare(ParameterHandler &prm)
   {
@@ -29,18 +20,10 @@ namespace forma
       prm.declare_entry(
         "Parameters",
         "",
-        Patterns::List(Patterns::Selection(block_names), 0),
-        "What the design vector holds (comma-separated): shape (vertex "
-        "positions), cell material (per-cell Lame or E/nu), material (per "
-        "material id), damping (shear and bulk per material id), friction "
-        "(IPC friction coefficients: IPC/Friction coefficient, then each "
-        "Friction pairs record, then each obstacle with its own mu), loads "
-        "(scale "
-        "factors of tractions, body force, gravity), initial displacement, "
-        "initial velocity (uniform vectors), initial displacement per body, "
-        "initial velocity per body (a vector per material id of "
-        "Design/Bodies), initial displacement field, "
-        "initial velocity field (one value per displacement DoF).");
+        Patterns::List(Patterns::Selection(parameterization_names()), 0),
+        "What the design vector holds (comma-separated blocks, in this "
+        "order in the vector):\n" +
+          parameterization_documentation());
       prm.declare_entry("Material parameterization",
                         "E-nu",
                         Patterns::Selection("E-nu|lambda-mu"),
@@ -166,59 +149,4 @@ namespace forma
   }
 
 
-  std::vector<double>
-  design_scales(const DesignLayout        &layout,
-                const std::vector<double> &q0,
-                const double               length)
-  {
-    std::vector<double> s(q0.size(), 1.);
-    for (const auto &b : layout.blocks)
-      for (unsigned int i = b.offset; i < b.offset + b.size; ++i)
-        if (b.name == "shape")
-          s[i] = length;
-        else if (b.name == "material" || b.name == "cell material" ||
-                 b.name == "damping" || b.name == "friction")
-          s[i] = q0[i] != 0 ? std::abs(q0[i]) : 1.;
-    return s;
-  }
-
-
-
-  void
-  design_bounds(const DesignLayout        &layout,
-                const std::vector<double> &q0,
-                const bool                 young_poisson,
-                const double               shape_bound,
-                const std::vector<double> &shape_center,
-                std::vector<double>       &lower,
-                std::vector<double>       &upper)
-  {
-    const double inf = std::numeric_limits<double>::infinity();
-    lower.assign(q0.size(), -inf);
-    upper.assign(q0.size(), inf);
-    for (const auto &b : layout.blocks)
-      for (unsigned int i = b.offset; i < b.offset + b.size; ++i)
-        {
-          const bool second = (i - b.offset) % 2 == 1;
-          if (b.name == "shape")
-            {
-              const double c = shape_center.empty() ? 0. : shape_center[i];
-              lower[i]       = c - shape_bound;
-              upper[i]       = c + shape_bound;
-            }
-          else if (b.name == "damping" || b.name == "friction")
-            lower[i] = 0;
-          else if ((b.name == "material" || b.name == "cell material") &&
-                   young_poisson && second)
-            {
-              lower[i] = -0.5;
-              upper[i] = 0.49;
-            }
-          else if (b.name == "material" || b.name == "cell material")
-            {
-              lower[i] = 1e-3 * std::abs(q0[i]);
-              upper[i] = 1e3 * std::abs(q0[i]);
-            }
-        }
-  }
 } // namespace forma

@@ -77,8 +77,7 @@ namespace forma
 
   std::vector<double>
   random_direction(const DesignLayout            &layout,
-                   const std::vector<double>     &q,
-                   const double                   length,
+                   const std::vector<double>     &scale,
                    const GradientCheckParameters &parameters)
   {
     const auto selected = Utilities::split_string_list(parameters.blocks, ',');
@@ -88,8 +87,7 @@ namespace forma
                              "' is not in Design/Parameters."));
     std::mt19937                           generator(parameters.seed);
     std::uniform_real_distribution<double> uniform(-1., 1.);
-    const std::vector<double> scale = design_scales(layout, q, length);
-    std::vector<double>       theta(q.size(), 0.);
+    std::vector<double>                    theta(scale.size(), 0.);
     for (const auto &b : layout.blocks)
       {
         const bool on =

@@ -365,17 +365,13 @@ namespace
     for (;;)
       {
         model.initial = simulator.design();
-        model.scale =
-          forma::design_scales(layout, model.initial, simulator.cell_size());
-        forma::design_bounds(layout,
-                             model.initial,
-                             parameters.design.young_poisson,
-                             parameters.design.shape_bound > 0 ?
-                               parameters.design.shape_bound :
-                               std::numeric_limits<double>::infinity(),
-                             simulator.material_offsets(),
-                             model.lower,
-                             model.upper);
+        model.scale   = simulator.design_scales(model.initial);
+        simulator.design_bounds(model.initial,
+                                parameters.design.shape_bound > 0 ?
+                                  parameters.design.shape_bound :
+                                  std::numeric_limits<double>::infinity(),
+                                model.lower,
+                                model.upper);
         if (constraint && constraint->setup)
           {
             if constexpr (dim == 2)

@@ -317,6 +317,23 @@ namespace forma
   }
 
   template <int dim>
+  std::vector<double>
+  LoadCases<dim>::design_scales(const std::vector<double> &q0) const
+  {
+    return cases[0]->design_scales(q0);
+  }
+
+  template <int dim>
+  void
+  LoadCases<dim>::design_bounds(const std::vector<double> &q0,
+                                const double               shape_bound,
+                                std::vector<double>       &lower,
+                                std::vector<double>       &upper) const
+  {
+    cases[0]->design_bounds(q0, shape_bound, lower, upper);
+  }
+
+  template <int dim>
   unsigned int
   LoadCases<dim>::n_remeshes() const
   {

@@ -238,8 +238,7 @@ namespace forma
         cell->set_active_fe_index(simplex ? 0 : p.degree - 1);
 
     // Factorizations of the old matrices are useless now.
-    linear_solver    = LinearSolver(p.linear_solver);
-    extension_solver = LinearSolver(LinearSolver::Parameters());
+    linear_solver = LinearSolver(p.linear_solver);
     u_history.clear();
     v_history.clear();
     u_states.clear();
@@ -252,9 +251,10 @@ namespace forma
     const auto old_layout = layout;
     const auto old_design = design;
     build_design_layout();
-    for (const auto &b : layout.blocks)
-      if (b.name == "shape") // the new vertices are the current shape
-        std::fill(design.begin() + b.offset,
+    for (unsigned int k = 0; k < layout.blocks.size(); ++k)
+      if (const auto &b = layout.blocks[k];
+          parameterizations[k]->restarts_on_remesh()) // the new vertices
+        std::fill(design.begin() + b.offset,          // are the current shape
                   design.begin() + b.offset + b.size,
                   0.);
       else
@@ -385,11 +385,8 @@ namespace forma
             else
               {
                 // With boundary shape parameters an interior vertex follows
-                // the boundary (harmonic extension): no entry to hold. The
-                // extension constrains the boundary's, without entries.
-                const auto *e =
-                  I.extension_constraints.get_constraint_entries(i);
-                if (!I.p.design.boundary_shape || (e && e->empty()))
+                // the boundary (harmonic extension): no entry to hold.
+                if (!I.extension || I.extension->is_boundary(i))
                   entries.push_back(b->offset + i);
               }
         }

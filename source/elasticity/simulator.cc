@@ -33,11 +33,15 @@
 
 #include <forma/base/records.h>
 #include <forma/base/run_context.h>
+#include <forma/contact/penalty_contact_form.h>
 #include <forma/elasticity/simulator.h>
 #include <forma/mesh/mesh.h>
 #include <forma/physics/bdf.h>
-#include <forma/physics/damping.h>
+#include <forma/physics/body_load_form.h>
+#include <forma/physics/damping_form.h>
+#include <forma/physics/inertia_form.h>
 #include <forma/physics/material.h>
+#include <forma/physics/surface_load_form.h>
 #include <forma/solvers/linear_solver.h>
 
 #include "simulator_impl.h"
@@ -106,6 +110,67 @@ namespace forma
         cell->set_active_fe_index(simplex ? 0 : p.degree - 1);
 
     build_loads();
+    setup_forms();
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::setup_forms()
+  {
+    cell_lame    = &physical.add(std::make_unique<CellLame>());
+    cell_damping = &physical.add(std::make_unique<CellDamping>());
+    load_scales  = &physical.add(std::make_unique<LoadScales>());
+    shape_field  = &physical.add(
+      std::make_unique<ShapeField<dim>>(shape_dof_handler, shape_constraints));
+    if (ipc_contact)
+      friction = &physical.add(std::make_unique<FrictionCoefficients>());
+    if (p.problem == "transient")
+      initial = &physical.add(std::make_unique<InitialConditions>());
+
+    std::map<types::material_id, double> density;
+    bool                                 damped = p.design.has("damping");
+    for (const auto &[id, m] : bodies)
+      {
+        density[id] = m.density;
+        damped |= m.damping_shear > 0 || m.damping_bulk > 0;
+      }
+    // With IPC every model must stay inversion-free.
+    auto elastic = std::make_unique<ElasticForm<dim>>(
+      p.model, p.plane_stress, bodies, *cell_lame, ipc_contact != nullptr);
+    elastic_form = elastic.get();
+    forms.push_back(std::move(elastic));
+    if (damped && p.problem == "transient")
+      forms.push_back(std::make_unique<DampingForm<dim>>(*cell_damping));
+    const unsigned int n_surface = tractions.size() + pressures.size();
+    if (body_force || gravity.norm() > 0)
+      forms.push_back(std::make_unique<BodyLoadForm<dim>>(
+        body_force, gravity, density, *load_scales, n_surface));
+    if (p.problem == "transient")
+      forms.push_back(std::make_unique<InertiaForm<dim>>(density));
+    if (n_surface > 0)
+      {
+        std::vector<typename SurfaceLoadForm<dim>::Load> t, pr;
+        for (const auto &l : tractions)
+          t.emplace_back(l.first, l.second);
+        for (const auto &l : pressures)
+          pr.emplace_back(l.first, l.second);
+        forms.push_back(
+          std::make_unique<SurfaceLoadForm<dim>>(t, pr, *load_scales));
+      }
+    if (!p.contact.rigid.empty() || !p.contact.deformable.empty())
+      forms.push_back(
+        std::make_unique<PenaltyContactForm<dim>>(contact, mapping));
+    if (ipc_contact)
+      {
+        auto ipc =
+          std::make_unique<ipc::IpcContactForm<dim>>(*ipc_contact, [this]() {
+            return ipc_friction_eta();
+          });
+        ipc_form = ipc.get();
+        forms.push_back(std::move(ipc));
+      }
   }
 
 
@@ -224,23 +289,56 @@ namespace forma
   {
     const auto props =
       text.empty() ? bodies : parse_bodies(text, "Objective/Reference bodies");
-    cell_lame.assign(tria->n_active_cells(), {{0., 0.}});
-    cell_damping_coefficients.assign(tria->n_active_cells(), {{0., 0.}});
+    cell_lame->value.assign(tria->n_active_cells(), {{0., 0.}});
+    cell_damping->value.assign(tria->n_active_cells(), {{0., 0.}});
     for (const auto &cell : tria->active_cell_iterators())
       if (!cell->is_artificial())
         {
-          const auto &m                        = props.at(cell->material_id());
-          cell_lame[cell->active_cell_index()] = {{m.lambda, m.mu}};
-          cell_damping_coefficients[cell->active_cell_index()] = {
+          const auto &m = props.at(cell->material_id());
+          cell_lame->value[cell->active_cell_index()]    = {{m.lambda, m.mu}};
+          cell_damping->value[cell->active_cell_index()] = {
             {m.damping_shear, m.damping_bulk}};
         }
-    surface_load_scale.assign(tractions.size() + pressures.size(), 1.);
-    body_force_scale = gravity_scale = 1.;
-    initial_displacement_offset = initial_velocity_offset = Tensor<1, dim>();
-    body_initial_u.clear();
-    body_initial_v.clear();
-    initial_displacement_field.clear();
-    initial_velocity_field.clear();
+    load_scales->value.assign(tractions.size() + pressures.size() +
+                                (body_force ? 1 : 0) +
+                                (gravity.norm() > 0 ? 1 : 0),
+                              1.);
+    shape_field->offset.reinit(shape_owned, comm);
+    if (initial)
+      {
+        initial->displacement.reinit(owned, comm);
+        initial->velocity.reinit(owned, comm);
+      }
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::size_physical_parameters()
+  {
+    shape_field->sensitivity.reinit(shape_owned, comm);
+    if (!initial)
+      return;
+    initial->displacement_sensitivity.reinit(owned, comm);
+    initial->velocity_sensitivity.reinit(owned, comm);
+    initial->component = owned_components();
+    // The body of a DoF: that of the first cell that has it.
+    initial->body.assign(owned.n_elements(), numbers::invalid_material_id);
+    std::vector<bool>                    seen(owned.n_elements(), false);
+    std::vector<types::global_dof_index> dofs;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (!cell->is_artificial())
+        {
+          dofs.resize(cell->get_fe().n_dofs_per_cell());
+          cell->get_dof_indices(dofs);
+          for (const auto i : dofs)
+            if (owned.is_element(i) && !seen[owned.index_within_set(i)])
+              {
+                seen[owned.index_within_set(i)]          = true;
+                initial->body[owned.index_within_set(i)] = cell->material_id();
+              }
+        }
   }
 
 
@@ -250,8 +348,7 @@ namespace forma
   ElasticitySimulator<dim>::Impl::setup_shape()
   {
     shape_dof_handler.distribute_dofs(*shape_fe);
-    extension_ready = false;
-    shape_owned     = shape_dof_handler.locally_owned_dofs();
+    shape_owned = shape_dof_handler.locally_owned_dofs();
     DoFTools::extract_locally_relevant_dofs(shape_dof_handler, shape_relevant);
 
     // Which vertices the design may move: hanging vertices follow their
@@ -449,71 +546,31 @@ namespace forma
   ElasticitySimulator<dim>::Impl::cell_material(
     const typename DoFHandler<dim>::active_cell_iterator &cell) const
   {
-    MaterialProperties m = bodies.at(cell->material_id());
-    const auto        &l = cell_lame[cell->active_cell_index()];
-    m.lambda             = l[0];
-    m.mu                 = l[1];
-    return Material<dim>(p.model, m, p.plane_stress);
+    return elastic_form->material({cell->active_cell_index(),
+                                   cell->material_id(),
+                                   numbers::invalid_boundary_id});
   }
 
 
 
   template <int dim>
-  Damping<dim>
-  ElasticitySimulator<dim>::Impl::cell_damping(
-    const typename DoFHandler<dim>::active_cell_iterator &cell) const
+  unsigned int
+  ElasticitySimulator<dim>::Impl::form_needs() const
   {
-    const auto &d = cell_damping_coefficients[cell->active_cell_index()];
-    return Damping<dim>(d[0], d[1]);
+    unsigned int needs = 0;
+    for (const auto &f : forms)
+      if (form_active(*f))
+        needs |= f->needs();
+    return needs;
   }
 
 
 
   template <int dim>
-  Tensor<1, dim>
-  ElasticitySimulator<dim>::Impl::volume_force(const double          rho,
-                                               const Point<dim>     &X,
-                                               const Tensor<1, dim> &u_q,
-                                               const Tensor<1, dim> &w_q) const
+  bool
+  ElasticitySimulator<dim>::Impl::form_active(const Form<dim> &f) const
   {
-    Tensor<1, dim> f = -gravity_scale * rho * gravity;
-    if (body_force)
-      {
-        // Per-thread buffer: this runs at every quadrature point.
-        static thread_local Vector<double> b(dim);
-        body_force->vector_value(X, b);
-        for (unsigned int d = 0; d < dim; ++d)
-          f[d] -= body_force_scale * b[d];
-      }
-    if (transient)
-      f += rho * inertia_factor * (u_q + w_q);
-    return f;
-  }
-
-
-
-  template <int dim>
-  void
-  ElasticitySimulator<dim>::Impl::reference_points(
-    const typename DoFHandler<dim>::active_cell_iterator &cell,
-    Scratch<dim>                                         &s) const
-  {
-    s.reference_values.reinit(cell);
-    s.X = s.reference_values.get_present_fe_values().get_quadrature_points();
-  }
-
-
-
-  template <int dim>
-  void
-  ElasticitySimulator<dim>::Impl::reference_face_points(
-    const typename DoFHandler<dim>::active_cell_iterator &cell,
-    const unsigned int                                    face,
-    Scratch<dim>                                         &s) const
-  {
-    s.reference_face_values.reinit(cell, face);
-    s.X =
-      s.reference_face_values.get_present_fe_values().get_quadrature_points();
+    return transient || !f.transient_only();
   }
 
 
@@ -522,11 +579,8 @@ namespace forma
   bool
   ElasticitySimulator<dim>::Impl::loaded(const types::boundary_id id) const
   {
-    for (const auto &t : tractions)
-      if (t.first == id)
-        return true;
-    for (const auto &t : pressures)
-      if (t.first == id)
+    for (const auto &f : forms)
+      if (form_active(*f) && f->acts_on_boundary(id))
         return true;
     return false;
   }
@@ -534,26 +588,71 @@ namespace forma
 
 
   template <int dim>
-  Tensor<1, dim>
-  ElasticitySimulator<dim>::Impl::surface_load(
-    const types::boundary_id id,
-    const Point<dim>        &X,
-    const Tensor<1, dim>    &normal) const
+  void
+  ElasticitySimulator<dim>::Impl::fill_states(
+    const typename DoFHandler<dim>::active_cell_iterator &cell,
+    const FEValuesBase<dim>                              &fv,
+    const unsigned int                                    face,
+    Scratch<dim>                                         &s) const
   {
-    Tensor<1, dim>                     t;
-    static thread_local Vector<double> val(dim); // per quadrature point
-    for (unsigned int k = 0; k < tractions.size(); ++k)
-      if (tractions[k].first == id)
-        {
-          tractions[k].second->vector_value(X, val);
-          for (unsigned int d = 0; d < dim; ++d)
-            t[d] += surface_load_scale[k] * val[d];
-        }
-    for (unsigned int k = 0; k < pressures.size(); ++k)
-      if (pressures[k].first == id)
-        t -= surface_load_scale[tractions.size() + k] *
-             pressures[k].second->value(X, 0) * normal;
-    return t;
+    const FEValuesExtractors::Vector disp(0);
+    const unsigned int               nq    = fv.n_quadrature_points;
+    const unsigned int               needs = form_needs();
+    PointStates<dim>                &ps    = s.states;
+    ps.cell           = {cell->active_cell_index(), cell->material_id(), 0};
+    ps.time           = time;
+    ps.dt             = transient ? dt : 0.;
+    ps.inertia_factor = transient ? inertia_factor : 0.;
+    ps.grad_u.resize(nq);
+    fv[disp].get_function_gradients(u_ghost, ps.grad_u);
+    ps.u.assign(nq, Tensor<1, dim>());
+    if (needs & Form<dim>::values)
+      fv[disp].get_function_values(u_ghost, ps.u);
+    ps.w.assign(nq, Tensor<1, dim>());
+    if (transient && (needs & Form<dim>::history))
+      fv[disp].get_function_values(w_ghost, ps.w);
+    ps.grad_u_old.assign(nq, Tensor<2, dim>());
+    if (transient && (needs & Form<dim>::old_gradients))
+      fv[disp].get_function_gradients(u_old_ghost, ps.grad_u_old);
+    ps.JxW.resize(nq);
+    for (unsigned int q = 0; q < nq; ++q)
+      ps.JxW[q] = fv.JxW(q);
+    ps.normal.clear();
+    if (face == numbers::invalid_unsigned_int)
+      {
+        s.reference_values.reinit(cell);
+        ps.X =
+          s.reference_values.get_present_fe_values().get_quadrature_points();
+        return;
+      }
+    ps.cell.boundary_id = cell->face(face)->boundary_id();
+    s.reference_face_values.reinit(cell, face);
+    ps.X =
+      s.reference_face_values.get_present_fe_values().get_quadrature_points();
+    for (unsigned int q = 0; q < nq; ++q)
+      ps.normal.push_back(fv.normal_vector(q));
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::reset_terms(PointTerms<dim>   &t,
+                                              const unsigned int n,
+                                              const bool         tangent,
+                                              const bool         old_tangent,
+                                              const bool         energy)
+  {
+    t.with_tangent     = tangent;
+    t.with_old_tangent = old_tangent;
+    t.with_energy      = energy;
+    t.flux.assign(n, Tensor<2, dim>());
+    t.source.assign(n, Tensor<1, dim>());
+    t.flux_tangent.assign(tangent ? n : 0, Tensor<4, dim>());
+    t.source_tangent.assign(tangent ? n : 0, 0.);
+    t.flux_tangent_old.assign(old_tangent ? n : 0, Tensor<4, dim>());
+    t.energy     = 0;
+    t.admissible = true;
   }
 
 
@@ -563,10 +662,11 @@ namespace forma
   ElasticitySimulator<dim>::Impl::setup_system()
   {
     setup_shape();
-    reset_physical_parameters("");
     dof_handler.distribute_dofs(fe);
     owned = dof_handler.locally_owned_dofs();
     DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
+    size_physical_parameters();
+    reset_physical_parameters("");
 
     constraint_lines = relevant;
     if (ipc_contact)
@@ -732,9 +832,8 @@ namespace forma
                                     constraints_zero,
                                     false,
                                     Utilities::MPI::this_mpi_process(comm));
-    contact.add_couplings(constraints_zero, sp);
-    if (ipc_contact)
-      ipc_contact->add_couplings(constraints_zero, sp);
+    for (const auto &f : forms)
+      f->add_couplings(constraints_zero, sp);
     sp.compress();
     jacobian.reinit(sp);
   }
@@ -837,115 +936,66 @@ namespace forma
     residual = 0;
     if (raw)
       *raw = 0;
+    const bool energy = potential_merit();
+    for (const auto &f : forms)
+      f->set_time(time);
 
-    const FEValuesExtractors::Vector disp(0);
-    const bool                       dynamic = transient;
+    // The point terms of the forms, contracted with the shape functions:
+    //   h_i = sum_q (flux_q : grad phi_i + source_q . phi_i) JxW_q.
+    auto worker =
+      [&](const typename DoFHandler<dim>::active_cell_iterator &cell,
+          Scratch<dim>                                         &s,
+          CopyData                                             &c) {
+        s.fe_values.reinit(cell);
+        const FEValues<dim> &fv  = s.fe_values.get_present_fe_values();
+        const auto          &cfe = fv.get_fe();
+        const unsigned int   n   = cfe.n_dofs_per_cell();
+        const unsigned int   nq  = fv.n_quadrature_points;
+        c.dofs.resize(n);
+        cell->get_dof_indices(c.dofs);
+        c.residual.reinit(n);
+        if (with_matrix)
+          c.matrix.reinit(n, n);
+        c.admissible = true;
+        c.energy     = 0;
 
-    auto worker = [&](
-                    const typename DoFHandler<dim>::active_cell_iterator &cell,
-                    Scratch<dim>                                         &s,
-                    CopyData                                             &c) {
-      s.fe_values.reinit(cell);
-      const FEValues<dim> &fv  = s.fe_values.get_present_fe_values();
-      const auto          &cfe = fv.get_fe();
-      const unsigned int   n   = cfe.n_dofs_per_cell();
-      const unsigned int   nq  = fv.n_quadrature_points;
-      c.dofs.resize(n);
-      cell->get_dof_indices(c.dofs);
-      c.residual.reinit(n);
-      if (with_matrix)
-        c.matrix.reinit(n, n);
-      c.admissible = true;
-      c.energy     = 0;
-
-      const Material<dim> mat    = cell_material(cell);
-      const Damping<dim>  damp   = cell_damping(cell);
-      const double        rho    = mat.properties().density;
-      const bool          damped = dynamic && damp.active();
-
-      s.grad_u.resize(nq);
-      fv[disp].get_function_gradients(u_ghost, s.grad_u);
-      if (damped)
-        {
-          s.grad_u_old.resize(nq);
-          fv[disp].get_function_gradients(u_old_ghost, s.grad_u_old);
-        }
-      s.u.assign(nq, Tensor<1, dim>());
-      s.w.assign(nq, Tensor<1, dim>());
-      if (dynamic)
-        {
-          fv[disp].get_function_values(u_ghost, s.u);
-          fv[disp].get_function_values(w_ghost, s.w);
-        }
-      reference_points(cell, s);
-      s.B.resize(n);
-
-      for (unsigned int q = 0; q < nq; ++q)
-        {
-          // With IPC every model must stay inversion-free.
-          if (!mat.admissible(s.grad_u[q]) ||
-              (ipc_contact &&
-               determinant(unit_symmetric_tensor<dim>() + s.grad_u[q]) <= 0))
+        fill_states(cell, fv, numbers::invalid_unsigned_int, s);
+        PointTerms<dim> &t = s.terms;
+        reset_terms(t, nq, with_matrix, false, energy);
+        for (const auto &f : forms)
+          if (form_active(*f) && f->has_cell_terms())
             {
-              c.admissible = false;
-              return;
+              f->cell_terms(s.states, t);
+              if (!t.admissible)
+                {
+                  c.admissible = false;
+                  return;
+                }
             }
-          Tensor<2, dim> P = mat.stress(s.grad_u[q]);
-          Tensor<4, dim> A;
-          if (with_matrix)
-            A = mat.tangent(s.grad_u[q]);
-          if (damped)
-            {
-              P += damp.stress(s.grad_u[q], s.grad_u_old[q], dt);
-              if (with_matrix)
-                A += damp.tangent(s.grad_u[q], s.grad_u_old[q], dt);
-            }
-          const Tensor<1, dim> f = volume_force(rho, s.X[q], s.u[q], s.w[q]);
+        c.energy = t.energy;
 
-          const double JxW = fv.JxW(q);
-          if (!dynamic)
-            {
-              // Pi = int W(grad u) + f . u - int t . u (dead loads): the
-              // merit function of the static Newton line search.
-              Tensor<1, dim> u_q;
-              for (unsigned int i = 0; i < n; ++i)
-                u_q[cfe.system_to_component_index(i).first] +=
-                  u_ghost(c.dofs[i]) * fv.shape_value(i, q);
-              c.energy += (mat.energy_density(s.grad_u[q]) + f * u_q) * JxW;
-            }
-          else if (ipc_contact)
-            {
-              // The incremental potential of the time step (its merit):
-              // W + rho / (2 (beta dt)^2) |u + w|^2 - b . u.
-              const Tensor<1, dim> a = s.u[q] + s.w[q];
-              const double         m = rho * inertia_factor;
-              c.energy += (mat.energy_density(s.grad_u[q]) + 0.5 * m * (a * a) +
-                           (f - m * a) * s.u[q]) *
-                          JxW;
-              if (damped)
-                c.energy +=
-                  damp.dissipation_potential(s.grad_u[q], s.grad_u_old[q], dt) *
-                  JxW;
-            }
-          for (unsigned int i = 0; i < n; ++i)
-            {
-              const unsigned int    ci = cfe.system_to_component_index(i).first;
-              const Tensor<1, dim> &gi = fv.shape_grad(i, q);
-              const double          vi = fv.shape_value(i, q);
-              c.residual(i) += (P[ci] * gi + f[ci] * vi) * JxW;
-              if (with_matrix)
-                for (unsigned int k = 0; k < dim; ++k)
-                  for (unsigned int l = 0; l < dim; ++l)
-                    {
-                      double b = 0;
-                      for (unsigned int J = 0; J < dim; ++J)
-                        b += A[ci][J][k][l] * gi[J];
-                      s.B[i][k][l] = b;
-                    }
-            }
-          if (with_matrix)
-            {
-              const double mass = dynamic ? rho * inertia_factor : 0.;
+        s.B.resize(n);
+        for (unsigned int q = 0; q < nq; ++q)
+          {
+            const double JxW = fv.JxW(q);
+            for (unsigned int i = 0; i < n; ++i)
+              {
+                const unsigned int ci = cfe.system_to_component_index(i).first;
+                const Tensor<1, dim> &gi = fv.shape_grad(i, q);
+                const double          vi = fv.shape_value(i, q);
+                c.residual(i) +=
+                  (t.flux[q][ci] * gi + t.source[q][ci] * vi) * JxW;
+                if (with_matrix)
+                  for (unsigned int k = 0; k < dim; ++k)
+                    for (unsigned int l = 0; l < dim; ++l)
+                      {
+                        double b = 0;
+                        for (unsigned int J = 0; J < dim; ++J)
+                          b += t.flux_tangent[q][ci][J][k][l] * gi[J];
+                        s.B[i][k][l] = b;
+                      }
+              }
+            if (with_matrix)
               for (unsigned int i = 0; i < n; ++i)
                 {
                   const unsigned int ci =
@@ -957,50 +1007,53 @@ namespace forma
                         cfe.system_to_component_index(j).first;
                       double kij = s.B[i][cj] * fv.shape_grad(j, q);
                       if (ci == cj)
-                        kij += mass * vi * fv.shape_value(j, q);
+                        kij += t.source_tangent[q] * vi * fv.shape_value(j, q);
                       c.matrix(i, j) += kij * JxW;
                     }
                 }
-            }
-        }
+          }
 
-      if (cell->at_boundary())
-        for (const auto face : cell->face_indices())
-          if (cell->face(face)->at_boundary() &&
-              loaded(cell->face(face)->boundary_id()))
-            {
-              s.face_values.reinit(cell, face);
-              const FEFaceValues<dim> &ff =
-                s.face_values.get_present_fe_values();
-              reference_face_points(cell, face, s);
-              for (unsigned int q = 0; q < ff.n_quadrature_points; ++q)
-                {
-                  const Tensor<1, dim> t =
-                    surface_load(cell->face(face)->boundary_id(),
-                                 s.X[q],
-                                 ff.normal_vector(q));
+        if (cell->at_boundary())
+          for (const auto face : cell->face_indices())
+            if (cell->face(face)->at_boundary() &&
+                loaded(cell->face(face)->boundary_id()))
+              {
+                s.face_values.reinit(cell, face);
+                const FEFaceValues<dim> &ff =
+                  s.face_values.get_present_fe_values();
+                fill_states(cell, ff, face, s);
+                reset_terms(
+                  t, ff.n_quadrature_points, with_matrix, false, energy);
+                for (const auto &f : forms)
+                  if (form_active(*f) &&
+                      f->acts_on_boundary(s.states.cell.boundary_id))
+                    f->face_terms(s.states, t);
+                c.energy += t.energy;
+                for (unsigned int q = 0; q < ff.n_quadrature_points; ++q)
                   for (unsigned int i = 0; i < n; ++i)
                     {
                       const unsigned int ci =
                         cfe.system_to_component_index(i).first;
-                      c.residual(i) -= t[ci] * ff.shape_value(i, q) * ff.JxW(q);
-                      if (!dynamic || ipc_contact)
-                        c.energy -= t[ci] * u_ghost(c.dofs[i]) *
-                                    ff.shape_value(i, q) * ff.JxW(q);
+                      const double vi = ff.shape_value(i, q);
+                      c.residual(i) += t.source[q][ci] * vi * ff.JxW(q);
+                      if (with_matrix && t.source_tangent[q] != 0)
+                        for (unsigned int j = 0; j < n; ++j)
+                          if (cfe.system_to_component_index(j).first == ci)
+                            c.matrix(i, j) += t.source_tangent[q] * vi *
+                                              ff.shape_value(j, q) * ff.JxW(q);
                     }
-                }
-            }
-    };
+              }
+      };
 
     bool   admissible = true;
-    double energy     = 0;
+    double energy_sum = 0;
     auto   copier     = [&](const CopyData &c) {
       if (!c.admissible)
         {
           admissible = false;
           return;
         }
-      energy += c.energy;
+      energy_sum += c.energy;
       if (with_matrix && transpose_matrix)
         {
           FullMatrix<double> t(c.matrix.n(), c.matrix.m());
@@ -1020,13 +1073,6 @@ namespace forma
           (*raw)(c.dofs[i]) += c.residual(i);
     };
 
-    for (auto &tr : tractions)
-      tr.second->set_time(time);
-    for (auto &pr : pressures)
-      pr.second->set_time(time);
-    if (body_force)
-      body_force->set_time(time);
-
     using Iterator = typename DoFHandler<dim>::active_cell_iterator;
     WorkStream::run(
       FilteredIterator<Iterator>(IteratorFilters::LocallyOwnedCell(),
@@ -1038,31 +1084,21 @@ namespace forma
       Scratch<dim>(mapping, reference_mapping, fe, quadrature, face_quadrature),
       CopyData());
 
-    // Contact faces (few): serially, into the same containers.
-    if (admissible && contact.active())
+    // Global terms (contact), collective, into the same containers.
+    for (const auto &f : forms)
       {
-        bool evaluated = true;
-        energy += contact.assemble(mapping,
-                                   u_ghost,
-                                   constraints_zero,
-                                   transpose_matrix,
-                                   with_matrix ? &jacobian : nullptr,
-                                   residual,
-                                   raw,
-                                   evaluated);
-        admissible &= evaluated;
-      }
-    if (ipc_contact) // collective: every rank
-      {
-        bool apart = true;
-        energy += ipc_contact->assemble(u_owned,
-                                        constraints_zero,
-                                        with_matrix ? &jacobian : nullptr,
-                                        residual,
-                                        raw,
-                                        apart,
-                                        !exact_contact_hessian);
-        admissible &= apart;
+        typename Form<dim>::GlobalAssembly a{u_owned,
+                                             u_ghost,
+                                             constraints_zero,
+                                             with_matrix ? &jacobian : nullptr,
+                                             residual,
+                                             raw,
+                                             transpose_matrix,
+                                             exact_contact_hessian,
+                                             admissible};
+        f->assemble_global(a);
+        energy_sum += a.energy;
+        admissible &= a.admissible;
       }
 
     // Compress even when a cell was inadmissible, so the containers stay
@@ -1073,7 +1109,7 @@ namespace forma
     if (raw)
       raw->compress(VectorOperation::add);
     admissible       = Utilities::MPI::min(admissible ? 1 : 0, comm) == 1;
-    potential_energy = Utilities::MPI::sum(energy, comm);
+    potential_energy = Utilities::MPI::sum(energy_sum, comm);
     assembly_seconds += timer.wall_time();
     return admissible;
   }
@@ -1187,9 +1223,12 @@ namespace forma
         const double slope   = residual * du;
         // Friction is not a potential force: there only the residual
         // decides.
-        const bool energy_merit = potential_merit() &&
-                                  !contact.has_friction() &&
-                                  slope < -1e-10 * (std::abs(energy0) + 1e-300);
+        const bool energy_merit =
+          potential_merit() &&
+          std::all_of(forms.begin(),
+                      forms.end(),
+                      [](const auto &f) { return f->is_potential(); }) &&
+          slope < -1e-10 * (std::abs(energy0) + 1e-300);
 
         double step     = max_step;
         bool   accepted = false;
@@ -1564,98 +1603,6 @@ namespace forma
 
   template <int dim>
   void
-  ElasticitySimulator<dim>::Impl::add_uniform(Vector_t             &x,
-                                              const Tensor<1, dim> &value)
-  {
-    if (value.norm() == 0)
-      return;
-    const auto component = owned_components();
-    for (const auto i : owned)
-      x(i) = x(i) + value[component[owned.index_within_set(i)]];
-    x.compress(VectorOperation::insert);
-  }
-
-
-
-  template <int dim>
-  std::vector<int>
-  ElasticitySimulator<dim>::Impl::owned_bodies() const
-  {
-    std::map<types::material_id, int> index;
-    for (unsigned int k = 0; k < design_bodies.size(); ++k)
-      index[design_bodies[k]] = k;
-    std::vector<int>                     body(owned.n_elements(), -2);
-    std::vector<types::global_dof_index> dofs;
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      if (!cell->is_artificial())
-        {
-          dofs.resize(cell->get_fe().n_dofs_per_cell());
-          cell->get_dof_indices(dofs);
-          const auto it = index.find(cell->material_id());
-          for (const auto i : dofs)
-            if (owned.is_element(i) && body[owned.index_within_set(i)] == -2)
-              body[owned.index_within_set(i)] =
-                it != index.end() ? it->second : -1;
-        }
-    return body;
-  }
-
-
-
-  template <int dim>
-  void
-  ElasticitySimulator<dim>::Impl::add_per_body(
-    Vector_t                          &x,
-    const std::vector<Tensor<1, dim>> &offsets)
-  {
-    if (offsets.empty())
-      return;
-    const auto component = owned_components();
-    const auto body      = owned_bodies();
-    for (const auto i : owned)
-      {
-        const unsigned int k = owned.index_within_set(i);
-        if (body[k] >= 0)
-          x(i) = x(i) + offsets[body[k]][component[k]];
-      }
-    x.compress(VectorOperation::insert);
-  }
-
-
-
-  template <int dim>
-  std::vector<Tensor<1, dim>>
-  ElasticitySimulator<dim>::Impl::body_component_sums(const Vector_t &x) const
-  {
-    std::vector<Tensor<1, dim>> sums(design_bodies.size());
-    const auto                  component = owned_components();
-    const auto                  body      = owned_bodies();
-    for (const auto i : owned)
-      {
-        const unsigned int k = owned.index_within_set(i);
-        if (body[k] >= 0)
-          sums[body[k]][component[k]] += x(i);
-      }
-    return sums;
-  }
-
-
-
-  template <int dim>
-  Tensor<1, dim>
-  ElasticitySimulator<dim>::Impl::component_sums(const Vector_t &x) const
-  {
-    const auto     component = owned_components();
-    Tensor<1, dim> sums;
-    for (const auto i : owned)
-      sums[component[owned.index_within_set(i)]] += x(i);
-    return sums;
-  }
-
-
-
-  template <int dim>
-  void
   ElasticitySimulator<dim>::Impl::prepare_ipc_stiffness()
   {
     if (!ipc_contact || ipc_contact->barrier_stiffness() > 0)
@@ -1821,14 +1768,9 @@ namespace forma
                             constants,
                             "Initial conditions/Velocity"),
         v);
-    add_uniform(u, initial_displacement_offset);
-    add_uniform(v, initial_velocity_offset);
-    add_per_body(u, body_initial_u);
-    add_per_body(v, body_initial_v);
-    if (initial_displacement_field.size() > 0)
-      u += initial_displacement_field;
-    if (initial_velocity_field.size() > 0)
-      v += initial_velocity_field;
+    // Design offsets (initial-condition parameterizations).
+    u += initial->displacement;
+    v += initial->velocity;
     make_constraints(0.);
     constraints_zero.distribute(u); // hanging nodes only matter here
     time = 0;

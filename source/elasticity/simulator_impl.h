@@ -20,12 +20,21 @@
 #include <deal.II/lac/vector.h>
 
 #include <forma/adjoint/design.h>
+#include <forma/adjoint/form.h>
+#include <forma/adjoint/initial_conditions.h>
 #include <forma/adjoint/objective.h>
+#include <forma/adjoint/parameterization.h>
+#include <forma/adjoint/physical_parameters.h>
+#include <forma/adjoint/shape_field.h>
+#include <forma/base/records.h>
 #include <forma/contact/penalty_contact.h>
 #include <forma/elasticity/simulator.h>
 #include <forma/ipc/ipc_contact.h>
+#include <forma/ipc/ipc_contact_form.h>
+#include <forma/mesh/harmonic_extension.h>
 #include <forma/mesh/remesh.h>
 #include <forma/physics/damping.h>
+#include <forma/physics/elastic_form.h>
 #include <forma/physics/material.h>
 #include <forma/solvers/linear_solver.h>
 
@@ -124,10 +133,9 @@ namespace forma
       hp::FEFaceValues<dim>       face_values;
       hp::FEValues<dim>           reference_values;
       hp::FEFaceValues<dim>       reference_face_values;
-      std::vector<Tensor<2, dim>> grad_u, grad_u_old;
-      std::vector<Tensor<1, dim>> u, w;
       std::vector<Tensor<2, dim>> B; ///< A : grad phi_i, per shape function
-      std::vector<Point<dim>>     X; ///< positions on the mesh as read
+      PointStates<dim>            states;
+      PointTerms<dim>             terms;
     };
 
     struct CopyData
@@ -180,35 +188,40 @@ namespace forma
     void
     reset_physical_parameters(const std::string &bodies);
 
-    // Per-cell laws from the per-cell parameters.
+    /// The material law of a cell (its body, its Lame pair).
     Material<dim>
     cell_material(
       const typename DoFHandler<dim>::active_cell_iterator &c) const;
-    Damping<dim>
-    cell_damping(const typename DoFHandler<dim>::active_cell_iterator &c) const;
-    /// Force density per unit volume at a point: inertia minus body loads.
-    Tensor<1, dim>
-    volume_force(const double          rho,
-                 const Point<dim>     &X,
-                 const Tensor<1, dim> &u,
-                 const Tensor<1, dim> &w) const;
-    /// Surface load (traction plus pressure on the normal) on boundary `id`.
-    Tensor<1, dim>
-    surface_load(const types::boundary_id id,
-                 const Point<dim>        &X,
-                 const Tensor<1, dim>    &normal) const;
-    /// Material coordinates X of the quadrature points of a cell / face.
+
+    // Forms (the force terms of the residual; adjoint/form.h).
+    /// Build the forms of the problem (once: they refer to members).
     void
-    reference_points(const typename DoFHandler<dim>::active_cell_iterator &c,
-                     Scratch<dim> &s) const;
-    void
-    reference_face_points(
-      const typename DoFHandler<dim>::active_cell_iterator &c,
-      const unsigned int                                    face,
-      Scratch<dim>                                         &s) const;
-    /// Whether the residual has surface loads on boundary `id`.
+    setup_forms();
+    /// The state fields the forms read (Form::Needs).
+    unsigned int
+    form_needs() const;
+    /// Whether the form takes part now (transient-only forms need a
+    /// transient state).
+    bool
+    form_active(const Form<dim> &f) const;
+    /// Whether a point-term form acts on boundary `id`.
     bool
     loaded(const types::boundary_id id) const;
+    /// The point states of a cell (face: `face` < faces per cell) from
+    /// `fv` (the current shape) and the reference values (material
+    /// coordinates).
+    void
+    fill_states(const typename DoFHandler<dim>::active_cell_iterator &cell,
+                const FEValuesBase<dim>                              &fv,
+                const unsigned int                                    face,
+                Scratch<dim>                                         &s) const;
+    /// Zeroed point terms for `n` points.
+    static void
+    reset_terms(PointTerms<dim>   &t,
+                const unsigned int n,
+                const bool         tangent,
+                const bool         old_tangent,
+                const bool         energy);
 
     // solving
     bool
@@ -218,12 +231,6 @@ namespace forma
     /// Component (0..dim-1) of every locally owned DoF.
     std::vector<unsigned int>
     owned_components() const;
-    /// x += the uniform vector `value`, and its transpose: the sums of the
-    /// owned entries of x per component.
-    void
-    add_uniform(Vector_t &x, const Tensor<1, dim> &value);
-    Tensor<1, dim>
-    component_sums(const Vector_t &x) const;
     void
     solve_static();
     void
@@ -247,9 +254,14 @@ namespace forma
     point_value(const Point<dim> &p) const;
 
     // adjoint layer (adjoint.cc)
-    struct PhysicalGradient;
     void
     build_design_layout();
+    /// The starting shape design (Design/Shape perturbation) per shape DoF.
+    std::vector<double>
+    shape_start() const;
+    /// Design/Start: other starting values of the blocks.
+    void
+    apply_start_values();
     void
     apply_design(const std::vector<double> &q);
     void
@@ -260,23 +272,57 @@ namespace forma
     objective_integrals(const Objective<dim> &J, const unsigned int i);
     double
     objective_value(const Objective<dim> &J);
+    /// Objective integrals (no outputs), dJ/du and dJ/dm (`weights`,
+    /// `dJ_du`) or the forms' point-term products p^T dh/dm (`adjoint`)
+    /// at the current step state; products go to `physical`.
     void
     accumulate(const Objective<dim>                   &J,
                const std::vector<std::vector<double>> *weights,
                const Vector_t                         *adjoint,
-               Vector_t                               *dJ_du,
-               PhysicalGradient                       *gradient);
+               Vector_t                               *dJ_du);
+    /// The forms' global products (contact) with adjoint `lambda`; lagged
+    /// terms go to `lagged` (transient) when given.
     void
-    mass_and_damping_products(const Vector_t    &z,
-                              const Vector_t    *adjoint_next,
-                              const unsigned int next_step,
-                              Vector_t          &result);
+    global_products(const Vector_t &lambda, Vector_t *lagged);
+    /// The forms' history terms: M z + (d h_next / d u^{next-1})^T
+    /// adjoint_next, condensed with `constraints`.
+    void
+    history_products(const Vector_t                  &z,
+                     const Vector_t                  *adjoint_next,
+                     const unsigned int               next_step,
+                     const AffineConstraints<double> &constraints,
+                     Vector_t                        &result);
+    /// Solve for the static adjoint: the stored Newton Jacobian where every
+    /// form's is exact and symmetric, else one assembled for it.
+    void
+    solve_static_adjoint(const Vector_t &rhs, Vector_t &lambda);
+    /// Assemble the transposed exact Jacobian of stored step i.
+    void
+    assemble_adjoint_jacobian(const unsigned int i, const bool transpose);
     double
     compute_gradient(const Objective<dim> &J, std::vector<double> &dJ);
+    /**
+     * The backward BDF sweep of a transient adjoint: the forms' products
+     * into the physical parameters' sensitivities, dJ/du^0 and dJ/dv^0 into
+     * the initial conditions'. `weights_at_step(i)` gives dJ/dI at step i
+     * (and adds J's value), `contact_partials(i)` adds the contact force
+     * terms' partials to `dJ_du`.
+     */
+    void
+    transient_adjoint(
+      const Objective<dim> &J,
+      const std::function<std::vector<std::vector<double>>(unsigned int)>
+                                              &weights_at_step,
+      const std::function<void(unsigned int)> &contact_partials,
+      Vector_t                                &dJ_du);
+    /// dJ/dq from the sensitivities of the physical parameters.
+    void
+    chain_to_design(std::vector<double> &dJ) const;
     /// The regularization terms of J (weighted, in term order; zero for
-    /// other terms), their gradient added to `g` when given.
+    /// other terms), their gradient added to the sensitivities when
+    /// `with_gradient`.
     std::vector<double>
-    regularization(const Objective<dim> &J, PhysicalGradient *g);
+    regularization(const Objective<dim> &J, const bool with_gradient);
 
     const ElasticityParameters p;
     const MPI_Comm             comm;
@@ -371,52 +417,39 @@ namespace forma
                  const std::vector<Point<dim>> &X);
 
     // Harmonic extension of boundary shape moves into the interior
-    // (Design/Shape parameterization = boundary): a vector Laplacian on the
-    // mesh as read with every boundary DoF constrained, factored once.
-    AffineConstraints<double>      extension_constraints;
-    TrilinosWrappers::SparseMatrix extension_matrix;
-    LinearSolver                   extension_solver{LinearSolver::Parameters()};
-    bool                           extension_ready = false;
-    void
-    setup_extension();
-    /// Laplacian times x, condensed with `constraints`.
-    Vector_t
-    laplacian_times(const Vector_t                  &x,
-                    const AffineConstraints<double> &constraints);
-    /// Interior entries of delta from its boundary entries.
-    void
-    extend(Vector_t &delta);
-    /// The transpose of extend() applied to a shape gradient.
-    void
-    extend_transpose(Vector_t &gradient);
+    // (Design/Shape parameterization = boundary), rebuilt with the design.
+    std::unique_ptr<HarmonicExtension<dim>> extension;
 
-    // Per-cell physical parameters (by active_cell_index): the Lame pair
-    // given to Material (before any plane-stress reduction), damping.
-    std::vector<std::array<double, 2>> cell_lame, cell_damping_coefficients;
-    // Load scales: tractions and pressures in record order, body force,
-    // gravity; uniform initial-condition offsets.
-    std::vector<double> surface_load_scale;
-    double              body_force_scale = 1, gravity_scale = 1;
-    Tensor<1, dim>      initial_displacement_offset, initial_velocity_offset;
-    /// Per-body offsets (Design/Bodies order; empty: none).
+    // The physical parameters forms read and parameterizations set: Lame
+    // pairs and damping per cell, load scales, the shape, IPC friction,
+    // initial-condition offsets (adjoint/physical_parameters.h).
+    PhysicalParameters    physical;
+    CellLame             *cell_lame    = nullptr;
+    CellDamping          *cell_damping = nullptr;
+    LoadScales           *load_scales  = nullptr;
+    ShapeField<dim>      *shape_field  = nullptr;
+    FrictionCoefficients *friction     = nullptr; ///< IPC runs
+    InitialConditions    *initial      = nullptr; ///< transient runs
+    /// Size the physical parameters to the mesh (after setup_system()).
+    void
+    size_physical_parameters();
+
+    // The forms in assembly order; typed views of the elastic and IPC
+    // forms (objective integrands read materials, contact force terms the
+    // barrier).
+    std::vector<std::unique_ptr<Form<dim>>> forms;
+    const ElasticForm<dim>                 *elastic_form = nullptr;
+    ipc::IpcContactForm<dim>               *ipc_form     = nullptr;
+
+    /// Design/Bodies (default: all material ids).
     std::vector<types::material_id> design_bodies;
-    std::vector<Tensor<1, dim>>     body_initial_u, body_initial_v;
-    /// Per owned DoF: its index in design_bodies (-1: none), from the
-    /// first cell that has it.
-    std::vector<int>
-    owned_bodies() const;
-    /// x += offsets[body] on the DoFs of each design body.
-    void
-    add_per_body(Vector_t &x, const std::vector<Tensor<1, dim>> &offsets);
-    /// Per design body, the component sums of x over its owned DoFs.
-    std::vector<Tensor<1, dim>>
-             body_component_sums(const Vector_t &x) const;
-    Vector_t initial_displacement_field, initial_velocity_field; ///< or empty
 
-    // Design vector layout and the states an adjoint pass reads.
-    DesignLayout                          layout;
-    std::vector<double>                   design;
-    bool                                  store_states = false;
+    // Design vector layout (one parameterization per block) and the
+    // states an adjoint pass reads.
+    DesignLayout                                        layout;
+    std::vector<std::unique_ptr<Parameterization<dim>>> parameterizations;
+    std::vector<double>                                 design;
+    bool                                                store_states = false;
     std::vector<Vector_t>                 u_states, v_states; ///< per step
     std::vector<Vector_t>                 reference_states;   ///< target run
     std::shared_ptr<const Objective<dim>> objective;
@@ -467,29 +500,14 @@ namespace forma
     /// errors).
     void
     update_ipc_geometry(const std::string &where);
-    /// IPC state of stored step i for the adjoint: friction lagged at step
-    /// i - 1 (static: at rest), candidates and pattern at u^i.
-    void
-    ipc_adjoint_state(const unsigned int i);
-    /// Add lambda's IPC products (shape, friction) to g and, for the
-    /// previous step, (d h / d u^{i-1})^T lambda to `lagged`.
-    void
-    ipc_adjoint_products(const Vector_t   &lambda,
-                         PhysicalGradient &g,
-                         Vector_t         *lagged);
-    /// Add d J / d rest positions of the collision vertices to g's shape
-    /// block (the transpose of the upsampling M*).
-    void
-    add_rest_gradient(const std::vector<ipc::Vec> &rest, PhysicalGradient &g);
     /// The `contact force` terms of J at stored step i, times the step
-    /// weight sw (per term, zero for others); with dJ_du and g, add their
+    /// weight sw (per term, zero for others); with dJ_du, add their
     /// partials (state, shape).
     std::vector<double>
     contact_force_terms(const Objective<dim> &J,
                         const unsigned int    i,
                         const double          sw,
-                        Vector_t             *dJ_du,
-                        PhysicalGradient     *g);
+                        Vector_t             *dJ_du);
     /// Slip smoothing eps_v dt of IPC friction (static: per load step).
     double
     ipc_friction_eta() const;

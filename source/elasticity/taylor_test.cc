@@ -12,9 +12,11 @@ namespace forma
               const GradientCheckParameters                  &parameters,
               const std::function<void(const std::string &)> &log)
   {
-    const std::vector<double> q     = simulator.design();
-    const std::vector<double> theta = random_direction(
-      simulator.design_layout(), q, simulator.cell_size(), parameters);
+    const std::vector<double> q = simulator.design();
+    const std::vector<double> theta =
+      random_direction(simulator.design_layout(),
+                       simulator.design_scales(q),
+                       parameters);
     auto result = taylor_test(
       [&](const std::vector<double> &x) {
         simulator.set_design(x);

@@ -82,32 +82,6 @@ namespace forma
     const DesignBlock *
     find(const std::string &name) const;
   };
-  /**
-   * Per-entry scales of a design vector: a length (a cell size) for shape
-   * entries, the magnitude of the starting value for materials and damping
-   * (or 1 where that is zero), 1 otherwise. Optimizers and Taylor tests
-   * move designs in these units.
-   */
-  std::vector<double>
-  design_scales(const DesignLayout        &layout,
-                const std::vector<double> &q0,
-                const double               length);
-
-  /**
-   * Admissible box around a starting design: E within 1e-3..1e3 of its
-   * start and nu within [-0.5, 0.49]; lambda, mu within 1e-3..1e3 of their
-   * start; damping >= 0; loads and initial conditions free; shape entries
-   * within `shape_bound` (infinite: free) of `shape_center` (per design
-   * entry; empty: zero, the mesh itself).
-   */
-  void
-  design_bounds(const DesignLayout        &layout,
-                const std::vector<double> &q0,
-                const bool                 young_poisson,
-                const double               shape_bound,
-                const std::vector<double> &shape_center,
-                std::vector<double>       &lower,
-                std::vector<double>       &upper);
 } // namespace forma
 
 #endif

@@ -43,14 +43,13 @@ namespace forma
 
   /**
    * A random direction theta for a Taylor test, deterministic in `seed`:
-   * entries uniform in [-1, 1], scaled per block so that eps = 1 is a
-   * large but meaningful change: shape entries by `length` (a cell size),
-   * material and damping entries by their value, the rest by 1.
+   * entries uniform in [-1, 1] times `scales` (the design's, so that eps =
+   * 1 is a large but meaningful change), zero outside the blocks of
+   * `parameters` (all if none are named).
    */
   std::vector<double>
   random_direction(const DesignLayout            &layout,
-                   const std::vector<double>     &q,
-                   const double                   length,
+                   const std::vector<double>     &scales,
                    const GradientCheckParameters &parameters);
 
   /**

@@ -104,6 +104,13 @@ namespace forma
                    dealii::types::boundary_id open_id);
     std::vector<double>
     material_offsets() const;
+    std::vector<double>
+    design_scales(const std::vector<double> &q0) const;
+    void
+    design_bounds(const std::vector<double> &q0,
+                  const double               shape_bound,
+                  std::vector<double>       &lower,
+                  std::vector<double>       &upper) const;
     unsigned int
     n_remeshes() const;
 

@@ -145,6 +145,21 @@ namespace forma
     void
     set_design(const std::vector<double> &q);
 
+    /// Per design entry, the size of a meaningful move around q0 (each
+    /// block's parameterization decides: the cell size for shapes, the
+    /// magnitude for materials); optimizers and Taylor tests scale by it.
+    std::vector<double>
+    design_scales(const std::vector<double> &q0) const;
+
+    /// The admissible box around q0 (each block's parameterization
+    /// decides; shape entries within `shape_bound` of their material
+    /// position, infinite: free).
+    void
+    design_bounds(const std::vector<double> &q0,
+                  const double               shape_bound,
+                  std::vector<double>       &lower,
+                  std::vector<double>       &upper) const;
+
     /// Use J; runs the reference simulation first if a term needs one.
     void
     set_objective(const std::shared_ptr<const Objective<dim>> &J);

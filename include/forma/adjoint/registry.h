@@ -1,0 +1,119 @@
+#ifndef forma_adjoint_registry_h
+#define forma_adjoint_registry_h
+
+#include <deal.II/base/exceptions.h>
+
+#include <algorithm>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace forma
+{
+  /**
+   * Named factories of one kind of pluggable piece (parameterizations,
+   * objective terms, forms, ...), as ASPECT's plugin lists: every piece
+   * registers its name, its documentation and how to make it, from the
+   * library or from a shared library loaded at run time. Parameter
+   * patterns and documentation come from here, so names are listed once.
+   *
+   * `rank` orders the entries where the order matters (design vector
+   * blocks); entries of equal rank follow their names.
+   */
+  template <typename Product, typename... Arguments>
+  class Registry
+  {
+  public:
+    using Factory = std::function<std::unique_ptr<Product>(Arguments...)>;
+
+    struct Entry
+    {
+      std::string name;
+      std::string documentation;
+      Factory     create;
+      int         rank;
+    };
+
+    static Registry &
+    instance()
+    {
+      static Registry registry;
+      return registry;
+    }
+
+    void
+    add(const std::string &name,
+        const std::string &documentation,
+        const Factory     &create,
+        const int          rank = 1000)
+    {
+      AssertThrow(entries_by_name.count(name) == 0,
+                  dealii::ExcMessage("'" + name +
+                                     "' is registered twice in one list of "
+                                     "plugins."));
+      entries_by_name[name] = {name, documentation, create, rank};
+    }
+
+    bool
+    has(const std::string &name) const
+    {
+      return entries_by_name.count(name) > 0;
+    }
+
+    /// The entry called `name`; throws naming the known ones if there is
+    /// none (`what` says which list, for the message).
+    const Entry &
+    get(const std::string &name, const std::string &what) const
+    {
+      const auto it = entries_by_name.find(name);
+      AssertThrow(it != entries_by_name.end(),
+                  dealii::ExcMessage(what + ": unknown '" + name +
+                                     "' (known: " + names(", ") + ")."));
+      return it->second;
+    }
+
+    /// All entries by rank, then name.
+    std::vector<const Entry *>
+    entries() const
+    {
+      std::vector<const Entry *> list;
+      for (const auto &e : entries_by_name)
+        list.push_back(&e.second);
+      std::stable_sort(list.begin(),
+                       list.end(),
+                       [](const Entry *a, const Entry *b) {
+                         return a->rank < b->rank;
+                       });
+      return list;
+    }
+
+    /// The names, in entries() order, joined by `separator` (`|` makes a
+    /// Patterns::Selection).
+    std::string
+    names(const std::string &separator = "|") const
+    {
+      std::string s;
+      for (const auto *e : entries())
+        s += (s.empty() ? "" : separator) + e->name;
+      return s;
+    }
+
+    /// "name: documentation" of every entry, one per paragraph.
+    std::string
+    documentation() const
+    {
+      std::string s;
+      for (const auto *e : entries())
+        s += (s.empty() ? "" : "\n") + e->name + ": " + e->documentation;
+      return s;
+    }
+
+  private:
+    Registry() = default;
+    std::map<std::string, Entry> entries_by_name;
+  };
+} // namespace forma
+
+#endif

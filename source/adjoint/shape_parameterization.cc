@@ -1,0 +1,106 @@
+// The `shape` design block: vertex moves of the shape field.
+
+#include <deal.II/dofs/dof_handler.h>
+
+#include <forma/adjoint/parameterization.h>
+#include <forma/adjoint/shape_field.h>
+#include <forma/mesh/harmonic_extension.h>
+
+namespace forma
+{
+  namespace
+  {
+    using namespace dealii;
+
+    /// One entry per shape DoF: its offset from the mesh; with a harmonic
+    /// extension only the boundary entries count.
+    template <int dim>
+    class ShapeParameterization : public Parameterization<dim>
+    {
+    public:
+      explicit ShapeParameterization(const DesignContext<dim> &c)
+        : shape(*c.physical.template find<ShapeField<dim>>())
+        , extension(c.extension)
+        , start(c.shape_start)
+      {
+        shape.wanted = true;
+      }
+
+      unsigned int
+      size() const override
+      {
+        return shape.dof_handler.n_dofs();
+      }
+
+      std::vector<double>
+      initial() const override
+      {
+        return start;
+      }
+
+      void
+      scales(const double *, const double length, double *s) const override
+      {
+        std::fill(s, s + size(), length);
+      }
+
+      void
+      bounds(const double *,
+             const double *center,
+             const double  bound,
+             double       *lower,
+             double       *upper) const override
+      {
+        for (unsigned int i = 0; i < size(); ++i)
+          {
+            lower[i] = center[i] - bound;
+            upper[i] = center[i] + bound;
+          }
+      }
+
+      void
+      apply(const double *q) override
+      {
+        for (const auto i : shape.offset.locally_owned_elements())
+          shape.offset(i) = q[i];
+        shape.offset.compress(VectorOperation::insert);
+        if (extension)
+          extension->extend(shape.offset); // the interior follows
+      }
+
+      void
+      chain(const double *, double *dJ) const override
+      {
+        typename ShapeField<dim>::Vector g(shape.sensitivity);
+        if (extension)
+          extension->extend_transpose(g);
+        for (const auto i : g.locally_owned_elements())
+          dJ[i] = g(i);
+      }
+
+      bool
+      restarts_on_remesh() const override
+      {
+        return true;
+      }
+
+      bool
+      has_start_values() const override
+      {
+        return false;
+      }
+
+    private:
+      ShapeField<dim>          &shape;
+      HarmonicExtension<dim>   *extension;
+      const std::vector<double> start;
+    };
+  } // namespace
+} // namespace forma
+
+using forma::ShapeParameterization;
+FORMA_REGISTER_PARAMETERIZATION(
+  ShapeParameterization,
+  "shape",
+  "vertex positions of the shape field (offsets from the mesh)",
+  0)
