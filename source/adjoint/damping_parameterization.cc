@@ -51,8 +51,7 @@ namespace forma
       void
       scales(const double *q0, const double, double *s) const override
       {
-        for (unsigned int i = 0; i < size(); ++i)
-          s[i] = q0[i] != 0 ? std::abs(q0[i]) : 1.;
+        this->magnitude_scales(q0, s);
       }
 
       void
@@ -62,8 +61,7 @@ namespace forma
              double *lower,
              double *upper) const override
       {
-        Parameterization<dim>::bounds(nullptr, nullptr, 0, lower, upper);
-        std::fill(lower, lower + size(), 0.);
+        this->nonnegative_bounds(lower, upper);
       }
 
       void

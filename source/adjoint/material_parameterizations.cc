@@ -42,8 +42,7 @@ namespace forma
       void
       scales(const double *q0, const double, double *s) const override
       {
-        for (unsigned int i = 0; i < this->size(); ++i)
-          s[i] = q0[i] != 0 ? std::abs(q0[i]) : 1.;
+        this->magnitude_scales(q0, s);
       }
 
       /// E within 1e-3..1e3 of its start, nu within [-0.5, 0.49]; lambda

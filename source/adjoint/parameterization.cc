@@ -1,5 +1,6 @@
 #include <forma/adjoint/parameterization.h>
 
+#include <cmath>
 #include <limits>
 
 namespace forma
@@ -30,6 +31,26 @@ namespace forma
 
 
 
+  template <int dim>
+  void
+  Parameterization<dim>::magnitude_scales(const double *q0, double *scale) const
+  {
+    for (unsigned int i = 0; i < size(); ++i)
+      scale[i] = q0[i] != 0 ? std::abs(q0[i]) : 1.;
+  }
+
+
+
+  template <int dim>
+  void
+  Parameterization<dim>::nonnegative_bounds(double *lower, double *upper) const
+  {
+    std::fill(lower, lower + size(), 0.);
+    std::fill(upper, upper + size(), std::numeric_limits<double>::infinity());
+  }
+
+
+
   std::string
   parameterization_names(const std::string &separator)
   {
@@ -44,6 +65,8 @@ namespace forma
     return ParameterizationRegistry<2>::instance().documentation();
   }
 
+  template class Registry<Parameterization<2>, const DesignContext<2> &>;
+  template class Registry<Parameterization<3>, const DesignContext<3> &>;
   template class Parameterization<2>;
   template class Parameterization<3>;
 } // namespace forma

@@ -20,18 +20,16 @@ main(int argc, char **argv)
                     "Coulomb friction; adjoint shape derivatives of stress, "
                     "volume and further objectives, Taylor tests and ROL "
                     "shape optimization.";
-  app.modes       = {"simulate", "verify gradient", "optimize"};
+  app.modes       = forma::elasticity_modes(
+    [](dealii::ParameterHandler &prm, const std::string &dir) {
+      forma::ElasticityParameters parameters;
+      parameters.parse(prm, dir, true); // with penalty contact
+      return parameters;
+    });
   app.declare_parameters = [](dealii::ParameterHandler &prm) {
     forma::ElasticityParameters::declare(prm);
     forma::ContactParameters::declare(prm);
     forma::declare_elasticity_job_parameters(prm);
-  };
-  app.run = [](dealii::ParameterHandler &prm,
-               const std::string        &dir,
-               forma::RunContext        &context) {
-    forma::ElasticityParameters parameters;
-    parameters.parse(prm, dir, true);
-    forma::run_elasticity_job(prm.get("Mode"), parameters, prm, context);
   };
   return forma::run_application(argc, argv, app);
 }

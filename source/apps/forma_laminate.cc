@@ -1,6 +1,7 @@
 // forma-laminate: hexagonal Triangle/Hexagon laminate microstructures,
 // periodic homogenization and Hashin-Shtrikman coverage (thesis ch. 5).
-// The modes live in the library (forma/laminate/study.h).
+// The modes live in the library (forma/laminate/study.h); this table is
+// their only list.
 
 #include <deal.II/base/parameter_handler.h>
 
@@ -13,24 +14,24 @@ namespace
   using namespace dealii;
   using namespace forma::laminate;
 
-  void
-  run(ParameterHandler  &prm,
-      const std::string &prm_directory,
-      forma::RunContext &context)
+  using Mode = std::function<void(ParameterHandler &,
+                                  const std::string &,
+                                  const Setup &,
+                                  forma::RunContext &)>;
+
+  /// A mode of 2D cells with the common setup (base material, grid).
+  forma::ApplicationMode
+  mode(const std::string &name, const Mode &run)
   {
-    AssertThrow(prm.get_integer("Dimension") == 2,
-                ExcMessage(
-                  "forma-laminate homogenizes 2D cells: set Dimension = 2"));
-    const Setup       setup = parse_setup(prm, context);
-    const std::string mode  = prm.get("Mode");
-    if (mode == "homogenize")
-      homogenize_mode(prm, prm_directory, setup, context);
-    else if (mode == "sweep")
-      sweep_mode(prm, setup, context);
-    else if (mode == "inverse")
-      inverse_mode(prm, prm_directory, setup, context);
-    else
-      compare_meshes_mode(prm, setup, context);
+    return {name,
+            [run](ParameterHandler  &prm,
+                  const std::string &prm_directory,
+                  forma::RunContext &context) {
+              AssertThrow(prm.get_integer("Dimension") == 2,
+                          ExcMessage("forma-laminate homogenizes 2D cells: "
+                                     "set Dimension = 2"));
+              run(prm, prm_directory, parse_setup(prm, context), context);
+            }};
   }
 } // namespace
 
@@ -42,8 +43,22 @@ main(int argc, char **argv)
   app.description = "Homogenization of hexagonal Triangle/Hexagon laminate "
                     "microstructures and their Hashin-Shtrikman coverage "
                     "(thesis ch. 5).";
-  app.modes       = {"homogenize", "sweep", "inverse", "compare meshes"};
+  app.modes       = {mode("homogenize", homogenize_mode),
+                     mode("sweep",
+                    [](ParameterHandler &prm,
+                       const std::string &,
+                       const Setup       &setup,
+                       forma::RunContext &context) {
+                      sweep_mode(prm, setup, context);
+                    }),
+                     mode("inverse", inverse_mode),
+                     mode("compare meshes",
+                    [](ParameterHandler &prm,
+                       const std::string &,
+                       const Setup       &setup,
+                       forma::RunContext &context) {
+                      compare_meshes_mode(prm, setup, context);
+                    })};
   app.declare_parameters = declare_parameters;
-  app.run                = run;
   return forma::run_application(argc, argv, app);
 }

@@ -5,6 +5,7 @@
 #include <forma/base/application.h>
 #include <forma/base/parameter_override.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -55,9 +56,9 @@ namespace forma
         "failed run leaves its files in <Output directory>/failed-run.");
       std::string selection;
       for (const auto &m : app.modes)
-        selection += (selection.empty() ? "" : "|") + m;
+        selection += (selection.empty() ? "" : "|") + m.name;
       prm.declare_entry("Mode",
-                        app.modes.front(),
+                        app.modes.front().name,
                         dealii::Patterns::Selection(selection),
                         "The job to run.");
       app.declare_parameters(prm);
@@ -189,7 +190,14 @@ namespace forma
       {
         const std::string dir =
           std::filesystem::path(arg).parent_path().string();
-        app.run(prm, dir.empty() ? std::string(".") : dir, *context);
+        const std::string mode = prm.get("Mode");
+        const auto        it =
+          std::find_if(app.modes.begin(), app.modes.end(), [&](const auto &m) {
+            return m.name == mode;
+          });
+        // The pattern of Mode admits only these names.
+        AssertThrow(it != app.modes.end(), dealii::ExcInternalError());
+        it->run(prm, dir.empty() ? std::string(".") : dir, *context);
         context->commit();
         return 0;
       }

@@ -620,6 +620,62 @@ namespace forma
 
 
 
+  namespace
+  {
+    using Job = std::function<std::vector<double>(const ElasticityParameters &,
+                                                  dealii::ParameterHandler &,
+                                                  RunContext &,
+                                                  const DesignConstraint *)>;
+
+    /// The jobs by name, in the order the apps list them.
+    const std::vector<std::pair<std::string, Job>> &
+    jobs()
+    {
+      static const std::vector<std::pair<std::string, Job>> list = {
+        {"simulate",
+         [](const ElasticityParameters &parameters,
+            dealii::ParameterHandler &,
+            RunContext &context,
+            const DesignConstraint *) {
+           if (parameters.dim == 2)
+             simulate_job<2>(parameters, context);
+           else
+             simulate_job<3>(parameters, context);
+           return std::vector<double>();
+         }},
+        {"verify gradient",
+         [](const ElasticityParameters &parameters,
+            dealii::ParameterHandler   &prm,
+            RunContext                 &context,
+            const DesignConstraint *) {
+           GradientCheckParameters check;
+           check.parse(prm);
+           if (parameters.dim == 2)
+             verify_gradient_job<2>(parameters, check, context);
+           else
+             verify_gradient_job<3>(parameters, check, context);
+           return std::vector<double>();
+         }},
+        {"optimize",
+         [](const ElasticityParameters &parameters,
+            dealii::ParameterHandler   &prm,
+            RunContext                 &context,
+            const DesignConstraint     *constraint) {
+           OptimizationParameters settings;
+           settings.parse(prm);
+           if (parameters.dim == 2)
+             return optimize_job<2>(parameters, settings, context, constraint);
+           AssertThrow(!constraint,
+                       dealii::ExcMessage("design constraints are for 2D "
+                                          "optimizations only"));
+           return optimize_job<3>(parameters, settings, context, nullptr);
+         }}};
+      return list;
+    }
+  } // namespace
+
+
+
   std::vector<double>
   run_elasticity_job(const std::string          &mode,
                      const ElasticityParameters &parameters,
@@ -627,33 +683,28 @@ namespace forma
                      RunContext                 &context,
                      const DesignConstraint     *constraint)
   {
-    AssertThrow(!constraint || (mode == "optimize" && parameters.dim == 2),
-                dealii::ExcMessage("design constraints are for 2D "
-                                   "optimizations only"));
-    if (mode == "simulate")
-      {
-        if (parameters.dim == 2)
-          simulate_job<2>(parameters, context);
-        else
-          simulate_job<3>(parameters, context);
-        return {};
-      }
-    if (mode == "optimize")
-      {
-        OptimizationParameters settings;
-        settings.parse(prm);
-        if (parameters.dim == 2)
-          return optimize_job<2>(parameters, settings, context, constraint);
-        return optimize_job<3>(parameters, settings, context, nullptr);
-      }
-    AssertThrow(mode == "verify gradient",
-                dealii::ExcMessage("unknown Mode '" + mode + "'."));
-    GradientCheckParameters check;
-    check.parse(prm);
-    if (parameters.dim == 2)
-      verify_gradient_job<2>(parameters, check, context);
-    else
-      verify_gradient_job<3>(parameters, check, context);
+    for (const auto &[name, job] : jobs())
+      if (name == mode)
+        return job(parameters, prm, context, constraint);
+    AssertThrow(false, dealii::ExcMessage("unknown Mode '" + mode + "'."));
     return {};
+  }
+
+
+
+  std::vector<ApplicationMode>
+  elasticity_modes(
+    const std::function<ElasticityParameters(dealii::ParameterHandler &,
+                                             const std::string &)> &parse)
+  {
+    std::vector<ApplicationMode> modes;
+    for (const auto &[name, job] : jobs())
+      modes.push_back({name,
+                       [parse, job = job](dealii::ParameterHandler &prm,
+                                          const std::string        &dir,
+                                          RunContext               &context) {
+                         job(parse(prm, dir), prm, context, nullptr);
+                       }});
+    return modes;
   }
 } // namespace forma

@@ -1,3 +1,4 @@
+#include <forma/adjoint/form.h>
 #include <forma/elasticity/parameters.h>
 
 namespace forma
@@ -109,6 +110,16 @@ namespace forma
                       Patterns::Anything(),
                       "Body force per reference volume, dim expressions in x, "
                       "y, (z,) t. Empty: none.");
+    prm.declare_entry(
+      "Additional forms",
+      "",
+      Patterns::Anything(),
+      "Further force terms of the problem, registered by name by the library "
+      "or an application: records 'name : key=value, ...' separated by ';'." +
+        std::string(FormRegistry<2>::instance().entries().empty() ?
+                      " None is registered." :
+                      " Registered:\n" +
+                        FormRegistry<2>::instance().documentation()));
     prm.leave_subsection();
 
     prm.enter_subsection("Time");
@@ -230,8 +241,9 @@ namespace forma
     prm.leave_subsection();
 
     prm.enter_subsection("Loads");
-    gravity    = prm.get("Gravity");
-    body_force = prm.get("Body force");
+    gravity          = prm.get("Gravity");
+    body_force       = prm.get("Body force");
+    additional_forms = prm.get("Additional forms");
     prm.leave_subsection();
 
     prm.enter_subsection("Time");

@@ -159,6 +159,7 @@ namespace forma
         forms.push_back(
           std::make_unique<SurfaceLoadForm<dim>>(t, pr, *load_scales));
       }
+    add_registered_forms();
     if (!p.contact.rigid.empty() || !p.contact.deformable.empty())
       forms.push_back(
         std::make_unique<PenaltyContactForm<dim>>(contact, mapping));
@@ -549,6 +550,31 @@ namespace forma
     return elastic_form->material({cell->active_cell_index(),
                                    cell->material_id(),
                                    numbers::invalid_boundary_id});
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::add_registered_forms()
+  {
+    const std::string entry    = "Loads/Additional forms";
+    const auto       &registry = FormRegistry<dim>::instance();
+    for (const auto &text : split_top_level(p.additional_forms, ';'))
+      {
+        if (Utilities::trim(text).empty())
+          continue;
+        const auto      colon = text.find(':');
+        FormRecord<dim> r;
+        r.name  = Utilities::trim(text.substr(0, colon));
+        r.where = entry + ", form '" + r.name + "'";
+        r.keys  = parse_key_values(
+          colon == std::string::npos ? "" : text.substr(colon + 1), entry);
+        r.physical  = &physical;
+        r.bodies    = &bodies;
+        r.transient = p.problem == "transient";
+        forms.push_back(registry.get(r.name, entry).create(r));
+      }
   }
 
 

@@ -197,6 +197,9 @@ namespace forma
     /// Build the forms of the problem (once: they refer to members).
     void
     setup_forms();
+    /// The forms of Loads/Additional forms, from the registry.
+    void
+    add_registered_forms();
     /// The state fields the forms read (Form::Needs).
     unsigned int
     form_needs() const;

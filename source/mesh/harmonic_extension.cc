@@ -47,6 +47,24 @@ namespace forma
                                     Utilities::MPI::this_mpi_process(comm));
     sp.compress();
     matrix.reinit(sp);
+    for_each_cell_laplacian(
+      [&](const FullMatrix<double>                   &K,
+          const std::vector<types::global_dof_index> &dofs) {
+        boundary_constraints.distribute_local_to_global(K, dofs, matrix);
+      });
+    matrix.compress(VectorOperation::add);
+    ready = true;
+  }
+
+
+
+  template <int dim>
+  void
+  HarmonicExtension<dim>::for_each_cell_laplacian(
+    const std::function<void(const FullMatrix<double> &,
+                             const std::vector<types::global_dof_index> &)> &f)
+    const
+  {
     const auto           &fe = dof_handler.get_fe();
     const Quadrature<dim> q  = dof_handler.get_triangulation()
                                 .get_reference_cells()[0]
@@ -68,10 +86,8 @@ namespace forma
                   K(a, b) +=
                     fv.shape_grad(a, k) * fv.shape_grad(b, k) * fv.JxW(k);
           cell->get_dof_indices(dofs);
-          boundary_constraints.distribute_local_to_global(K, dofs, matrix);
+          f(K, dofs);
         }
-    matrix.compress(VectorOperation::add);
-    ready = true;
   }
 
 
@@ -83,30 +99,18 @@ namespace forma
   {
     Vector x_ghost(owned, relevant, comm);
     x_ghost = x;
-    Vector                result(owned, comm);
-    const auto           &fe = dof_handler.get_fe();
-    const Quadrature<dim> q  = dof_handler.get_triangulation()
-                                .get_reference_cells()[0]
-                                .template get_gauss_type_quadrature<dim>(2);
-    FEValues<dim>      fv(mapping, fe, q, update_gradients | update_JxW_values);
-    const unsigned int n = fe.n_dofs_per_cell();
-    dealii::Vector<double>               local(n);
-    std::vector<types::global_dof_index> dofs(n);
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
-        {
-          fv.reinit(cell);
-          cell->get_dof_indices(dofs);
-          local = 0;
-          for (unsigned int a = 0; a < n; ++a)
-            for (unsigned int b = 0; b < n; ++b)
-              if (fe.system_to_component_index(a).first ==
-                  fe.system_to_component_index(b).first)
-                for (unsigned int k = 0; k < q.size(); ++k)
-                  local(a) += fv.shape_grad(a, k) * fv.shape_grad(b, k) *
-                              fv.JxW(k) * x_ghost(dofs[b]);
-          c.distribute_local_to_global(local, dofs, result);
-        }
+    Vector                 result(owned, comm);
+    dealii::Vector<double> x_local, local;
+    for_each_cell_laplacian(
+      [&](const FullMatrix<double>                   &K,
+          const std::vector<types::global_dof_index> &dofs) {
+        x_local.reinit(dofs.size());
+        local.reinit(dofs.size());
+        for (unsigned int b = 0; b < dofs.size(); ++b)
+          x_local(b) = x_ghost(dofs[b]);
+        K.vmult(local, x_local);
+        c.distribute_local_to_global(local, dofs, result);
+      });
     result.compress(VectorOperation::add);
     return result;
   }

@@ -5,6 +5,10 @@
 #include <deal.II/base/tensor.h>
 #include <deal.II/base/types.h>
 
+#include <forma/adjoint/registry.h>
+#include <forma/physics/material.h>
+
+#include <map>
 #include <string>
 #include <vector>
 
@@ -318,6 +322,47 @@ namespace forma
     {}
     //@}
   };
+
+  /**
+   * A record of Loads/Additional forms (`name : key=value, ...`) as a
+   * form's factory reads it, with the simulation it joins: a form may add
+   * physical parameters of its own to `physical` for a parameterization to
+   * set.
+   */
+  template <int dim>
+  struct FormRecord : KeyValueRecord
+  {
+    PhysicalParameters                                             *physical;
+    const std::map<dealii::types::material_id, MaterialProperties> *bodies;
+    bool transient = false;
+  };
+
+  /// Forms by name: Loads/Additional forms lists them.
+  template <int dim>
+  using FormRegistry = Registry<Form<dim>, const FormRecord<dim> &>;
+  extern template class Registry<Form<2>, const FormRecord<2> &>;
+  extern template class Registry<Form<3>, const FormRecord<3> &>;
 } // namespace forma
+
+/**
+ * Register a form: `factory` is a function template `template <int dim>
+ * std::unique_ptr<Form<dim>> factory(const FormRecord<dim> &)`.
+ */
+#define FORMA_REGISTER_FORM(factory, name, documentation)     \
+  namespace                                                   \
+  {                                                           \
+    struct FORMA_CONCAT(FormRegistration, __LINE__)           \
+    {                                                         \
+      FORMA_CONCAT(FormRegistration, __LINE__)()              \
+      {                                                       \
+        forma::FormRegistry<2>::instance().add(name,          \
+                                               documentation, \
+                                               &factory<2>);  \
+        forma::FormRegistry<3>::instance().add(name,          \
+                                               documentation, \
+                                               &factory<3>);  \
+      }                                                       \
+    } const FORMA_CONCAT(form_registration_, __LINE__);       \
+  }
 
 #endif

@@ -6,12 +6,21 @@
 #include <deal.II/base/tensor.h>
 #include <deal.II/base/types.h>
 
+#include <forma/adjoint/registry.h>
 #include <forma/physics/material.h>
 
+#include <limits>
+#include <map>
 #include <memory>
 #include <set>
 #include <string>
 #include <vector>
+
+namespace dealii
+{
+  template <int dim>
+  class FunctionParser;
+}
 
 namespace forma
 {
@@ -91,6 +100,13 @@ namespace forma
       return false;
     }
 
+    /// Whether restrict_to_material() applies (the `material` key).
+    virtual bool
+    restrictable() const
+    {
+      return false;
+    }
+
     /// Integrate only over cells of material `id` (volume terms; others
     /// reject it in the parser).
     virtual void
@@ -141,6 +157,25 @@ namespace forma
     const std::string name;
     const double      weight;
   };
+
+  /**
+   * One record of Objective/Terms, `name : key=value, ...`, as a term's
+   * factory reads it.
+   */
+  template <int dim>
+  struct TermRecord : KeyValueRecord
+  {
+    double weight = 1;
+    /// Objective/Target (null: the reference run's states).
+    std::shared_ptr<dealii::FunctionParser<dim>> target;
+  };
+
+  /// Objective terms by name: `Objective/Terms` lists them.
+  template <int dim>
+  using ObjectiveTermRegistry =
+    Registry<ObjectiveTerm<dim>, const TermRecord<dim> &>;
+  extern template class Registry<ObjectiveTerm<2>, const TermRecord<2> &>;
+  extern template class Registry<ObjectiveTerm<3>, const TermRecord<3> &>;
 
   /// The `Objective` section (see Objective).
   struct ObjectiveParameters
@@ -197,5 +232,31 @@ namespace forma
     std::vector<std::unique_ptr<ObjectiveTerm<dim>>> term_list;
   };
 } // namespace forma
+
+/**
+ * Register objective terms: `factory` is a function template
+ * `template <int dim> std::unique_ptr<ObjectiveTerm<dim>>
+ * factory(const TermRecord<dim> &)`, `name` the term's name in
+ * Objective/Terms, `documentation` its keys and meaning, `rank` its place in
+ * the documentation.
+ */
+#define FORMA_REGISTER_OBJECTIVE_TERM(factory, name, documentation, rank) \
+  namespace                                                               \
+  {                                                                       \
+    struct FORMA_CONCAT(ObjectiveTermRegistration, __LINE__)              \
+    {                                                                     \
+      FORMA_CONCAT(ObjectiveTermRegistration, __LINE__)()                 \
+      {                                                                   \
+        forma::ObjectiveTermRegistry<2>::instance().add(name,             \
+                                                        documentation,    \
+                                                        &factory<2>,      \
+                                                        rank);            \
+        forma::ObjectiveTermRegistry<3>::instance().add(name,             \
+                                                        documentation,    \
+                                                        &factory<3>,      \
+                                                        rank);            \
+      }                                                                   \
+    } const FORMA_CONCAT(objective_term_registration_, __LINE__);         \
+  }
 
 #endif

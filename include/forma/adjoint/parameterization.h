@@ -112,11 +112,22 @@ namespace forma
     {
       return true;
     }
+
+  protected:
+    /// scales(): the magnitude of the start (1 where it is zero).
+    void
+    magnitude_scales(const double *q0, double *scale) const;
+
+    /// bounds(): at least zero, no upper bound.
+    void
+    nonnegative_bounds(double *lower, double *upper) const;
   };
 
   template <int dim>
   using ParameterizationRegistry =
     Registry<Parameterization<dim>, const DesignContext<dim> &>;
+  extern template class Registry<Parameterization<2>, const DesignContext<2> &>;
+  extern template class Registry<Parameterization<3>, const DesignContext<3> &>;
 
   /// Names and documentation of the registered parameterizations (the same
   /// for 2D and 3D).

@@ -5,13 +5,38 @@
 
 #include <algorithm>
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
 namespace forma
 {
+  /**
+   * A record `name : key=value, ...` of a parameter file as a plugin's
+   * factory reads it: numbers by key, with messages that name the record.
+   */
+  struct KeyValueRecord
+  {
+    std::string                   name;
+    std::string                   where; ///< the record, for messages
+    std::map<std::string, double> keys;
+
+    /// The value of `key`; NaN `fallback`: the key is required.
+    double
+    key(const std::string &key,
+        const double fallback = std::numeric_limits<double>::quiet_NaN()) const;
+
+    /// The value of `key` as an id (an integer in [0, 255)).
+    unsigned int
+    id(const std::string &key) const;
+
+    /// The keys key() and id() have read.
+    mutable std::set<std::string> read;
+  };
+
   /**
    * Named factories of one kind of pluggable piece (parameterizations,
    * objective terms, forms, ...), as ASPECT's plugin lists: every piece
@@ -36,12 +61,10 @@ namespace forma
       int         rank;
     };
 
+    /// The one list (defined in the library, so that applications and
+    /// shared libraries add to the same one).
     static Registry &
-    instance()
-    {
-      static Registry registry;
-      return registry;
-    }
+    instance();
 
     void
     add(const std::string &name,
@@ -114,6 +137,17 @@ namespace forma
     Registry() = default;
     std::map<std::string, Entry> entries_by_name;
   };
+
+  template <typename Product, typename... Arguments>
+  Registry<Product, Arguments...> &
+  Registry<Product, Arguments...>::instance()
+  {
+    static Registry registry;
+    return registry;
+  }
 } // namespace forma
+
+#define FORMA_CONCAT_(a, b) a##b
+#define FORMA_CONCAT(a, b) FORMA_CONCAT_(a, b)
 
 #endif

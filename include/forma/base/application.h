@@ -12,24 +12,31 @@
 
 namespace forma
 {
+  /// One job of an application (a value of `Mode`) and how to run it;
+  /// `prm_directory` resolves relative file names.
+  struct ApplicationMode
+  {
+    std::string name;
+    std::function<void(dealii::ParameterHandler &,
+                       const std::string &prm_directory,
+                       RunContext &)>
+      run;
+  };
+
   /**
    * What a forma application tells the shared driver: its name, a short
-   * description, its jobs (`Mode`), how to declare its parameters, and how to
-   * run one job. The driver handles the command line (`--help`,
+   * description, its jobs (`Mode`, the first is the default) and how to
+   * declare its parameters. The driver handles the command line (`--help`,
    * `--print-parameters`, `FILE.prm`), MPI, parameter parsing, the output
    * directory, summary.json and every error path, so all apps behave alike.
+   * The list of modes is the only one: `Mode`'s pattern comes from it.
    */
   struct ApplicationDescription
   {
     std::string                                     name;
     std::string                                     description;
-    std::vector<std::string>                        modes;
+    std::vector<ApplicationMode>                    modes;
     std::function<void(dealii::ParameterHandler &)> declare_parameters;
-    /// Runs the job; `prm_directory` resolves relative file names.
-    std::function<void(dealii::ParameterHandler &,
-                       const std::string &prm_directory,
-                       RunContext &)>
-      run;
   };
 
   int

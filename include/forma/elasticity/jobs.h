@@ -4,6 +4,9 @@
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/point.h>
 
+#include <forma/base/application.h>
+#include <forma/elasticity/parameters.h>
+
 #include <functional>
 #include <string>
 #include <vector>
@@ -11,7 +14,6 @@
 namespace forma
 {
   class RunContext;
-  struct ElasticityParameters;
   struct DesignLayout;
 
   /**
@@ -48,6 +50,14 @@ namespace forma
                      dealii::ParameterHandler   &prm,
                      RunContext                 &context,
                      const DesignConstraint     *constraint = nullptr);
+
+  /// The jobs as the modes of an application; `parse` reads the problem
+  /// (ElasticityParameters with the app's contact sections).
+  std::vector<ApplicationMode>
+  elasticity_modes(
+    const std::function<ElasticityParameters(dealii::ParameterHandler &,
+                                             const std::string &prm_directory)>
+      &parse);
 
   /// Declare the sections run_elasticity_job() reads besides
   /// ElasticityParameters (gradient check, optimization).

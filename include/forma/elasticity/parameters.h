@@ -46,6 +46,7 @@ namespace forma
     std::string pressure;
     std::string gravity;
     std::string body_force;
+    std::string additional_forms; ///< records 'name : key=value'
     std::string constants;
 
     // Time

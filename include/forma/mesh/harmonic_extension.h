@@ -4,10 +4,14 @@
 #include <deal.II/base/index_set.h>
 #include <deal.II/base/mpi.h>
 #include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/trilinos_vector.h>
 
 #include <forma/solvers/linear_solver.h>
+
+#include <functional>
+#include <vector>
 
 namespace dealii
 {
@@ -58,6 +62,13 @@ namespace forma
   private:
     void
     setup();
+
+    /// f(cell Laplacian, its DoFs) for every locally owned cell.
+    void
+    for_each_cell_laplacian(
+      const std::function<
+        void(const dealii::FullMatrix<double> &,
+             const std::vector<dealii::types::global_dof_index> &)> &f) const;
 
     /// The Laplacian times x, condensed with `c`.
     Vector
