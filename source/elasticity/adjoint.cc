@@ -281,6 +281,48 @@ namespace forma
 
   template <int dim>
   void
+  ElasticitySimulator<dim>::Impl::add_transport_products(
+    const FEValuesBase<dim> &fv,
+    const FEValuesBase<dim> &sv,
+    const PointAdjoint<dim> &adj,
+    Scratch<dim>            &s,
+    dealii::Vector<double>  &local_shape) const
+  {
+    // p^T dh/dx theta of the point terms transported with the domain
+    // (eq. 3.24): the forms' integrands are functions of grad u, grad u^{i-1}
+    // and u at material points, so only grad u, grad u^{i-1} and JxW move.
+    PointTerms<dim> &t = s.terms;
+    reset_terms(t, fv.n_quadrature_points, true, true, false);
+    for (const auto &f : forms)
+      if (form_active(*f) && f->has_cell_terms())
+        f->cell_terms(s.states, t);
+    for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
+      {
+        const Tensor<2, dim> &G     = adj.G[q];
+        const Tensor<2, dim>  H     = contract_left(G, t.flux_tangent[q]);
+        const Tensor<2, dim>  H_old = transient ?
+                                        contract_left(G, t.flux_tangent_old[q]) :
+                                        Tensor<2, dim>();
+        Tensor<2, dim>        V     = transport_kernel(H, s.states.grad_u[q]) +
+                           transport_kernel(H_old, s.states.grad_u_old[q]) -
+                           transpose(G) * t.flux[q];
+        const double div_term =
+          scalar_product(t.flux[q], G) + t.source[q] * adj.p[q];
+        for (unsigned int d = 0; d < dim; ++d)
+          V[d][d] += div_term;
+        for (unsigned int a = 0; a < local_shape.size(); ++a)
+          local_shape(a) +=
+            row_dot(V,
+                    shape_fe->system_to_component_index(a).first,
+                    sv.shape_grad(a, q)) *
+            fv.JxW(q);
+      }
+  }
+
+
+
+  template <int dim>
+  void
   ElasticitySimulator<dim>::Impl::accumulate(
     const Objective<dim>                   &J,
     const std::vector<std::vector<double>> *weights,
@@ -505,34 +547,8 @@ namespace forma
         if (adjoint)
           {
             adjoint_at(fv);
-            PointTerms<dim> &t = s.terms;
-            reset_terms(t, nq, true, true, false);
-            for (const auto &f : forms)
-              if (form_active(*f) && f->has_cell_terms())
-                f->cell_terms(s.states, t);
             if (want_shape)
-              for (unsigned int q = 0; q < nq; ++q)
-                {
-                  const Tensor<2, dim> &G = adj.G[q];
-                  const Tensor<2, dim>  H = contract_left(G, t.flux_tangent[q]);
-                  const Tensor<2, dim>  H_old =
-                    transient ? contract_left(G, t.flux_tangent_old[q]) :
-                                 Tensor<2, dim>();
-                  Tensor<2, dim> V =
-                    transport_kernel(H, s.states.grad_u[q]) +
-                    transport_kernel(H_old, s.states.grad_u_old[q]) -
-                    transpose(G) * t.flux[q];
-                  const double div_term =
-                    scalar_product(t.flux[q], G) + t.source[q] * adj.p[q];
-                  for (unsigned int d = 0; d < dim; ++d)
-                    V[d][d] += div_term;
-                  for (unsigned int a = 0; a < ns; ++a)
-                    local_shape(a) +=
-                      row_dot(V,
-                              shape_fe->system_to_component_index(a).first,
-                              sv->shape_grad(a, q)) *
-                      fv.JxW(q);
-                }
+              add_transport_products(fv, *sv, adj, s, local_shape);
             for (const auto &f : forms)
               if (form_active(*f) && f->has_cell_terms())
                 f->cell_products(s.states, adj, physical);

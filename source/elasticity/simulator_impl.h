@@ -283,6 +283,15 @@ namespace forma
                const std::vector<std::vector<double>> *weights,
                const Vector_t                         *adjoint,
                Vector_t                               *dJ_du);
+    /// Add the shape products p^T dh/dx theta of the forms' point terms at
+    /// a cell (the transport of eq. 3.24) to `local_shape`; `s.states`
+    /// holds the cell's state, `sv` the shape field's values.
+    void
+    add_transport_products(const FEValuesBase<dim> &fv,
+                           const FEValuesBase<dim> &sv,
+                           const PointAdjoint<dim> &adj,
+                           Scratch<dim>            &s,
+                           dealii::Vector<double>  &local_shape) const;
     /// The forms' global products (contact) with adjoint `lambda`; lagged
     /// terms go to `lagged` (transient) when given.
     void
