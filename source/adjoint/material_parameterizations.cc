@@ -232,6 +232,12 @@ namespace forma
         return true;
       }
 
+      DesignBlock::Summary
+      summary() const override
+      {
+        return DesignBlock::Summary::max_change;
+      }
+
     private:
       unsigned int
       slot(const typename Triangulation<dim>::active_cell_iterator &cell)

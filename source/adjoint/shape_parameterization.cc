@@ -21,7 +21,7 @@ namespace forma
       explicit ShapeParameterization(const DesignContext<dim> &c)
         : shape(*c.physical.template find<ShapeField<dim>>())
         , extension(c.extension)
-        , start(c.shape_start)
+        , start(c.shape_start())
       {
         shape.wanted = true;
       }
@@ -82,6 +82,12 @@ namespace forma
       restarts_on_remesh() const override
       {
         return true;
+      }
+
+      DesignBlock::Summary
+      summary() const override
+      {
+        return DesignBlock::Summary::vertex_offset;
       }
 
       bool

@@ -43,8 +43,6 @@ namespace forma
           problem_friction = ipc_contact->friction_values();
         friction->value = ipc_contact->friction_values();
       }
-    const std::vector<double> start =
-      p.design.has("shape") ? shape_start() : std::vector<double>();
     const DesignContext<dim> context{p.design,
                                      physical,
                                      *tria,
@@ -53,7 +51,7 @@ namespace forma
                                      bodies,
                                      design_bodies,
                                      extension.get(),
-                                     start};
+                                     [this]() { return shape_start(); }};
 
     // Blocks in the registry's order; the starting design is the problem
     // as given (the mesh moved by the shape perturbation, the materials of
@@ -67,7 +65,11 @@ namespace forma
         {
           auto               block = entry->create(context);
           const unsigned int size  = block->size();
-          layout.blocks.push_back({entry->name, layout.size(), size});
+          layout.blocks.push_back({entry->name,
+                                   layout.size(),
+                                   size,
+                                   block->lives_on_mesh(),
+                                   block->summary()});
           const auto q0 = block->initial();
           design.insert(design.end(), q0.begin(), q0.end());
           parameterizations.push_back(std::move(block));
@@ -261,18 +263,6 @@ namespace forma
       }
   }
 
-  template void
-  ElasticitySimulator<2>::Impl::build_design_layout();
-  template void
-  ElasticitySimulator<3>::Impl::build_design_layout();
-  template void
-  ElasticitySimulator<2>::Impl::apply_design(const std::vector<double> &);
-  template void
-  ElasticitySimulator<3>::Impl::apply_design(const std::vector<double> &);
-  template void
-  ElasticitySimulator<2>::Impl::chain_to_design(std::vector<double> &) const;
-  template void
-  ElasticitySimulator<3>::Impl::chain_to_design(std::vector<double> &) const;
   template const DesignLayout &
   ElasticitySimulator<2>::design_layout() const;
   template const DesignLayout &
@@ -299,4 +289,6 @@ namespace forma
                                         const double,
                                         std::vector<double> &,
                                         std::vector<double> &) const;
+  template class ElasticitySimulator<2>::Impl;
+  template class ElasticitySimulator<3>::Impl;
 } // namespace forma

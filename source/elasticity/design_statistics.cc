@@ -196,4 +196,6 @@ namespace forma
   ElasticitySimulator<2>::adjoint_statistics() const;
   template nlohmann::json
   ElasticitySimulator<3>::adjoint_statistics() const;
+  template class ElasticitySimulator<2>::Impl;
+  template class ElasticitySimulator<3>::Impl;
 } // namespace forma

@@ -128,20 +128,21 @@ namespace
                   const double               shape_offset,
                   nlohmann::json            &json)
   {
+    using Summary = forma::DesignBlock::Summary;
     std::string text;
     for (const auto &b : layout.blocks)
       {
-        if (b.name == "shape" || b.name == "cell material")
+        if (b.summary != Summary::values)
           {
             // Shape: largest vertex move from the mesh as read (of the
             // shape the simulator holds); cell materials: largest change.
-            double m = b.name == "shape" ? shape_offset : 0.;
-            if (b.name != "shape")
+            const bool shape = b.summary == Summary::vertex_offset;
+            double     m     = shape ? shape_offset : 0.;
+            if (!shape)
               for (unsigned int i = b.offset; i < b.offset + b.size; ++i)
                 m = std::max(m, std::abs(q[i] - q0[i]));
-            const std::string what     = b.name == "shape" ?
-                                           "max vertex offset from the mesh" :
-                                           "max change";
+            const std::string what =
+              shape ? "max vertex offset from the mesh" : "max change";
             json[b.name + ": " + what] = m;
             text += (text.empty() ? "" : "; ") + b.name + ": " + what + " " +
                     significant(m, 3);
@@ -209,8 +210,7 @@ namespace
       }
     if (settings.remesh_quality > 0 || settings.element_removal > 0)
       for (const auto &b : layout.blocks)
-        AssertThrow(b.name != "cell material" &&
-                      b.name.find("field") == std::string::npos,
+        AssertThrow(!b.on_mesh,
                     dealii::ExcMessage(
                       std::string(settings.remesh_quality > 0 ?
                                     "Optimization/Remesh quality" :

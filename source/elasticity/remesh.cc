@@ -580,4 +580,6 @@ namespace forma
   FORMA_INSTANTIATE(2)
   FORMA_INSTANTIATE(3)
 #undef FORMA_INSTANTIATE
+  template class ElasticitySimulator<2>::Impl;
+  template class ElasticitySimulator<3>::Impl;
 } // namespace forma

@@ -229,8 +229,41 @@ namespace forma
     // solving
     bool
     assemble(const Vector_t &u_owned, const bool with_matrix, Vector_t *raw);
+    /// One cell's residual (and Jacobian, energy) from the forms' point
+    /// terms, its loaded boundary faces included.
+    void
+    assemble_cell(const typename DoFHandler<dim>::active_cell_iterator &cell,
+                  Scratch<dim>                                         &s,
+                  CopyData                                             &c,
+                  const bool with_matrix,
+                  const bool energy) const;
+    /// Contract the point terms in `s.terms` with the shape functions.
+    static void
+    contract_cell_terms(const FEValues<dim> &fv,
+                        Scratch<dim>        &s,
+                        CopyData            &c,
+                        const bool           with_matrix);
+    void
+    assemble_faces(const typename DoFHandler<dim>::active_cell_iterator &cell,
+                   Scratch<dim>                                         &s,
+                   CopyData                                             &c,
+                   const bool with_matrix,
+                   const bool energy) const;
     std::pair<unsigned int, unsigned int>
     newton(const double time, const std::string &where);
+    /// The Dirichlet values of time t on u; with IPC, checks that they do
+    /// not carry a boundary into contact, and updates the candidates.
+    void
+    apply_prescribed_motion(const double t, const std::string &where);
+    /// Backtracking line search from u along du, starting at `max_step`:
+    /// the potential energy's Armijo condition where the forms have one,
+    /// else the residual norm's decrease. On success u moves, `norm` is its
+    /// residual norm and the step is returned; 0 if none is accepted.
+    double
+    line_search(const Vector_t &du,
+                const double    max_step,
+                const double    tolerance,
+                double         &norm);
     /// Component (0..dim-1) of every locally owned DoF.
     std::vector<unsigned int>
     owned_components() const;
@@ -275,6 +308,8 @@ namespace forma
     objective_integrals(const Objective<dim> &J, const unsigned int i);
     double
     objective_value(const Objective<dim> &J);
+    /// One pass over the cells for an objective (objective_pass.cc).
+    class ObjectivePass;
     /// Objective integrals (no outputs), dJ/du and dJ/dm (`weights`,
     /// `dJ_du`) or the forms' point-term products p^T dh/dm (`adjoint`)
     /// at the current step state; products go to `physical`.

@@ -67,6 +67,17 @@ namespace forma
     std::string  name;
     unsigned int offset;
     unsigned int size;
+    /// Whether the block lives on the mesh (per cell, per DoF): it cannot
+    /// be carried over a remesh.
+    bool on_mesh = false;
+    /// How reports summarize the block's values.
+    enum class Summary
+    {
+      values,       ///< the values (max |value| for long blocks)
+      max_change,   ///< the largest change from the start
+      vertex_offset ///< the largest vertex move from the mesh as read
+    };
+    Summary summary = Summary::values;
   };
 
   /// Layout of a design vector: its blocks in order. Every rank holds the

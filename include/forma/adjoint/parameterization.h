@@ -8,6 +8,7 @@
 #include <forma/adjoint/registry.h>
 #include <forma/physics/material.h>
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -42,7 +43,7 @@ namespace forma
     /// Interior moves by harmonic extension (boundary shapes), or null.
     HarmonicExtension<dim> *extension;
     /// The starting shape design (Design/Shape perturbation), per shape DoF.
-    const std::vector<double> &shape_start;
+    std::function<std::vector<double>()> shape_start;
   };
 
   /**
@@ -96,6 +97,13 @@ namespace forma
     lives_on_mesh() const
     {
       return false;
+    }
+
+    /// How reports summarize the block.
+    virtual DesignBlock::Summary
+    summary() const
+    {
+      return DesignBlock::Summary::values;
     }
 
     /// Shape blocks start at zero on a new mesh (its vertices are the
