@@ -5,10 +5,14 @@
 #include <forma/base/application.h>
 #include <forma/base/parameter_override.h>
 
+#include <dlfcn.h>
+
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <regex>
 #include <sstream>
 
 namespace forma
@@ -48,6 +52,15 @@ namespace forma
                         dealii::Patterns::Integer(2, 3),
                         "Space dimension of the problem (2 or 3).");
       prm.declare_entry(
+        "Additional shared libraries",
+        "",
+        dealii::Patterns::Anything(),
+        "Shared libraries (comma-separated, relative to the parameter file) "
+        "loaded before the parameters are read: plugins that register forms, "
+        "parameterizations or objective terms (FORMA_REGISTER_FORM, "
+        "FORMA_REGISTER_PARAMETERIZATION, FORMA_REGISTER_OBJECTIVE_TERM), "
+        "whose names the parameters may then use.");
+      prm.declare_entry(
         "Output directory",
         "output",
         dealii::Patterns::DirectoryName(),
@@ -62,6 +75,41 @@ namespace forma
                         dealii::Patterns::Selection(selection),
                         "The job to run.");
       app.declare_parameters(prm);
+    }
+
+
+
+    /**
+     * Load the plugins of `set Additional shared libraries = ...` in the
+     * parameter file (top level), before any parameter is declared: the
+     * parameters' lists of names come from what they register.
+     */
+    void
+    load_shared_libraries(const std::string &file)
+    {
+      const std::regex entry(
+        R"(^\s*set\s+Additional shared libraries\s*=\s*([^#]*?)\s*(#.*)?$)");
+      std::ifstream in(file);
+      std::string   line;
+      auto          directory = std::filesystem::path(file).parent_path();
+      if (directory.empty())
+        directory = "."; // a bare name would be searched on the library path
+      while (std::getline(in, line))
+        {
+          std::smatch m;
+          if (!std::regex_match(line, m, entry))
+            continue;
+          for (const auto &name : dealii::Utilities::split_string_list(m[1]))
+            {
+              const auto path = std::filesystem::path(name).is_absolute() ?
+                                  std::filesystem::path(name) :
+                                  directory / name;
+              AssertThrow(dlopen(path.c_str(), RTLD_NOW) != nullptr,
+                          dealii::ExcMessage(
+                            "Additional shared libraries: cannot load '" +
+                            name + "' (" + std::string(dlerror()) + ")."));
+            }
+        }
     }
 
 
@@ -106,8 +154,6 @@ namespace forma
     };
 
     dealii::ParameterHandler prm;
-    declare_common(prm, app);
-
     if (argc < 2 || argc % 2 != 0)
       {
         if (root)
@@ -123,6 +169,7 @@ namespace forma
       }
     if (arg == "--print-parameters")
       {
+        declare_common(prm, app);
         if (root)
           prm.print_parameters(std::cout,
                                dealii::ParameterHandler::KeepDeclarationOrder |
@@ -133,6 +180,16 @@ namespace forma
     if (!std::filesystem::exists(arg))
       {
         report("parameter file '" + arg + "' does not exist.");
+        return 1;
+      }
+    try
+      {
+        load_shared_libraries(arg);
+        declare_common(prm, app);
+      }
+    catch (const std::exception &exc)
+      {
+        report(error_message(exc));
         return 1;
       }
     try

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Install forma into a scratch prefix, build doc/examples/my_app against it
 # with find_package(forma), and run it: a simulation, Taylor tests of its own
-# form, parameterization and objective term in 2D and 3D, and a short
-# optimization with them.
+# form, parameterization and objective term in 2D and 3D, the same loaded as
+# a plugin by the installed forma-transient-ipc, and a short optimization.
 set -euo pipefail
 src=$1; build=$2; work=$3
 rm -rf "$work"; mkdir -p "$work"
@@ -64,6 +64,13 @@ for dim in 2 3; do
   grep -q '"passed": true' gradient_$dim/summary.json
   grep "min rate" gradient_$dim.log
 done
+# The same pieces as a plugin of the installed forma-transient-ipc.
+{ echo "set Additional shared libraries = build/libmy_plugin.so"
+  problem 2 "verify gradient" plugin; } > plugin.prm
+lib=$(dirname "$(find prefix -name 'libforma.so' | head -n 1)")
+LD_LIBRARY_PATH="$work/$lib" ./prefix/bin/forma-transient-ipc plugin.prm > plugin.log
+grep -q '"passed": true' plugin/summary.json
+grep "min rate" plugin.log
 problem 2 optimize optimize > optimize.prm
 ./build/my_app optimize.prm > optimize.log
 python3 - <<'EOPY'

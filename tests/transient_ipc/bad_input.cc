@@ -162,6 +162,13 @@ main()
                    "subsection Design\n set Parameters = material\n"
                    " set Start = damping : 1, 2\nend\n",
                  good);
+  expect_failure("missing_plugin",
+                 "set Additional shared libraries = missing_plugin.so\n" + base,
+                 good);
+  expect_failure("unknown_form",
+                 base + "subsection Loads\n set Additional forms = magnetic "
+                        "field : B=1\nend\n",
+                 good);
   dealii::deallog << "failed run recorded in failed-run/summary.json: "
                   << (read_file("results/failed-run/summary.json")
                             .find("\"status\": \"failed\"") !=

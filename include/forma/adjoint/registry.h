@@ -92,8 +92,11 @@ namespace forma
     {
       const auto it = entries_by_name.find(name);
       AssertThrow(it != entries_by_name.end(),
-                  dealii::ExcMessage(what + ": unknown '" + name +
-                                     "' (known: " + names(", ") + ")."));
+                  dealii::ExcMessage(what + ": unknown '" + name + "' (" +
+                                     (entries_by_name.empty() ?
+                                        std::string("none is registered") :
+                                        "known: " + names(", ")) +
+                                     ")."));
       return it->second;
     }
 
