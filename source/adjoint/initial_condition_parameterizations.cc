@@ -79,7 +79,7 @@ namespace forma
         const auto  &c = this->initial_conditions->component;
         unsigned int k = 0;
         for (const auto i : x.locally_owned_elements())
-          x(i) += q[c[k++]];
+          x(i) = x(i) + q[c[k++]];
         x.compress(VectorOperation::insert);
       }
 
@@ -128,7 +128,7 @@ namespace forma
       {
         Vector &x = this->offset();
         for_each_entry([&](const types::global_dof_index i, const unsigned e) {
-          x(i) += q[e];
+          x(i) = x(i) + q[e];
         });
         x.compress(VectorOperation::insert);
       }
@@ -192,7 +192,7 @@ namespace forma
       {
         Vector &x = this->offset();
         for (const auto i : x.locally_owned_elements())
-          x(i) += q[i];
+          x(i) = x(i) + q[i];
         x.compress(VectorOperation::insert);
       }
 

@@ -70,13 +70,14 @@ namespace forma
       void
       apply(const double *q) override
       {
+        // Every pair is checked on every rank (a refusal must be
+        // collective: optimizers shorten the step on it).
+        std::vector<std::array<double, 2>> pairs(this->size() / 2);
+        for (unsigned int k = 0; k < pairs.size(); ++k)
+          pairs[k] = lame_pair(q[2 * k], q[2 * k + 1], where(k));
         for (const auto &cell : tria.active_cell_iterators())
           if (!cell->is_artificial())
-            {
-              const unsigned int k = slot(cell);
-              lame.value[cell->active_cell_index()] =
-                lame_pair(q[2 * k], q[2 * k + 1], where(k));
-            }
+            lame.value[cell->active_cell_index()] = pairs[slot(cell)];
       }
 
       void

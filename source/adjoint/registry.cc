@@ -7,6 +7,15 @@ namespace forma
 {
   using namespace dealii;
 
+  std::vector<std::string> &
+  registration_conflicts()
+  {
+    static std::vector<std::string> names;
+    return names;
+  }
+
+
+
   double
   KeyValueRecord::key(const std::string &k, const double fallback) const
   {

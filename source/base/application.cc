@@ -2,6 +2,7 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/utilities.h>
 
+#include <forma/adjoint/registry.h>
 #include <forma/base/application.h>
 #include <forma/base/parameter_override.h>
 
@@ -89,6 +90,10 @@ namespace forma
     {
       const std::regex entry(
         R"(^\s*set\s+Additional shared libraries\s*=\s*([^#]*?)\s*(#.*)?$)");
+      AssertThrow(registration_conflicts().empty(),
+                  dealii::ExcMessage("'" + registration_conflicts().front() +
+                                     "' is registered twice (the library or "
+                                     "the application)."));
       std::ifstream in(file);
       std::string   line;
       auto          directory = std::filesystem::path(file).parent_path();
@@ -108,6 +113,12 @@ namespace forma
                           dealii::ExcMessage(
                             "Additional shared libraries: cannot load '" +
                             name + "' (" + std::string(dlerror()) + ")."));
+              auto &conflicts = registration_conflicts();
+              AssertThrow(conflicts.empty(),
+                          dealii::ExcMessage("Additional shared libraries: '" +
+                                             name + "' registers '" +
+                                             conflicts.front() +
+                                             "', a name taken already."));
             }
         }
     }
@@ -182,6 +193,9 @@ namespace forma
         report("parameter file '" + arg + "' does not exist.");
         return 1;
       }
+    // Collective: a rank that cannot load a plugin stops every rank (the
+    // first such rank says why).
+    std::string load_error;
     try
       {
         load_shared_libraries(arg);
@@ -189,7 +203,16 @@ namespace forma
       }
     catch (const std::exception &exc)
       {
-        report(error_message(exc));
+        load_error = error_message(exc);
+      }
+    const unsigned int rank = dealii::Utilities::MPI::this_mpi_process(comm);
+    const unsigned int first_failed = dealii::Utilities::MPI::min(
+      load_error.empty() ? dealii::Utilities::MPI::n_mpi_processes(comm) : rank,
+      comm);
+    if (first_failed < dealii::Utilities::MPI::n_mpi_processes(comm))
+      {
+        if (rank == first_failed)
+          std::cerr << app.name << ": error: " << load_error << std::endl;
         return 1;
       }
     try

@@ -296,6 +296,9 @@ namespace forma
     for (const auto &f : forms)
       if (form_active(*f) && f->has_cell_terms())
         f->cell_terms(s.states, t);
+    AssertThrow(t.admissible,
+                ExcMessage("adjoint: a stored state lies outside a form's "
+                           "domain (an inverted element)."));
     for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
       {
         const Tensor<2, dim> &G     = adj.G[q];

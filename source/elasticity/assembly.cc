@@ -89,11 +89,12 @@ namespace forma
     const typename DoFHandler<dim>::active_cell_iterator &cell,
     const FEValuesBase<dim>                              &fv,
     const unsigned int                                    face,
-    Scratch<dim>                                         &s) const
+    Scratch<dim>                                         &s,
+    const bool                                            for_forms) const
   {
     const FEValuesExtractors::Vector disp(0);
     const unsigned int               nq    = fv.n_quadrature_points;
-    const unsigned int               needs = form_needs();
+    const unsigned int               needs = for_forms ? form_needs() : 0u;
     PointStates<dim>                &ps    = s.states;
     ps.cell           = {cell->active_cell_index(), cell->material_id(), 0};
     ps.time           = time;

@@ -622,6 +622,9 @@ namespace forma
 
   namespace
   {
+    DeclExceptionMsg(ExcNoDesignConstraint,
+                     "design constraints are for 2D optimizations only");
+
     using Job = std::function<std::vector<double>(const ElasticityParameters &,
                                                   dealii::ParameterHandler &,
                                                   RunContext &,
@@ -635,8 +638,9 @@ namespace forma
         {"simulate",
          [](const ElasticityParameters &parameters,
             dealii::ParameterHandler &,
-            RunContext &context,
-            const DesignConstraint *) {
+            RunContext             &context,
+            const DesignConstraint *constraint) {
+           AssertThrow(!constraint, ExcNoDesignConstraint());
            if (parameters.dim == 2)
              simulate_job<2>(parameters, context);
            else
@@ -647,7 +651,8 @@ namespace forma
          [](const ElasticityParameters &parameters,
             dealii::ParameterHandler   &prm,
             RunContext                 &context,
-            const DesignConstraint *) {
+            const DesignConstraint     *constraint) {
+           AssertThrow(!constraint, ExcNoDesignConstraint());
            GradientCheckParameters check;
            check.parse(prm);
            if (parameters.dim == 2)
@@ -665,9 +670,7 @@ namespace forma
            settings.parse(prm);
            if (parameters.dim == 2)
              return optimize_job<2>(parameters, settings, context, constraint);
-           AssertThrow(!constraint,
-                       dealii::ExcMessage("design constraints are for 2D "
-                                          "optimizations only"));
+           AssertThrow(!constraint, ExcNoDesignConstraint());
            return optimize_job<3>(parameters, settings, context, nullptr);
          }}};
       return list;

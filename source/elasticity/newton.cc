@@ -38,42 +38,66 @@ namespace forma
 {
   template <int dim>
   void
-  ElasticitySimulator<dim>::Impl::apply_prescribed_motion(
-    const double       t,
-    const std::string &where)
+  ElasticitySimulator<dim>::Impl::update_form_states(const Vector_t &state,
+                                                     const Vector_t *step)
   {
-    const Vector_t before = ipc_contact ? u : Vector_t();
-    constraints_bc.distribute(u);
-    if (ipc_contact)
-      {
-        // Prescribed boundary motion is not filtered by the barrier: it
-        // must not carry a boundary into (or through) another.
-        Vector_t jump = u;
-        jump -= before;
-        if (jump.linfty_norm() > 0)
-          {
-            if (ipc_contact->update_candidates(before, &jump))
-              build_jacobian_pattern();
-            const double s = ipc_contact->max_step(before, jump, 1e-3);
-            AssertThrow(s >= 1.,
-                        ExcMessage(
-                          where + " (t = " + fmt(t) +
-                          "): the prescribed displacements (Dirichlet) of "
-                          "this step carry a boundary into contact (CCD stops "
-                          "them at " +
-                          fmt(s, 3) +
-                          " of the step); use more load steps or a smaller "
-                          "time step, or let contact move those parts."));
-          }
-        if (ipc_contact->update_candidates(u, nullptr))
-          build_jacobian_pattern();
-      }
+    bool rebuild = false;
+    for (const auto &f : forms)
+      rebuild |= f->update_state(state, step);
+    if (rebuild)
+      build_jacobian_pattern();
   }
 
 
 
   template <int dim>
   double
+  ElasticitySimulator<dim>::Impl::forms_max_step(const Vector_t &state,
+                                                 const Vector_t &step,
+                                                 const double    gap)
+  {
+    double s = 1.;
+    for (const auto &f : forms)
+      s = std::min(s, f->max_step(state, step, gap));
+    return s;
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::apply_prescribed_motion(
+    const double       t,
+    const std::string &where)
+  {
+    const Vector_t before = u;
+    constraints_bc.distribute(u);
+    // Prescribed boundary motion is not filtered by a form's step bound
+    // (the IPC barrier): it must not carry a boundary into (or through)
+    // another.
+    Vector_t jump = u;
+    jump -= before;
+    if (jump.linfty_norm() > 0)
+      {
+        update_form_states(before, &jump);
+        const double s = forms_max_step(before, jump, 1e-3);
+        AssertThrow(s >= 1.,
+                    ExcMessage(where + " (t = " + fmt(t) +
+                               "): the prescribed displacements (Dirichlet) of "
+                               "this step carry a boundary into contact (CCD "
+                               "stops them at " +
+                               fmt(s, 3) +
+                               " of the step); use more load steps or a "
+                               "smaller time step, or let contact move those "
+                               "parts."));
+      }
+    update_form_states(u, nullptr);
+  }
+
+
+
+  template <int dim>
+  std::optional<double>
   ElasticitySimulator<dim>::Impl::line_search(const Vector_t &du,
                                               const double    max_step,
                                               const double    tolerance,
@@ -123,7 +147,7 @@ namespace forma
             return step;
           }
       }
-    return 0.;
+    return {};
   }
 
 
@@ -182,27 +206,23 @@ namespace forma
         solver_seconds += timer.wall_time();
         constraints_zero.distribute(du);
 
-        // IPC: no step may bring a pair into contact (CCD along the step).
-        double max_step = 1.;
-        if (ipc_contact)
+        if (ipc_contact && du.linfty_norm() <= step_tolerance)
           {
-            if (du.linfty_norm() <= step_tolerance)
-              {
-                if (context)
-                  context->log("    Newton step below the step tolerance, "
-                               "residual " +
-                               fmt(norm, 3));
-                return {it, linear_its};
-              }
-            if (ipc_contact->update_candidates(u, &du))
-              build_jacobian_pattern();
-            max_step = ipc_contact->max_step(u, du);
-            if (max_step < 1.)
-              ++ccd_limited_steps;
+            if (context)
+              context->log("    Newton step below the step tolerance, "
+                           "residual " +
+                           fmt(norm, 3));
+            return {it, linear_its};
           }
+        // No step may bring a pair into contact (IPC: CCD along the step).
+        update_form_states(u, &du);
+        const double max_step = forms_max_step(u, du, 0.);
+        if (max_step < 1.)
+          ++ccd_limited_steps;
 
-        const double step     = line_search(du, max_step, tolerance, norm);
-        const bool   accepted = step > 0;
+        const std::optional<double> step =
+          line_search(du, max_step, tolerance, norm);
+        const bool accepted = step.has_value();
         // Below 1e-8 of the force scale the residual is at the round-off
         // level of tight tolerances (gradient checks): stagnation there is
         // convergence, the state left as the last accepted one.
@@ -236,7 +256,7 @@ namespace forma
           }
         if (context)
           context->log("    Newton " + std::to_string(it + 1) + ": residual " +
-                       fmt(norm, 3) + ", step " + fmt(step, 3));
+                       fmt(norm, 3) + ", step " + fmt(*step, 3));
       }
     // A tolerance below round-off (gradient checks ask for 1e-12) is met
     // as well as the arithmetic allows.

@@ -210,7 +210,8 @@ namespace forma
         shape_cell->get_dof_indices(shape_dofs);
       }
     mat.emplace(sim.cell_material(c));
-    sim.fill_states(c, fv, numbers::invalid_unsigned_int, s);
+    // The forms' states only where they add products.
+    sim.fill_states(c, fv, numbers::invalid_unsigned_int, s, adjoint);
     fv[disp].get_function_values(sim.u_ghost, s.states.u);
     ctx.density = mat->properties().density;
     ctx.normal  = Tensor<1, dim>(); // volume points have none
@@ -302,7 +303,7 @@ namespace forma
         shape_face_values.reinit(shape_cell, f, c->active_fe_index(), 0, 0);
         sf = &shape_face_values.get_present_fe_values();
       }
-    sim.fill_states(c, ff, f, s);
+    sim.fill_states(c, ff, f, s, load);
     ff[disp].get_function_values(sim.u_ghost, s.states.u);
     const unsigned int nf = ff.n_quadrature_points;
     if (any)

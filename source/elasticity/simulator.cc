@@ -117,18 +117,17 @@ namespace forma
       initial = &physical.add(std::make_unique<InitialConditions>());
 
     std::map<types::material_id, double> density;
-    bool                                 damped = p.design.has("damping");
     for (const auto &[id, m] : bodies)
-      {
-        density[id] = m.density;
-        damped |= m.damping_shear > 0 || m.damping_bulk > 0;
-      }
+      density[id] = m.density;
     // With IPC every model must stay inversion-free.
     auto elastic = std::make_unique<ElasticForm<dim>>(
       p.model, p.plane_stress, bodies, *cell_lame, ipc_contact != nullptr);
     elastic_form = elastic.get();
     forms.push_back(std::move(elastic));
-    if (damped && p.problem == "transient")
+    // Damping in every transient problem: a design or a reference run may
+    // give damping to bodies that have none (undamped cells cost nothing
+    // but their previous-step gradients).
+    if (p.problem == "transient")
       forms.push_back(std::make_unique<DampingForm<dim>>(*cell_damping));
     const unsigned int n_surface = tractions.size() + pressures.size();
     if (body_force || gravity.norm() > 0)
@@ -275,6 +274,7 @@ namespace forma
   ElasticitySimulator<dim>::Impl::reset_physical_parameters(
     const std::string &text)
   {
+    physical.reset(); // parameters of added forms
     const auto props =
       text.empty() ? bodies : parse_bodies(text, "Objective/Reference bodies");
     cell_lame->value.assign(tria->n_active_cells(), {{0., 0.}});

@@ -43,6 +43,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 
@@ -212,12 +213,14 @@ namespace forma
     loaded(const types::boundary_id id) const;
     /// The point states of a cell (face: `face` < faces per cell) from
     /// `fv` (the current shape) and the reference values (material
-    /// coordinates).
+    /// coordinates); the fields the forms need with `for_forms`, else
+    /// grad u and the coordinates only.
     void
     fill_states(const typename DoFHandler<dim>::active_cell_iterator &cell,
                 const FEValuesBase<dim>                              &fv,
                 const unsigned int                                    face,
-                Scratch<dim>                                         &s) const;
+                Scratch<dim>                                         &s,
+                const bool for_forms = true) const;
     /// Zeroed point terms for `n` points.
     static void
     reset_terms(PointTerms<dim>   &t,
@@ -251,6 +254,13 @@ namespace forma
                    const bool energy) const;
     std::pair<unsigned int, unsigned int>
     newton(const double time, const std::string &where);
+    /// The forms' state moves to `state` (along `step`): IPC candidates;
+    /// the Jacobian's pattern grows if a form asks.
+    void
+    update_form_states(const Vector_t &state, const Vector_t *step);
+    /// The largest fraction of `step` the forms allow (CCD), with a gap.
+    double
+    forms_max_step(const Vector_t &state, const Vector_t &step, double gap);
     /// The Dirichlet values of time t on u; with IPC, checks that they do
     /// not carry a boundary into contact, and updates the candidates.
     void
@@ -258,8 +268,8 @@ namespace forma
     /// Backtracking line search from u along du, starting at `max_step`:
     /// the potential energy's Armijo condition where the forms have one,
     /// else the residual norm's decrease. On success u moves, `norm` is its
-    /// residual norm and the step is returned; 0 if none is accepted.
-    double
+    /// residual norm and the step is returned; none if none is accepted.
+    std::optional<double>
     line_search(const Vector_t &du,
                 const double    max_step,
                 const double    tolerance,

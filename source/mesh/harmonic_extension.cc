@@ -20,7 +20,9 @@ namespace forma
     , constraints(constraints)
     , mapping(mapping)
     , comm(comm)
-  {}
+  {
+    setup(); // collective: now, not inside a per-rank loop later
+  }
 
 
 

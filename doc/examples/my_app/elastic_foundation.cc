@@ -55,8 +55,7 @@ make_elastic_foundation(const forma::FormRecord<dim> &record)
 {
   const double k = record.key("k");
   AssertThrow(k > 0, ExcMessage(record.where + ": k must be positive."));
-  auto stiffness   = std::make_unique<FoundationStiffness>();
-  stiffness->value = {k};
+  auto stiffness = std::make_unique<FoundationStiffness>(k);
   return std::make_unique<ElasticFoundation<dim>>(
     record.physical->add(std::move(stiffness)));
 }

@@ -13,7 +13,24 @@
 /// The foundation's stiffness k as a physical parameter (one value), with
 /// its sensitivity dJ/dk.
 class FoundationStiffness : public forma::Scalars
-{};
+{
+public:
+  explicit FoundationStiffness(const double k)
+    : problem_value(k)
+  {
+    value = {k};
+  }
+
+  /// The reference run of a recovery uses the problem's k.
+  void
+  reset() override
+  {
+    value = {problem_value};
+  }
+
+private:
+  const double problem_value;
+};
 
 /// The form. Point terms only: forma contracts them with the shape
 /// functions and differentiates them in the shape itself.

@@ -18,6 +18,8 @@ namespace forma
    *   template <typename N> N j(unsigned int k, const IntegrandContext<dim> &,
    *     const Tensor<1, dim, N> &x, const Tensor<1, dim, N> &u,
    *     const Tensor<2, dim, N> &grad_u, const N &lambda, const N &mu) const;
+   * A term that overrides integrals() restricts them to `materials` or
+   * overrides restrictable() to refuse the `material` key.
    */
   template <int dim, typename Derived>
   class AutoDiffTerm : public ObjectiveTerm<dim>

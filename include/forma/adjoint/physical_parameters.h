@@ -27,6 +27,12 @@ namespace forma
     virtual void
     clear_sensitivity() = 0;
 
+    /// Back to the problem's own value, before any design applies (the
+    /// simulator resets its built-in parameters itself).
+    virtual void
+    reset()
+    {}
+
     /// Whether a parameterization reads the sensitivity: forms skip the
     /// products of the others.
     bool wanted = false;
@@ -125,6 +131,13 @@ namespace forma
     {
       for (const auto &p : list)
         p->clear_sensitivity();
+    }
+
+    void
+    reset()
+    {
+      for (const auto &p : list)
+        p->reset();
     }
 
     /// No sensitivity wanted (before the design's blocks are built).

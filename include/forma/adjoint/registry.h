@@ -37,6 +37,10 @@ namespace forma
     mutable std::set<std::string> read;
   };
 
+  /// Names registered twice in one registry (see Registry::add()).
+  std::vector<std::string> &
+  registration_conflicts();
+
   /**
    * Named factories of one kind of pluggable piece (parameterizations,
    * objective terms, forms, ...), as ASPECT's plugin lists: every piece
@@ -66,17 +70,19 @@ namespace forma
     static Registry &
     instance();
 
+    /// Add a piece; a name taken already keeps its first piece and is
+    /// recorded in registration_conflicts() (registrations run in static
+    /// initializers, where nothing may throw).
     void
     add(const std::string &name,
         const std::string &documentation,
         const Factory     &create,
         const int          rank = 1000)
     {
-      AssertThrow(entries_by_name.count(name) == 0,
-                  dealii::ExcMessage("'" + name +
-                                     "' is registered twice in one list of "
-                                     "plugins."));
-      entries_by_name[name] = {name, documentation, create, rank};
+      if (entries_by_name.count(name))
+        registration_conflicts().push_back(name);
+      else
+        entries_by_name[name] = {name, documentation, create, rank};
     }
 
     bool

@@ -32,6 +32,12 @@ namespace forma
         , ids(ids)
         , expression(expression)
       {}
+      /// Its integrals ignore `materials`: no `material` key.
+      bool
+      restrictable() const override
+      {
+        return false;
+      }
       std::vector<typename ObjectiveTerm<dim>::Integral>
       integrals() const override
       {
