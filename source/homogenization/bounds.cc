@@ -1,9 +1,13 @@
 #include <deal.II/base/exceptions.h>
+#include <deal.II/differentiation/ad/sacado_product_types.h>
 
 #include <forma/homogenization/bounds.h>
 
+#include <Sacado.hpp>
+
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 namespace forma
 {
@@ -30,6 +34,37 @@ namespace forma
 
 
 
+  template <typename Number>
+  std::pair<Number, Number>
+  hashin_shtrikman_upper(const IsotropicModuli &s,
+                         const IsotropicModuli &w,
+                         const Number          &phi)
+  {
+    // Written so that an equal or void weak phase needs no division by zero.
+    const double dk = w.kappa - s.kappa, dm = w.mu - s.mu;
+    const Number rest  = 1. - phi;
+    Number       kappa = s.kappa, mu = s.mu;
+    if (dk != 0)
+      kappa += rest / (1 / dk + phi / (s.kappa + s.mu));
+    if (dm != 0)
+      mu += rest / (1 / dm +
+                    phi * (s.kappa + 2 * s.mu) / (2 * s.mu * (s.kappa + s.mu)));
+    return {kappa, mu};
+  }
+
+
+
+  template std::pair<double, double>
+  hashin_shtrikman_upper(const IsotropicModuli &,
+                         const IsotropicModuli &,
+                         const double &);
+  template std::pair<Sacado::Fad::DFad<double>, Sacado::Fad::DFad<double>>
+  hashin_shtrikman_upper(const IsotropicModuli &,
+                         const IsotropicModuli &,
+                         const Sacado::Fad::DFad<double> &);
+
+
+
   HashinShtrikmanBounds
   hashin_shtrikman(const IsotropicModuli &s,
                    const IsotropicModuli &w,
@@ -45,13 +80,7 @@ namespace forma
     HashinShtrikmanBounds b;
     // Written so that an equal or void weak phase needs no division by zero.
     const double dk = w.kappa - s.kappa, dm = w.mu - s.mu;
-    b.kappa_upper = dk == 0 ?
-                      s.kappa :
-                      s.kappa + (1 - phi) / (1 / dk + phi / (s.kappa + s.mu));
-    b.mu_upper =
-      dm == 0 ? s.mu :
-                s.mu + (1 - phi) / (1 / dm + phi * (s.kappa + 2 * s.mu) /
-                                               (2 * s.mu * (s.kappa + s.mu)));
+    std::tie(b.kappa_upper, b.mu_upper) = hashin_shtrikman_upper(s, w, phi);
     if (w.kappa + w.mu > 0 && w.mu > 0)
       {
         b.kappa_lower =

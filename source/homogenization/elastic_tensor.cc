@@ -1,7 +1,10 @@
 #include <deal.II/base/exceptions.h>
-#include <deal.II/lac/full_matrix.h>
+#include <deal.II/base/tensor.h>
+#include <deal.II/differentiation/ad/sacado_product_types.h>
 
 #include <forma/homogenization/elastic_tensor.h>
+
+#include <Sacado.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -15,6 +18,105 @@ namespace forma
     // Voigt index -> tensor indices (i, j).
     constexpr unsigned int voigt_i[3] = {0, 1, 0};
     constexpr unsigned int voigt_j[3] = {0, 1, 1};
+
+    template <typename Number>
+    Tensor<2, 3, Number>
+    voigt_of(const SymmetricTensor<4, 2, Number> &C)
+    {
+      // With engineering shear the Voigt entries are the tensor entries.
+      Tensor<2, 3, Number> V;
+      for (unsigned int a = 0; a < 3; ++a)
+        for (unsigned int b = 0; b < 3; ++b)
+          V[a][b] = C[voigt_i[a]][voigt_j[a]][voigt_i[b]][voigt_j[b]];
+      return V;
+    }
+
+    template <typename Number>
+    SymmetricTensor<4, 2, Number>
+    tensor_of(const Tensor<2, 3, Number> &V)
+    {
+      SymmetricTensor<4, 2, Number> C;
+      for (unsigned int a = 0; a < 3; ++a)
+        for (unsigned int b = 0; b < 3; ++b)
+          C[voigt_i[a]][voigt_j[a]][voigt_i[b]][voigt_j[b]] =
+            0.5 * (V[a][b] + V[b][a]);
+      return C;
+    }
+
+    template <typename Number, typename MatrixNumber>
+    SymmetricTensor<4, 2, Number>
+    transformed(const SymmetricTensor<4, 2, Number> &C,
+                const Tensor<2, 2, MatrixNumber>    &A)
+    {
+      SymmetricTensor<4, 2, Number> result;
+      for (unsigned int i = 0; i < 2; ++i)
+        for (unsigned int j = i; j < 2; ++j)
+          for (unsigned int k = 0; k < 2; ++k)
+            for (unsigned int l = k; l < 2; ++l)
+              {
+                Number sum = 0;
+                for (unsigned int p = 0; p < 2; ++p)
+                  for (unsigned int q = 0; q < 2; ++q)
+                    for (unsigned int r = 0; r < 2; ++r)
+                      for (unsigned int t = 0; t < 2; ++t)
+                        sum +=
+                          A[i][p] * A[j][q] * A[k][r] * A[l][t] * C[p][q][r][t];
+                result[i][j][k][l] = sum;
+              }
+      return result;
+    }
+
+    // The mixed form of C in the layer frame (layers along x): the entries
+    // continuous across the layers (e11, s22, s12) against the jumping ones
+    // (s11, e22, 2 e12). Voigt index 0 = "t", {1, 2} = "n".
+    template <typename Number>
+    Tensor<2, 3, Number>
+    mixed_form(const Tensor<2, 3, Number> &V)
+    {
+      Tensor<2, 2, Number> nn;
+      for (unsigned int a = 0; a < 2; ++a)
+        for (unsigned int b = 0; b < 2; ++b)
+          nn[a][b] = V[a + 1][b + 1];
+      const Tensor<2, 2, Number> nn_inv = invert(nn);
+      Tensor<2, 3, Number>       M;
+      Number                     tn_nn_nt = 0;
+      for (unsigned int a = 0; a < 2; ++a)
+        for (unsigned int b = 0; b < 2; ++b)
+          {
+            tn_nn_nt += V[0][a + 1] * nn_inv[a][b] * V[b + 1][0];
+            M[0][a + 1] += V[0][b + 1] * nn_inv[b][a];
+            M[a + 1][0] -= nn_inv[a][b] * V[b + 1][0];
+            M[a + 1][b + 1] = nn_inv[a][b];
+          }
+      M[0][0] = V[0][0] - tn_nn_nt;
+      return M;
+    }
+
+    // The inverse of mixed_form().
+    template <typename Number>
+    Tensor<2, 3, Number>
+    unmixed_form(const Tensor<2, 3, Number> &M)
+    {
+      Tensor<2, 2, Number> nn_inv;
+      for (unsigned int a = 0; a < 2; ++a)
+        for (unsigned int b = 0; b < 2; ++b)
+          nn_inv[a][b] = M[a + 1][b + 1];
+      const Tensor<2, 2, Number> nn = invert(nn_inv);
+      Tensor<2, 3, Number>       V;
+      for (unsigned int a = 0; a < 2; ++a)
+        for (unsigned int b = 0; b < 2; ++b)
+          {
+            V[a + 1][b + 1] = nn[a][b];
+            V[a + 1][0] -= nn[a][b] * M[b + 1][0];
+            V[0][a + 1] += M[0][b + 1] * nn[b][a];
+          }
+      // C_tt = M_tt + C_tn C_nn^-1 C_nt
+      V[0][0] = M[0][0];
+      for (unsigned int a = 0; a < 2; ++a)
+        for (unsigned int b = 0; b < 2; ++b)
+          V[0][0] += V[0][a + 1] * M[a + 1][b + 1] * V[b + 1][0];
+      return V;
+    }
   } // namespace
 
 
@@ -37,12 +139,7 @@ namespace forma
   VoigtMatrix
   to_voigt(const SymmetricTensor<4, 2> &C)
   {
-    // With engineering shear the Voigt entries are the tensor entries.
-    VoigtMatrix V;
-    for (unsigned int a = 0; a < 3; ++a)
-      for (unsigned int b = 0; b < 3; ++b)
-        V[a][b] = C[voigt_i[a]][voigt_j[a]][voigt_i[b]][voigt_j[b]];
-    return V;
+    return voigt_of(C);
   }
 
 
@@ -50,12 +147,7 @@ namespace forma
   SymmetricTensor<4, 2>
   from_voigt(const VoigtMatrix &V)
   {
-    SymmetricTensor<4, 2> C;
-    for (unsigned int a = 0; a < 3; ++a)
-      for (unsigned int b = 0; b < 3; ++b)
-        C[voigt_i[a]][voigt_j[a]][voigt_i[b]][voigt_j[b]] =
-          0.5 * (V[a][b] + V[b][a]);
-    return C;
+    return tensor_of(V);
   }
 
 
@@ -110,9 +202,24 @@ namespace forma
   SymmetricTensor<4, 2>
   IsotropicModuli::tensor() const
   {
+    return isotropic_tensor(kappa, mu);
+  }
+
+
+
+  template <typename Number>
+  SymmetricTensor<4, 2, Number>
+  isotropic_tensor(const Number &kappa, const Number &mu)
+  {
     // kappa I x I + 2 mu (I_sym - I x I / 2), i.e. lambda = kappa - mu.
-    const SymmetricTensor<2, 2> I = unit_symmetric_tensor<2>();
-    return (kappa - mu) * outer_product(I, I) + 2 * mu * identity_tensor<2>();
+    SymmetricTensor<4, 2, Number> C;
+    for (unsigned int i = 0; i < 2; ++i)
+      {
+        C[i][i][i][i]         = kappa + mu;
+        C[i][i][1 - i][1 - i] = kappa - mu;
+      }
+    C[0][1][0][1] = mu;
+    return C;
   }
 
 
@@ -164,22 +271,7 @@ namespace forma
   SymmetricTensor<4, 2>
   transform(const SymmetricTensor<4, 2> &C, const Tensor<2, 2> &A)
   {
-    SymmetricTensor<4, 2> result;
-    for (unsigned int i = 0; i < 2; ++i)
-      for (unsigned int j = i; j < 2; ++j)
-        for (unsigned int k = 0; k < 2; ++k)
-          for (unsigned int l = k; l < 2; ++l)
-            {
-              double sum = 0;
-              for (unsigned int p = 0; p < 2; ++p)
-                for (unsigned int q = 0; q < 2; ++q)
-                  for (unsigned int r = 0; r < 2; ++r)
-                    for (unsigned int t = 0; t < 2; ++t)
-                      sum +=
-                        A[i][p] * A[j][q] * A[k][r] * A[l][t] * C[p][q][r][t];
-              result[i][j][k][l] = sum;
-            }
-    return result;
+    return transformed(C, A);
   }
 
 
@@ -187,8 +279,24 @@ namespace forma
   SymmetricTensor<4, 2>
   rotate(const SymmetricTensor<4, 2> &C, const double angle)
   {
-    const double c = std::cos(angle), s = std::sin(angle);
-    return transform(C, Tensor<2, 2>({{c, -s}, {s, c}}));
+    return rotate<double>(C, angle);
+  }
+
+
+
+  template <typename Number>
+  SymmetricTensor<4, 2, Number>
+  rotate(const SymmetricTensor<4, 2, Number> &C, const Number &angle)
+  {
+    using std::cos;
+    using std::sin;
+    const Number         c = cos(angle), s = sin(angle);
+    Tensor<2, 2, Number> A;
+    A[0][0] = c;
+    A[0][1] = -s;
+    A[1][0] = s;
+    A[1][1] = c;
+    return transformed(C, A);
   }
 
 
@@ -199,55 +307,47 @@ namespace forma
                     const double                 theta_a,
                     const double                 layer_angle)
   {
-    AssertThrow(theta_a >= 0 && theta_a <= 1,
-                ExcMessage("laminate volume fraction " +
-                           std::to_string(theta_a) + " is outside [0, 1]"));
-    // In the layer frame (layers along x): e11 and (s22, s12) are continuous,
-    // e22, 2 e12 and s11 jump. Voigt index 0 = "t", {1, 2} = "n".
-    auto mixed = [&](const SymmetricTensor<4, 2> &C) {
-      const VoigtMatrix  V = to_voigt(rotate(C, -layer_angle));
-      FullMatrix<double> nn(2, 2), nn_inv(2, 2);
-      for (unsigned int a = 0; a < 2; ++a)
-        for (unsigned int b = 0; b < 2; ++b)
-          nn(a, b) = V[a + 1][b + 1];
-      nn_inv.invert(nn);
-      FullMatrix<double> M(3, 3);
-      double             tn_nn_nt = 0;
-      for (unsigned int a = 0; a < 2; ++a)
-        for (unsigned int b = 0; b < 2; ++b)
-          {
-            tn_nn_nt += V[0][a + 1] * nn_inv(a, b) * V[b + 1][0];
-            M(0, a + 1) += V[0][b + 1] * nn_inv(b, a);
-            M(a + 1, 0) -= nn_inv(a, b) * V[b + 1][0];
-            M(a + 1, b + 1) = nn_inv(a, b);
-          }
-      M(0, 0) = V[0][0] - tn_nn_nt;
-      return M;
-    };
-    FullMatrix<double> M = mixed(C_a);
-    M *= theta_a;
-    M.add(1 - theta_a, mixed(C_b));
-
-    FullMatrix<double> nn_inv(2, 2), nn(2, 2);
-    for (unsigned int a = 0; a < 2; ++a)
-      for (unsigned int b = 0; b < 2; ++b)
-        nn_inv(a, b) = M(a + 1, b + 1);
-    nn.invert(nn_inv);
-    VoigtMatrix V;
-    for (unsigned int a = 0; a < 2; ++a)
-      for (unsigned int b = 0; b < 2; ++b)
-        {
-          V[a + 1][b + 1] = nn(a, b);
-          V[a + 1][0] -= nn(a, b) * M(b + 1, 0);
-          V[0][a + 1] += M(0, b + 1) * nn(b, a);
-        }
-    // C_tt = M_tt + C_tn C_nn^-1 C_nt
-    V[0][0] = M(0, 0);
-    for (unsigned int a = 0; a < 2; ++a)
-      for (unsigned int b = 0; b < 2; ++b)
-        V[0][0] += V[0][a + 1] * M(a + 1, b + 1) * V[b + 1][0];
-    return rotate(from_voigt(V), layer_angle);
+    return rank_one_laminate<double>(C_a, C_b, theta_a, layer_angle);
   }
+
+
+
+  template <typename Number>
+  SymmetricTensor<4, 2, Number>
+  rank_one_laminate(const SymmetricTensor<4, 2, Number> &C_a,
+                    const SymmetricTensor<4, 2, Number> &C_b,
+                    const Number                        &theta_a,
+                    const Number                        &layer_angle)
+  {
+    const double theta = Sacado::ScalarValue<Number>::eval(theta_a);
+    AssertThrow(theta >= 0 && theta <= 1,
+                ExcMessage("laminate volume fraction " + std::to_string(theta) +
+                           " is outside [0, 1]"));
+    // Strain along the layers and the traction on them are continuous, so
+    // the mixed forms of the layers average arithmetically.
+    const Number         minus_angle = -layer_angle;
+    Tensor<2, 3, Number> M = mixed_form(voigt_of(rotate(C_a, minus_angle)));
+    const Number         theta_b = 1. - theta_a;
+    M *= theta_a;
+    M += theta_b * mixed_form(voigt_of(rotate(C_b, minus_angle)));
+    return rotate(tensor_of(unmixed_form(M)), layer_angle);
+  }
+
+
+
+  template SymmetricTensor<4, 2, double>
+  isotropic_tensor(const double &, const double &);
+  template SymmetricTensor<4, 2, Sacado::Fad::DFad<double>>
+  isotropic_tensor(const Sacado::Fad::DFad<double> &,
+                   const Sacado::Fad::DFad<double> &);
+  template SymmetricTensor<4, 2, Sacado::Fad::DFad<double>>
+  rotate(const SymmetricTensor<4, 2, Sacado::Fad::DFad<double>> &,
+         const Sacado::Fad::DFad<double> &);
+  template SymmetricTensor<4, 2, Sacado::Fad::DFad<double>>
+  rank_one_laminate(const SymmetricTensor<4, 2, Sacado::Fad::DFad<double>> &,
+                    const SymmetricTensor<4, 2, Sacado::Fad::DFad<double>> &,
+                    const Sacado::Fad::DFad<double> &,
+                    const Sacado::Fad::DFad<double> &);
 
 
 

@@ -295,6 +295,17 @@ namespace forma
                 FullMatrix<double>                                   &K,
                 std::vector<Vector<double>>                          &F) const;
 
+    /**
+     * Add a cell's int (A_c + B w_c)^T V (A_d + B w_d)
+     *   = |K| V_cd + V_c. (int B) w_d + V_d. (int B) w_c + w_c^T K(V) w_d
+     * for its local fluctuations w_c to energy(c, d).
+     */
+    void
+    add_mutual_energies(const Kernel                      &kernel,
+                        const Tensor<2, nv>               &V,
+                        const std::vector<Vector<double>> &w_local,
+                        FullMatrix<double>                &energy) const;
+
     MPI_Comm                            comm;
     SolverParameters                    solver_parameters;
     std::unique_ptr<Triangulation<dim>> tria;
@@ -1128,13 +1139,9 @@ namespace forma
       }
 
     // Grids (shared kernels): mutual energies cell by cell, symmetric and
-    // positive definite by construction:
-    // int (A_c + B w_c)^T V (A_d + B w_d)
-    //   = |K| V_cd + V_c. (int B) w_d + V_d. (int B) w_c + w_c^T K(V) w_d.
-    std::array<std::array<double, nv>, nv> s;
-    std::vector<Vector<double>>            w_local(nv, Vector<double>(n));
-    Vector<double>                         Kw(n);
-    unsigned int                           index = 0;
+    // positive definite by construction.
+    std::vector<Vector<double>> w_local(nv, Vector<double>(n));
+    unsigned int                index = 0;
     for (const auto &cell : m.dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
@@ -1146,26 +1153,7 @@ namespace forma
           for (unsigned int c = 0; c < nv; ++c)
             for (unsigned int i = 0; i < n; ++i)
               w_local[c](i) = m.fluctuation[c](local[i]);
-          K              = 0;
-          unsigned int p = 0;
-          for (unsigned int a = 0; a < nv; ++a)
-            for (unsigned int b = a; b < nv; ++b, ++p)
-              K.add(V[a][b], kernel.pair[p]);
-          // s_a(w) = int (B w)_a
-          for (unsigned int c = 0; c < nv; ++c)
-            for (unsigned int a = 0; a < nv; ++a)
-              s[c][a] = kernel.integral[a] * w_local[c];
-          for (unsigned int d = 0; d < nv; ++d)
-            {
-              K.vmult(Kw, w_local[d]);
-              for (unsigned int c = 0; c < nv; ++c)
-                {
-                  double e = kernel.measure * V[c][d] + (w_local[c] * Kw);
-                  for (unsigned int a = 0; a < nv; ++a)
-                    e += V[c][a] * s[d][a] + V[d][a] * s[c][a];
-                  energy(c, d) += e;
-                }
-            }
+          m.add_mutual_energies(kernel, V, w_local, energy);
         }
     for (unsigned int c = 0; c < nv; ++c)
       for (unsigned int d = 0; d < nv; ++d)
@@ -1197,6 +1185,115 @@ namespace forma
               cell_data_names,
               cell_data,
               Tensor<2, dim>(unit_symmetric_tensor<dim>()));
+  }
+
+
+
+  template <int dim>
+  void
+  PeriodicHomogenization<dim>::Impl::add_mutual_energies(
+    const Kernel                      &kernel,
+    const Tensor<2, nv>               &V,
+    const std::vector<Vector<double>> &w_local,
+    FullMatrix<double>                &energy) const
+  {
+    const unsigned int n = w_local[0].size();
+    FullMatrix<double> K(n, n);
+    unsigned int       p = 0;
+    for (unsigned int a = 0; a < nv; ++a)
+      for (unsigned int b = a; b < nv; ++b, ++p)
+        K.add(V[a][b], kernel.pair[p]);
+    // s_a(w) = int (B w)_a
+    std::array<std::array<double, nv>, nv> s;
+    for (unsigned int c = 0; c < nv; ++c)
+      for (unsigned int a = 0; a < nv; ++a)
+        s[c][a] = kernel.integral[a] * w_local[c];
+    Vector<double> Kw(n);
+    for (unsigned int d = 0; d < nv; ++d)
+      {
+        K.vmult(Kw, w_local[d]);
+        for (unsigned int c = 0; c < nv; ++c)
+          {
+            double e = kernel.measure * V[c][d] + (w_local[c] * Kw);
+            for (unsigned int a = 0; a < nv; ++a)
+              e += V[c][a] * s[d][a] + V[d][a] * s[c][a];
+            energy(c, d) += e;
+          }
+      }
+  }
+
+
+
+  template <int dim>
+  std::vector<SymmetricTensor<4, dim>>
+  PeriodicHomogenization<dim>::material_gradient(
+    const MaterialDerivativeFunction &material_derivative,
+    const unsigned int                n_parameters) const
+  {
+    const Impl        &m  = *impl;
+    constexpr unsigned nv = Impl::nv;
+    AssertThrow(m.fluctuation.size() == nv,
+                ExcMessage("material_gradient() needs a homogenize() first"));
+    const unsigned int                   n = m.fe->n_dofs_per_cell();
+    std::vector<FullMatrix<double>>      energy(n_parameters,
+                                           FullMatrix<double>(nv, nv));
+    std::vector<Vector<double>>          w_local(nv, Vector<double>(n));
+    std::vector<types::global_dof_index> local(n);
+    typename Impl::Kernel                own_kernel;
+    for (const auto &cell : m.dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const std::vector<SymmetricTensor<4, dim>> dC =
+            material_derivative(cell->center(), cell->material_id());
+          AssertThrow(dC.size() == n_parameters,
+                      ExcMessage("material_gradient(): the material "
+                                 "derivative has " +
+                                 std::to_string(dC.size()) +
+                                 " entries, expected " +
+                                 std::to_string(n_parameters)));
+          bool loaded = false;
+          for (unsigned int q = 0; q < n_parameters; ++q)
+            {
+              if (dC[q].norm() == 0)
+                continue;
+              if (!loaded)
+                {
+                  if (!m.congruent_cells)
+                    m.compute_kernel(cell, own_kernel);
+                  cell->get_dof_indices(local);
+                  for (unsigned int c = 0; c < nv; ++c)
+                    for (unsigned int i = 0; i < n; ++i)
+                      w_local[c](i) = m.fluctuation[c](local[i]);
+                  loaded = true;
+                }
+              Tensor<2, nv> dV;
+              for (unsigned int a = 0; a < nv; ++a)
+                for (unsigned int b = 0; b < nv; ++b)
+                  {
+                    const auto [i, j] = voigt_pair<dim>(a);
+                    const auto [k, l] = voigt_pair<dim>(b);
+                    dV[a][b]          = dC[q][i][j][k][l];
+                  }
+              m.add_mutual_energies(m.congruent_cells ? m.shared_kernel :
+                                                        own_kernel,
+                                    dV,
+                                    w_local,
+                                    energy[q]);
+            }
+        }
+    std::vector<SymmetricTensor<4, dim>> result(n_parameters);
+    for (unsigned int q = 0; q < n_parameters; ++q)
+      for (unsigned int c = 0; c < nv; ++c)
+        for (unsigned int d = 0; d < nv; ++d)
+          {
+            const double e =
+              Utilities::MPI::sum(0.5 * (energy[q](c, d) + energy[q](d, c)),
+                                  m.comm);
+            const auto [i, j]     = voigt_pair<dim>(c);
+            const auto [k, l]     = voigt_pair<dim>(d);
+            result[q][i][j][k][l] = e / m.box_volume;
+          }
+    return result;
   }
 
 

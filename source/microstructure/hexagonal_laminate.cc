@@ -3,6 +3,8 @@
 
 #include <forma/microstructure/hexagonal_laminate.h>
 
+#include "laminate_polygons.h"
+
 #include <cmath>
 
 namespace forma
@@ -204,82 +206,153 @@ namespace forma
 
 
 
+  std::array<double, HexagonalLaminate::n_continuous>
+  HexagonalLaminate::continuous_parameters() const
+  {
+    if (limit)
+      return {{p1, theta, alpha}};
+    return {{p1, p2, p4}};
+  }
+
+
+
+  void
+  HexagonalLaminate::set_continuous_parameters(
+    const std::array<double, n_continuous> &q)
+  {
+    p1                   = q[0];
+    (limit ? theta : p2) = q[1];
+    (limit ? alpha : p4) = q[2];
+  }
+
+
+
   std::vector<std::pair<ConvexPolygon, unsigned int>>
   HexagonalLaminate::polygons() const
   {
     check();
-    std::vector<std::pair<ConvexPolygon, unsigned int>> result;
-    const std::vector<double> axes  = joint_axis_angles();
-    const double              tan_a = std::tan(lamination_angle());
-
-    // The beams across a joint (none in limit structures).
-    const std::vector<std::pair<double, double>> slots =
-      limit ? std::vector<std::pair<double, double>>() : beam_slots(p3);
-
-    for (const Tile &tile : tiles(family))
-      {
-        ConvexPolygon solid;
-        for (const auto &v : tile.vertices)
-          solid.push_back(tile.center + p1 * (v - tile.center));
-        result.emplace_back(solid, 0);
-
-        const unsigned int k = tile.vertices.size();
-        for (unsigned int e = 0; e < k; ++e)
-          {
-            const Point<2> &a    = tile.vertices[e],
-                           &b    = tile.vertices[(e + 1) % k];
-            const Tensor<1, 2> t = (b - a) / (b - a).norm();
-            const Tensor<1, 2> n({t[1], -t[0]}); // outward
-            // Each joint once: from the tile whose normal points to the
-            // half plane angle in (-90, 90] degrees.
-            const double angle = std::atan2(n[1], n[0]);
-            if (!(angle > -numbers::PI / 2 + 1e-6 &&
-                  angle <= numbers::PI / 2 + 1e-6))
-              continue;
-            unsigned int orientation = 0;
-            for (unsigned int o = 0; o < axes.size(); ++o)
-              if (std::abs(axes[o] - angle) < 1e-6)
-                orientation = o;
-            const double       r      = (0.5 * (a + b) - tile.center) * n;
-            const Point<2>     middle = tile.center + r * n;
-            const double       L = 2 * r * (1 - p1), W = p1 * (b - a).norm();
-            const Tensor<1, 2> y_axis({-n[1], n[0]});
-            auto               global = [&](const double x, const double y) {
-              return middle + x * n + y * y_axis;
-            };
-            // Joint rectangle in local coordinates (x along the axis).
-            const ConvexPolygon local     = {Point<2>(-L / 2, -W / 2),
-                                             Point<2>(L / 2, -W / 2),
-                                             Point<2>(L / 2, W / 2),
-                                             Point<2>(-L / 2, W / 2)};
-            auto                to_global = [&](const ConvexPolygon &p) {
-              ConvexPolygon g;
-              for (const auto &q : p)
-                g.push_back(global(q[0], q[1]));
-              return g;
-            };
-            if (limit)
-              {
-                result.emplace_back(to_global(local), 1 + orientation);
-                continue;
-              }
-            // Beams: stripes |y - x tan(alpha) - c| <= b/2 of the periodic
-            // slot pattern, clipped to the joint.
-            const Tensor<1, 2> up({-tan_a, 1.});
-            for (const auto &[center, size] : slots)
-              for (int shift = -2; shift <= 2; ++shift)
-                {
-                  const double  c    = (center + shift) * W;
-                  const double  half = 0.5 * p4 * size * W;
-                  ConvexPolygon beam = clip(local, Point<2>(0, c + half), up);
-                  beam               = clip(beam, Point<2>(0, c - half), -up);
-                  if (!beam.empty() && area(beam) > 1e-14)
-                    result.emplace_back(to_global(beam), 0);
-                }
-          }
-      }
-    return result;
+    return internal::structure_polygons(*this, continuous_parameters());
   }
+
+
+
+  namespace internal
+  {
+    template <typename Number>
+    std::vector<std::pair<Polygon<Number>, unsigned int>>
+    structure_polygons(
+      const HexagonalLaminate                                   &s,
+      const std::array<Number, HexagonalLaminate::n_continuous> &q)
+    {
+      using std::tan;
+      using P          = Point<2, Number>;
+      using T          = Tensor<1, 2, Number>;
+      const Number &p1 = q[0];
+      // The lamination angle (see lamination_angle(), critical_angle()).
+      Number tan_a;
+      if (s.limit)
+        tan_a = tan(q[2]);
+      else if (s.family == HexagonalLaminate::Family::hexagon)
+        tan_a = q[1] * p1 / (std::sqrt(3.) * (1. - p1));
+      else
+        tan_a = q[1] * std::sqrt(3.) * p1 / (1. - p1);
+      std::vector<std::pair<Polygon<Number>, unsigned int>> result;
+      const std::vector<double> axes = s.joint_axis_angles();
+      // The beams across a joint (none in limit structures).
+      const std::vector<std::pair<double, double>> slots =
+        s.limit ? std::vector<std::pair<double, double>>() : beam_slots(s.p3);
+      auto point = [](const Point<2> &x) {
+        return P(Number(x[0]), Number(x[1]));
+      };
+      auto vector = [](const Tensor<1, 2> &x) {
+        T t;
+        t[0] = x[0];
+        t[1] = x[1];
+        return t;
+      };
+
+      for (const Tile &tile : tiles(s.family))
+        {
+          Polygon<Number> solid;
+          const P         center = point(tile.center);
+          for (const auto &v : tile.vertices)
+            solid.push_back(center + p1 * vector(v - tile.center));
+          result.emplace_back(solid, 0);
+
+          const unsigned int k = tile.vertices.size();
+          for (unsigned int e = 0; e < k; ++e)
+            {
+              const Point<2> &a    = tile.vertices[e],
+                             &b    = tile.vertices[(e + 1) % k];
+              const Tensor<1, 2> t = (b - a) / (b - a).norm();
+              const Tensor<1, 2> n({t[1], -t[0]}); // outward
+              // Each joint once: from the tile whose normal points to the
+              // half plane angle in (-90, 90] degrees.
+              const double angle = std::atan2(n[1], n[0]);
+              if (!(angle > -numbers::PI / 2 + 1e-6 &&
+                    angle <= numbers::PI / 2 + 1e-6))
+                continue;
+              unsigned int orientation = 0;
+              for (unsigned int o = 0; o < axes.size(); ++o)
+                if (std::abs(axes[o] - angle) < 1e-6)
+                  orientation = o;
+              const double       r      = (0.5 * (a + b) - tile.center) * n;
+              const Point<2>     middle = tile.center + r * n;
+              const Number       L = 2 * r * (1. - p1), W = p1 * (b - a).norm();
+              const Tensor<1, 2> y_axis({-n[1], n[0]});
+              auto               global = [&](const P &x) {
+                return point(middle) + x[0] * vector(n) + x[1] * vector(y_axis);
+              };
+              // Joint rectangle in local coordinates (x along the axis).
+              const Number          hl = L / 2., hw = W / 2.;
+              const Polygon<Number> local = {P(-hl, -hw),
+                                             P(hl, -hw),
+                                             P(hl, hw),
+                                             P(-hl, hw)};
+              auto to_global = [&](const Polygon<Number> &polygon) {
+                Polygon<Number> g;
+                for (const auto &x : polygon)
+                  g.push_back(global(x));
+                return g;
+              };
+              if (s.limit)
+                {
+                  result.emplace_back(to_global(local), 1 + orientation);
+                  continue;
+                }
+              // Beams: stripes |y - x tan(alpha) - c| <= b/2 of the periodic
+              // slot pattern, clipped to the joint.
+              T up;
+              up[0] = -tan_a;
+              up[1] = 1;
+              for (const auto &[slot_center, size] : slots)
+                for (int shift = -2; shift <= 2; ++shift)
+                  {
+                    const Number    c    = (slot_center + shift) * W;
+                    const Number    half = 0.5 * size * q[2] * W;
+                    Polygon<Number> beam =
+                      clip_polygon(local, P(Number(0), c + half), up);
+                    beam = clip_polygon(beam, P(Number(0), c - half), -up);
+                    if (!beam.empty() && value(polygon_area(beam)) > 1e-14)
+                      result.emplace_back(to_global(beam), 0);
+                  }
+            }
+        }
+      return result;
+    }
+
+
+
+    template std::vector<std::pair<Polygon<double>, unsigned int>>
+    structure_polygons(
+      const HexagonalLaminate &,
+      const std::array<double, HexagonalLaminate::n_continuous> &);
+    template std::vector<
+      std::pair<Polygon<Sacado::Fad::DFad<double>>, unsigned int>>
+    structure_polygons(const HexagonalLaminate &,
+                       const std::array<Sacado::Fad::DFad<double>,
+                                        HexagonalLaminate::n_continuous> &);
+  } // namespace internal
 
 
 

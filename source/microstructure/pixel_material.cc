@@ -2,11 +2,84 @@
 #include <forma/microstructure/hexagonal_laminate.h>
 #include <forma/microstructure/pixel_material.h>
 
+#include "laminate_polygons.h"
+#include <Sacado.hpp>
+
 #include <algorithm>
 
 namespace forma
 {
   using namespace dealii;
+
+  namespace
+  {
+    using AD = Sacado::Fad::DFad<double>;
+
+    /**
+     * The tensor of a grid cell with phase fractions f: phases 1.. by their
+     * fractions, the rest shared by base material (phase 0, density rho)
+     * and void, mixed by `gray`. For double or AD fractions and tensors.
+     */
+    template <typename Number>
+    SymmetricTensor<4, 2, Number>
+    mixed_tensor(const Number                                     *f,
+                 const std::vector<SymmetricTensor<4, 2, Number>> &tensor,
+                 const IsotropicModuli                            &base,
+                 const IsotropicModuli                            &weak,
+                 const GrayPixels                                  gray)
+    {
+      SymmetricTensor<4, 2, Number> C;
+      Number                        rest = 1;
+      for (unsigned int k = 1; k < tensor.size(); ++k)
+        {
+          C += f[k] * tensor[k];
+          rest -= f[k];
+        }
+      if (internal::value(rest) <= 0)
+        return C;
+      Number rho = f[0] / rest;
+      if (internal::value(rho) >= 1)
+        rho = 1;
+      const SymmetricTensor<4, 2, Number> weak_tensor =
+        isotropic_tensor(Number(weak.kappa), Number(weak.mu));
+      if (gray == GrayPixels::linear || internal::value(rho) <= 0 ||
+          internal::value(rho) >= 1)
+        {
+          const Number void_part = 1. - rho;
+          return C + rest * (rho * tensor[0] + void_part * weak_tensor);
+        }
+      const auto [kappa, mu] = hashin_shtrikman_upper(base, weak, rho);
+      return C + rest * isotropic_tensor(kappa, mu);
+    }
+
+    /// phase_tensors() with the continuous parameters q.
+    template <typename Number>
+    std::vector<SymmetricTensor<4, 2, Number>>
+    phase_tensors_of(
+      const HexagonalLaminate                                   &s,
+      const std::array<Number, HexagonalLaminate::n_continuous> &q,
+      const IsotropicModuli                                     &base,
+      const IsotropicModuli                                     &weak,
+      std::vector<double>                                       &density)
+    {
+      const SymmetricTensor<4, 2, Number> strong =
+        isotropic_tensor(Number(base.kappa), Number(base.mu));
+      density                                           = {1};
+      std::vector<SymmetricTensor<4, 2, Number>> tensor = {strong};
+      if (s.limit)
+        for (const double axis : s.joint_axis_angles())
+          {
+            density.push_back(s.theta);
+            const Number angle = axis + q[2];
+            tensor.push_back(rank_one_laminate(
+              strong,
+              isotropic_tensor(Number(weak.kappa), Number(weak.mu)),
+              q[1],
+              angle));
+          }
+      return tensor;
+    }
+  } // namespace
 
   PixelMaterial::PixelMaterial(PhaseRaster                        raster,
                                std::vector<double>                phase_density,
@@ -19,7 +92,6 @@ namespace forma
     , tensor(std::move(phase_tensor))
     , base(base)
     , weak(weak)
-    , weak_tensor(weak.tensor())
     , gray(gray)
   {
     AssertThrow(density.size() == this->raster.n_phases &&
@@ -34,25 +106,10 @@ namespace forma
   PixelMaterial::operator()(const Point<2> &x, const types::material_id) const
   {
     const auto [i, j] = raster.cell_of(x);
-    SymmetricTensor<4, 2> C;
-    double                rest = 1;
-    for (unsigned int k = 1; k < raster.n_phases; ++k)
-      {
-        const double f = raster.fraction(i, j, k);
-        C += f * tensor[k];
-        rest -= f;
-      }
-    // Base material and void share the rest of the cell.
-    rest = std::max(0., rest);
-    if (rest <= 0)
-      return C;
-    const double rho = std::min(1., raster.fraction(i, j, 0) / rest);
-    if (gray == GrayPixels::linear || rho <= 0 || rho >= 1)
-      return C + rest * (rho * tensor[0] + (1 - rho) * weak_tensor);
-    const auto b = hashin_shtrikman(base, weak, rho);
-    return C +
-           rest * IsotropicModuli::from_bulk_shear(b.kappa_upper, b.mu_upper)
-                    .tensor();
+    std::vector<double> f(raster.n_phases);
+    for (unsigned int k = 0; k < raster.n_phases; ++k)
+      f[k] = raster.fraction(i, j, k);
+    return mixed_tensor(f.data(), tensor, base, weak, gray);
   }
 
 
@@ -86,18 +143,7 @@ namespace forma
                 const IsotropicModuli   &weak,
                 std::vector<double>     &density)
   {
-    density                                   = {1};
-    std::vector<SymmetricTensor<4, 2>> tensor = {base.tensor()};
-    if (s.limit)
-      for (const double axis : s.joint_axis_angles())
-        {
-          density.push_back(s.theta);
-          tensor.push_back(rank_one_laminate(base.tensor(),
-                                             weak.tensor(),
-                                             s.theta,
-                                             axis + s.lamination_angle()));
-        }
-    return tensor;
+    return phase_tensors_of(s, s.continuous_parameters(), base, weak, density);
   }
 
 
@@ -118,5 +164,54 @@ namespace forma
                          base,
                          weak,
                          gray);
+  }
+
+
+
+  PixelMaterialGradient::PixelMaterialGradient(const HexagonalLaminate &s,
+                                               const IsotropicModuli   &base,
+                                               const IsotropicModuli   &weak,
+                                               const GrayPixels         gray,
+                                               const unsigned int       nx,
+                                               const unsigned int       ny)
+    : grid(nx, ny, HexagonalLaminate::width, HexagonalLaminate::height, 1)
+    , derivative(static_cast<std::size_t>(nx) * ny)
+  {
+    s.check();
+    constexpr unsigned int n      = HexagonalLaminate::n_continuous;
+    const auto             values = s.continuous_parameters();
+    std::array<AD, n>      q;
+    for (unsigned int m = 0; m < n; ++m)
+      q[m] = AD(n, m, values[m]);
+    const unsigned int n_phases = s.limit ? 4 : 1;
+    std::vector<AD>    fractions(derivative.size() * n_phases, AD(0.));
+    for (const auto &[polygon, phase] : internal::structure_polygons(s, q))
+      internal::rasterize_polygon(polygon,
+                                  phase,
+                                  {nx, ny, n_phases, grid.width, grid.height},
+                                  fractions);
+    std::vector<double> density;
+    const auto          tensor = phase_tensors_of(s, q, base, weak, density);
+    for (std::size_t c = 0; c < derivative.size(); ++c)
+      {
+        const SymmetricTensor<4, 2, AD> C =
+          mixed_tensor(&fractions[c * n_phases], tensor, base, weak, gray);
+        for (unsigned int m = 0; m < n; ++m)
+          for (unsigned int i = 0; i < 2; ++i)
+            for (unsigned int j = i; j < 2; ++j)
+              for (unsigned int k = 0; k < 2; ++k)
+                for (unsigned int l = k; l < 2; ++l)
+                  derivative[c][m][i][j][k][l] =
+                    C[i][j][k][l].size() > 0 ? C[i][j][k][l].dx(m) : 0.;
+      }
+  }
+
+
+
+  const PixelMaterialGradient::Derivatives &
+  PixelMaterialGradient::operator()(const Point<2> &x) const
+  {
+    const auto [i, j] = grid.cell_of(x);
+    return derivative[static_cast<std::size_t>(j) * grid.nx + i];
   }
 } // namespace forma

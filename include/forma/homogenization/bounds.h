@@ -3,6 +3,8 @@
 
 #include <forma/homogenization/elastic_tensor.h>
 
+#include <utility>
+
 namespace forma
 {
   /**
@@ -36,6 +38,17 @@ namespace forma
   hashin_shtrikman(const IsotropicModuli &strong,
                    const IsotropicModuli &weak,
                    const double           phi);
+
+  /**
+   * The upper bounds (kappa_upper, mu_upper) alone, for any scalar phi:
+   * double, or a forward AD number (Sacado::Fad::DFad<double>, the
+   * instantiated one) for their exact derivatives.
+   */
+  template <typename Number>
+  std::pair<Number, Number>
+  hashin_shtrikman_upper(const IsotropicModuli &strong,
+                         const IsotropicModuli &weak,
+                         const Number          &phi);
 
   /// The bounds of a void-material composite (eq. 5.1).
   HashinShtrikmanBounds

@@ -120,6 +120,27 @@ namespace forma
                     const double                         theta_a,
                     const double                         layer_angle);
 
+  /**
+   * rotate(), rank_one_laminate() and IsotropicModuli::tensor() for any
+   * scalar: double or a forward AD number (Sacado::Fad::DFad<double>, the
+   * instantiated one), for exact derivatives of laminate tensors with
+   * respect to their fraction and angle.
+   */
+  template <typename Number>
+  dealii::SymmetricTensor<4, 2, Number>
+  rotate(const dealii::SymmetricTensor<4, 2, Number> &C, const Number &angle);
+
+  template <typename Number>
+  dealii::SymmetricTensor<4, 2, Number>
+  rank_one_laminate(const dealii::SymmetricTensor<4, 2, Number> &C_a,
+                    const dealii::SymmetricTensor<4, 2, Number> &C_b,
+                    const Number                                &theta_a,
+                    const Number                                &layer_angle);
+
+  template <typename Number>
+  dealii::SymmetricTensor<4, 2, Number>
+  isotropic_tensor(const Number &kappa, const Number &mu);
+
   /// Smallest eigenvalue of the Voigt matrix (with engineering shear):
   /// positive iff C is positive definite.
   double

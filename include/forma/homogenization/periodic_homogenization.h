@@ -130,6 +130,25 @@ namespace forma
     Result
     homogenize(const MaterialFunction &material);
 
+    /// Derivatives of the cell tensor at a cell: dC/dq_m, m = 0..n-1.
+    using MaterialDerivativeFunction =
+      std::function<std::vector<dealii::SymmetricTensor<4, dim>>(
+        const dealii::Point<dim> &center,
+        const dealii::types::material_id)>;
+
+    /**
+     * Derivatives of the last homogenize()'s C^H with respect to n
+     * parameters of the material (the mesh fixed), given the cell tensors'
+     * derivatives: with chi_a = A_a x + w_a,
+     *   dC_ab / dq_m = 1/|Y| int eps(chi_a) : dC/dq_m : eps(chi_b),
+     * exact for the discrete mutual energies because the cell problems are
+     * self-adjoint and w_a stationary (no adjoint solve). The perturbed
+     * material must keep any symmetry the constraints impose (GridLattice).
+     */
+    std::vector<dealii::SymmetricTensor<4, dim>>
+    material_gradient(const MaterialDerivativeFunction &material_derivative,
+                      const unsigned int                n_parameters) const;
+
     /**
      * Shape derivative of the last homogenize()'s C^H with respect to the
      * mesh's vertex positions (cell meshes; the box stays fixed): entry

@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <map>
 #include <memory>
 #include <string>
@@ -76,6 +77,30 @@ namespace forma
     evaluate(PeriodicHomogenization<2> &cell,
              const PixelMaterial       &material,
              const Setup               &setup);
+
+    /// Exact derivatives of a Sample with respect to the structure's
+    /// continuous parameters (HexagonalLaminate::continuous_parameters(),
+    /// alpha in radians).
+    struct SampleGradient
+    {
+      std::array<dealii::SymmetricTensor<4, 2>, HexagonalLaminate::n_continuous>
+                                                          C;
+      std::array<double, HexagonalLaminate::n_continuous> E, nu;
+    };
+
+    /**
+     * The gradient of `sample`, the last homogenization on `cell` of
+     * `structure` rasterized on nx x ny pixels: the pixel tensors'
+     * derivatives (PixelMaterialGradient) through C^H's material gradient
+     * (no adjoint solve) and the isotropic fit.
+     */
+    SampleGradient
+    evaluate_gradient(const PeriodicHomogenization<2> &cell,
+                      const HexagonalLaminate         &structure,
+                      const Setup                     &setup,
+                      const unsigned int               nx,
+                      const unsigned int               ny,
+                      const Sample                    &sample);
 
     /// Cells along the sqrt(3) x 1 rectangle for ny along its height: the
     /// even number nearest sqrt(3) ny.

@@ -3,6 +3,7 @@
 
 #include <forma/microstructure/raster.h>
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -59,6 +60,17 @@ namespace forma
     family_from_string(const std::string &name);
     std::string
     family_name() const;
+
+    /// The continuous parameters: (p1, p2, p4) for finite structures,
+    /// (p1, theta, alpha) with alpha in radians for limit ones (p3 sets a
+    /// beam count, so it is not one).
+    static constexpr unsigned int n_continuous = 3;
+
+    std::array<double, n_continuous>
+    continuous_parameters() const;
+
+    void
+    set_continuous_parameters(const std::array<double, n_continuous> &q);
 
     /// Throw a clear error if a parameter is outside its range.
     void

@@ -6,14 +6,14 @@
 #include <deal.II/base/types.h>
 
 #include <forma/homogenization/elastic_tensor.h>
+#include <forma/microstructure/hexagonal_laminate.h>
 #include <forma/microstructure/raster.h>
 
+#include <array>
 #include <vector>
 
 namespace forma
 {
-  struct HexagonalLaminate;
-
   /// How a grid cell partly covered by base material (fraction rho) mixes
   /// it with the void (weak) phase.
   enum class GrayPixels
@@ -67,7 +67,6 @@ namespace forma
     std::vector<double>                        density;
     std::vector<dealii::SymmetricTensor<4, 2>> tensor;
     IsotropicModuli                            base, weak;
-    dealii::SymmetricTensor<4, 2>              weak_tensor;
     GrayPixels                                 gray;
   };
 
@@ -91,6 +90,38 @@ namespace forma
                  const GrayPixels         gray,
                  const unsigned int       nx,
                  const unsigned int       ny);
+
+  /**
+   * The exact derivatives of pixel_material()'s cell tensors with respect
+   * to the structure's continuous parameters
+   * (HexagonalLaminate::continuous_parameters(), alpha in radians): forward
+   * AD through the polygons, their exact areas in every grid cell (the
+   * derivative of a covered area is the flux of the boundary's velocity
+   * through the cell), the laminate phases and the gray-pixel mixing. The
+   * map is piecewise smooth: a derivative jumps where a polygon edge
+   * crosses a grid line along itself or a beam appears.
+   */
+  class PixelMaterialGradient
+  {
+  public:
+    using Derivatives = std::array<dealii::SymmetricTensor<4, 2>,
+                                   HexagonalLaminate::n_continuous>;
+
+    PixelMaterialGradient(const HexagonalLaminate &structure,
+                          const IsotropicModuli   &base,
+                          const IsotropicModuli   &weak,
+                          const GrayPixels         gray,
+                          const unsigned int       nx,
+                          const unsigned int       ny);
+
+    /// dC/dq of the grid cell holding x.
+    const Derivatives &
+    operator()(const dealii::Point<2> &x) const;
+
+  private:
+    PhaseRaster              grid;
+    std::vector<Derivatives> derivative;
+  };
 } // namespace forma
 
 #endif
