@@ -1,13 +1,14 @@
 // forma-laminate: hexagonal Triangle/Hexagon laminate microstructures,
 // periodic homogenization and Hashin-Shtrikman coverage (thesis ch. 5).
-// The modes live in the library (forma/laminate/study.h); this table is
-// their only list.
+// The modes live in forma_laminate/ (the library holds the study they run
+// on, forma/laminate/study.h); this table is their only list.
 
 #include <deal.II/base/parameter_handler.h>
 
 #include <forma/base/application.h>
 #include <forma/base/run_context.h>
-#include <forma/laminate/study.h>
+
+#include "forma_laminate/modes.h"
 
 namespace
 {

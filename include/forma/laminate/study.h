@@ -184,32 +184,6 @@ namespace forma
     /// the summary).
     Setup
     parse_setup(dealii::ParameterHandler &prm, RunContext &context);
-
-    /// One structure (family or image) -> summary.json, fields.vtu.
-    void
-    homogenize_mode(dealii::ParameterHandler &prm,
-                    const std::string        &prm_directory,
-                    const Setup              &setup,
-                    RunContext               &context);
-
-    /// A parameter grid -> samples.csv, coverage, plots.
-    void
-    sweep_mode(dealii::ParameterHandler &prm,
-               const Setup              &setup,
-               RunContext               &context);
-
-    /// A target (E, nu) -> structure parameters.
-    void
-    inverse_mode(dealii::ParameterHandler &prm,
-                 const std::string        &prm_directory,
-                 const Setup              &setup,
-                 RunContext               &context);
-
-    /// Regular grid vs conforming periodic mesh (Table 5.2).
-    void
-    compare_meshes_mode(dealii::ParameterHandler &prm,
-                        const Setup              &setup,
-                        RunContext               &context);
   } // namespace laminate
 } // namespace forma
 

@@ -7,7 +7,8 @@
 #include <forma/base/plot.h>
 #include <forma/base/run_context.h>
 #include <forma/homogenization/coverage.h>
-#include <forma/laminate/study.h>
+
+#include "modes.h"
 
 #include <algorithm>
 #include <cmath>

@@ -6,8 +6,9 @@
 
 #include <forma/base/application.h>
 #include <forma/base/run_context.h>
-#include <forma/laminate/study.h>
 #include <forma/optimization/optimizer.h>
+
+#include "modes.h"
 
 #include <algorithm>
 #include <cmath>

@@ -5,8 +5,9 @@
 #include <deal.II/base/utilities.h>
 
 #include <forma/base/run_context.h>
-#include <forma/laminate/study.h>
 #include <forma/microstructure/density_image.h>
+
+#include "modes.h"
 
 #include <algorithm>
 #include <cmath>

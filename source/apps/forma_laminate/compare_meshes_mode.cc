@@ -6,8 +6,9 @@
 #include <deal.II/grid/tria.h>
 
 #include <forma/base/run_context.h>
-#include <forma/laminate/study.h>
 #include <forma/mesh/periodic_phase_mesh.h>
+
+#include "modes.h"
 
 #include <algorithm>
 #include <cmath>
