@@ -1,13 +1,15 @@
 // forma-rhombic: homogenization on rhombic cells and the rhombic
-// microstructure family (thesis ch. 4). The modes live in the library
-// (forma/rhombic/study.h); this table is their only list.
+// microstructure family (thesis ch. 4). The modes live in forma_rhombic/
+// (the library holds the study they run on, forma/rhombic/study.h); this
+// table is their only list.
 
 #include <deal.II/base/parameter_handler.h>
 
 #include <forma/base/application.h>
 #include <forma/base/run_context.h>
-#include <forma/rhombic/pointwise_table.h>
-#include <forma/rhombic/study.h>
+
+#include "forma_rhombic/modes.h"
+#include "forma_rhombic/pointwise_table.h"
 
 namespace
 {

@@ -1,3 +1,5 @@
+#include "pointwise_table.h"
+
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
 
@@ -6,9 +8,8 @@
 #include <forma/base/run_context.h>
 #include <forma/optimization/optimizer.h>
 #include <forma/rhombic/inverse_problem.h>
-#include <forma/rhombic/pointwise_table.h>
-#include <forma/rhombic/study.h>
 
+#include "modes.h"
 #include <nlohmann/json.hpp>
 
 #include <cmath>

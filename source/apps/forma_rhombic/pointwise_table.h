@@ -1,5 +1,5 @@
-#ifndef forma_rhombic_pointwise_table_h
-#define forma_rhombic_pointwise_table_h
+#ifndef forma_apps_forma_rhombic_pointwise_table_h
+#define forma_apps_forma_rhombic_pointwise_table_h
 
 #include <deal.II/base/parameter_handler.h>
 

@@ -8,6 +8,8 @@
 #include <forma/optimization/optimizer.h>
 #include <forma/rhombic/inverse_problem.h>
 
+#include "modes.h"
+
 #include <cmath>
 #include <map>
 #include <memory>

@@ -10,7 +10,8 @@
 #include <forma/mesh/mesh.h>
 #include <forma/mesh/quad_mesh.h>
 #include <forma/rhombic/quad_mesh_optimization.h>
-#include <forma/rhombic/study.h>
+
+#include "modes.h"
 
 #include <filesystem>
 #include <fstream>

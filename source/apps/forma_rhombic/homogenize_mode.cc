@@ -3,7 +3,8 @@
 #include <forma/base/run_context.h>
 #include <forma/homogenization/bounds.h>
 #include <forma/rhombic/cell_model.h>
-#include <forma/rhombic/study.h>
+
+#include "modes.h"
 
 namespace forma
 {

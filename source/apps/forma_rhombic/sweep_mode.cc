@@ -7,8 +7,8 @@
 #include <forma/base/rank_strided.h>
 #include <forma/base/run_context.h>
 #include <forma/rhombic/redundant_parameters.h>
-#include <forma/rhombic/study.h>
 
+#include "modes.h"
 #include <boost/serialization/map.hpp>
 #include <boost/serialization/string.hpp>
 

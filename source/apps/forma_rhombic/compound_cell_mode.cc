@@ -9,8 +9,9 @@
 #include <forma/mesh/level_set_mesh.h>
 #include <forma/rhombic/material_map.h>
 #include <forma/rhombic/quad_mesh_optimization.h>
-#include <forma/rhombic/study.h>
 #include <forma/rhombic/tiling.h>
+
+#include "modes.h"
 
 #include <fstream>
 #include <iomanip>

@@ -21,9 +21,10 @@
 #include <forma/mesh/level_set_mesh.h>
 #include <forma/mesh/polygon_domain.h>
 #include <forma/rhombic/material_map.h>
-#include <forma/rhombic/pointwise_table.h>
-#include <forma/rhombic/study.h>
 #include <forma/rhombic/tiling.h>
+
+#include "modes.h"
+#include "pointwise_table.h"
 
 #include <algorithm>
 #include <filesystem>

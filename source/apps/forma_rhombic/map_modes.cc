@@ -15,6 +15,7 @@
 #include <forma/rhombic/material_map.h>
 #include <forma/rhombic/transversal_map.h>
 
+#include "modes.h"
 #include <boost/serialization/array.hpp>
 
 #include <algorithm>
