@@ -1240,17 +1240,19 @@ namespace forma
     std::vector<Vector<double>>          w_local(nv, Vector<double>(n));
     std::vector<types::global_dof_index> local(n);
     typename Impl::Kernel                own_kernel;
+    std::size_t                          wrong_size = 0;
     for (const auto &cell : m.dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
           const std::vector<SymmetricTensor<4, dim>> dC =
             material_derivative(cell->center(), cell->material_id());
-          AssertThrow(dC.size() == n_parameters,
-                      ExcMessage("material_gradient(): the material "
-                                 "derivative has " +
-                                 std::to_string(dC.size()) +
-                                 " entries, expected " +
-                                 std::to_string(n_parameters)));
+          // Checked on every rank after the loop (a throw here would leave
+          // the other ranks in the sums).
+          if (dC.size() != n_parameters)
+            {
+              wrong_size = dC.size();
+              continue;
+            }
           bool loaded = false;
           for (unsigned int q = 0; q < n_parameters; ++q)
             {
@@ -1281,17 +1283,27 @@ namespace forma
                                     energy[q]);
             }
         }
+    wrong_size = Utilities::MPI::max(wrong_size, m.comm);
+    AssertThrow(wrong_size == 0,
+                ExcMessage("material_gradient(): the material derivative has " +
+                           std::to_string(wrong_size) + " entries, expected " +
+                           std::to_string(n_parameters)));
+    // One reduction for every parameter and pair.
+    std::vector<double> packed;
+    for (unsigned int q = 0; q < n_parameters; ++q)
+      for (unsigned int c = 0; c < nv; ++c)
+        for (unsigned int d = 0; d < nv; ++d)
+          packed.push_back(0.5 * (energy[q](c, d) + energy[q](d, c)));
+    Utilities::MPI::sum(packed, m.comm, packed);
     std::vector<SymmetricTensor<4, dim>> result(n_parameters);
+    unsigned int                         index = 0;
     for (unsigned int q = 0; q < n_parameters; ++q)
       for (unsigned int c = 0; c < nv; ++c)
         for (unsigned int d = 0; d < nv; ++d)
           {
-            const double e =
-              Utilities::MPI::sum(0.5 * (energy[q](c, d) + energy[q](d, c)),
-                                  m.comm);
             const auto [i, j]     = voigt_pair<dim>(c);
             const auto [k, l]     = voigt_pair<dim>(d);
-            result[q][i][j][k][l] = e / m.box_volume;
+            result[q][i][j][k][l] = packed[index++] / m.box_volume;
           }
     return result;
   }

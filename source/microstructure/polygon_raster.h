@@ -3,8 +3,8 @@
 
 // Convex polygons and their anti-aliased rasterization for any scalar:
 // double, or a forward AD number whose derivatives are those of the exact
-// areas (internal, not installed; raster.cc and pixel_material.cc
-// instantiate it).
+// areas (internal, not installed; used by raster.cc, hexagonal_laminate.cc
+// and pixel_material.cc).
 
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>

@@ -142,8 +142,10 @@ namespace forma
      * derivatives: with chi_a = A_a x + w_a,
      *   dC_ab / dq_m = 1/|Y| int eps(chi_a) : dC/dq_m : eps(chi_b),
      * exact for the discrete mutual energies because the cell problems are
-     * self-adjoint and w_a stationary (no adjoint solve). The perturbed
-     * material must keep any symmetry the constraints impose (GridLattice).
+     * self-adjoint and w_a stationary (no adjoint solve): after direct
+     * solves; after cg-amg its error follows the solver tolerance. The
+     * perturbed material must keep any symmetry the constraints impose
+     * (GridLattice).
      */
     std::vector<dealii::SymmetricTensor<4, dim>>
     material_gradient(const MaterialDerivativeFunction &material_derivative,
