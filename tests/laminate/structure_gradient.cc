@@ -3,7 +3,8 @@
 // structure parameters (p1, p2, p4 or p1, theta, alpha), differentiated by
 // AD through the polygons, their exact pixel areas, the laminate phases and
 // the Hashin-Shtrikman gray pixels, and C^H's self-adjoint material
-// gradient. Taylor test: |f(q + h d) - f(q) - h f'(q) d| must fall as h^2,
+// gradient. Taylor test: |f(q + h d) - f(q) - h f'(q) d| must fall as h^2
+// (rates in [1.8, 2.3]; 1.9-2.1 measured),
 // for a finite Hexagon and Triangle structure (chiral beams) and a limit
 // Hexagon structure, on the symmetric half cell the inverse mode uses.
 
@@ -74,10 +75,18 @@ namespace
         const double       e_nu = std::abs(f.nu - f0.nu - h * dnu);
         std::ostringstream line;
         line << "  h = " << std::setw(9) << h;
+        // Rates as a verdict: printed values could round either way.
+        auto verdict = [](const double rate) {
+          std::ostringstream v;
+          if (rate >= 1.8 && rate <= 2.3)
+            v << "in [1.8, 2.3]";
+          else
+            v << "= " << rate << " (expected about 2)";
+          return v.str();
+        };
         if (k > 0)
-          line << "  rate(E) = " << std::fixed << std::setprecision(1)
-               << std::log2(previous_E / e_E)
-               << "  rate(nu) = " << std::log2(previous_nu / e_nu);
+          line << "  rate(E) " << verdict(std::log2(previous_E / e_E))
+               << ", rate(nu) " << verdict(std::log2(previous_nu / e_nu));
         deallog << line.str() << std::endl;
         previous_E  = e_E;
         previous_nu = e_nu;
