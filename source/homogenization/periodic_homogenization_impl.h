@@ -182,7 +182,10 @@ namespace forma
     Kernel                                       shared_kernel;
     mutable std::unique_ptr<FEValues<dim>>       fe_values;
     mutable std::vector<std::array<double, nv>>  strains, stresses;
-    double                                       box_volume = 0;
+    /// add_mutual_energies()'s cell matrix and product.
+    mutable FullMatrix<double> energy_matrix;
+    mutable Vector<double>     energy_vector;
+    double                     box_volume = 0;
     /// The last homogenize()'s cell tensors (Voigt), locally owned cells.
     std::vector<Tensor<2, nv>> cell_tensors;
     /// Grids: the side x_0 = L_0 is the side x_0 = 0 moved by L_0 e_0 +

@@ -254,9 +254,18 @@ namespace forma
     const std::vector<Vector<double>> &w_local,
     FullMatrix<double>                &energy) const
   {
-    const unsigned int n = w_local[0].size();
-    FullMatrix<double> K(n, n);
-    unsigned int       p = 0;
+    // Scratch kept across cells: this runs once per cell and homogenize().
+    const unsigned int  n  = w_local[0].size();
+    FullMatrix<double> &K  = energy_matrix;
+    Vector<double>     &Kw = energy_vector;
+    if (K.m() != n)
+      {
+        K.reinit(n, n);
+        Kw.reinit(n);
+      }
+    else
+      K = 0;
+    unsigned int p = 0;
     for (unsigned int a = 0; a < nv; ++a)
       for (unsigned int b = a; b < nv; ++b, ++p)
         K.add(V[a][b], kernel.pair[p]);
@@ -265,7 +274,6 @@ namespace forma
     for (unsigned int c = 0; c < nv; ++c)
       for (unsigned int a = 0; a < nv; ++a)
         s[c][a] = kernel.integral[a] * w_local[c];
-    Vector<double> Kw(n);
     for (unsigned int d = 0; d < nv; ++d)
       {
         K.vmult(Kw, w_local[d]);

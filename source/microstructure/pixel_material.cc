@@ -4,6 +4,7 @@
 
 #include "laminate_polygons.h"
 #include <Sacado.hpp>
+#include <boost/container/small_vector.hpp>
 
 #include <algorithm>
 
@@ -106,7 +107,8 @@ namespace forma
   PixelMaterial::operator()(const Point<2> &x, const types::material_id) const
   {
     const auto [i, j] = raster.cell_of(x);
-    std::vector<double> f(raster.n_phases);
+    // No allocation per cell: a grid holds few phases.
+    boost::container::small_vector<double, 8> f(raster.n_phases);
     for (unsigned int k = 0; k < raster.n_phases; ++k)
       f[k] = raster.fraction(i, j, k);
     return mixed_tensor(f.data(), tensor, base, weak, gray);
