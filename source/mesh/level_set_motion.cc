@@ -1,19 +1,14 @@
 #include <deal.II/base/exceptions.h>
-#include <deal.II/base/quadrature_lib.h>
 #include <deal.II/dofs/dof_handler.h>
-#include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_simplex_p.h>
-#include <deal.II/fe/fe_values.h>
+#include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/mapping_fe.h>
 #include <deal.II/grid/tria.h>
-#include <deal.II/lac/dynamic_sparsity_pattern.h>
-#include <deal.II/lac/full_matrix.h>
-#include <deal.II/lac/sparse_direct.h>
-#include <deal.II/lac/sparse_matrix.h>
-#include <deal.II/lac/vector.h>
 
+#include <forma/mesh/harmonic_extension.h>
 #include <forma/mesh/level_set_motion.h>
 
+#include <array>
 #include <cmath>
 #include <map>
 
@@ -38,40 +33,33 @@ namespace forma
     std::vector<int> partner;
     Point<2>         box;
 
-    // Harmonic extension: P1 dofs of the vertices.
-    Triangulation<2>          tria;
-    FE_SimplexP<2>            fe{1};
-    DoFHandler<2>             dof_handler;
-    std::vector<unsigned int> vertex_to_dof;
-    SparsityPattern           pattern;
-    SparseMatrix<double>      laplace, condensed;
-    SparseDirectUMFPACK       solver;
-    std::vector<bool>         is_boundary_dof;
+    // The interior follows the boundary by the library's harmonic
+    // extension, on a vector P1 field over a copy of the mesh.
+    Triangulation<2>                         tria;
+    const FESystem<2>                        fe{FE_SimplexP<2>(1), 2};
+    const MappingFE<2>                       mapping{FE_SimplexP<2>(1)};
+    DoFHandler<2>                            dof_handler;
+    AffineConstraints<double>                no_constraints;
+    std::vector<std::array<unsigned int, 2>> vertex_to_dof;
+    std::unique_ptr<HarmonicExtension<2>>    extension;
 
     /// The interior displacements for given boundary displacements.
     std::vector<Tensor<1, 2>>
     extend(const std::vector<Tensor<1, 2>> &boundary) const
     {
+      const IndexSet               owned = dof_handler.locally_owned_dofs();
+      HarmonicExtension<2>::Vector x(owned, MPI_COMM_SELF);
+      for (unsigned int v = 0; v < vertices.size(); ++v)
+        for (unsigned int d = 0; d < 2; ++d)
+          if (vertex_to_dof[v][d] != numbers::invalid_unsigned_int)
+            x(vertex_to_dof[v][d]) = boundary[v][d];
+      x.compress(VectorOperation::insert);
+      extension->extend(x);
       std::vector<Tensor<1, 2>> result(vertices.size());
-      const unsigned int        n = dof_handler.n_dofs();
-      for (unsigned int d = 0; d < 2; ++d)
-        {
-          Vector<double> x_b(n), rhs(n), x(n);
-          for (unsigned int v = 0; v < vertices.size(); ++v)
-            if (vertex_to_dof[v] != numbers::invalid_unsigned_int &&
-                is_boundary_dof[vertex_to_dof[v]])
-              x_b(vertex_to_dof[v]) = boundary[v][d];
-          laplace.vmult(rhs, x_b);
-          rhs *= -1.;
-          for (unsigned int i = 0; i < n; ++i)
-            if (is_boundary_dof[i])
-              rhs(i) = 0;
-          solver.vmult(x, rhs);
-          x += x_b;
-          for (unsigned int v = 0; v < vertices.size(); ++v)
-            if (vertex_to_dof[v] != numbers::invalid_unsigned_int)
-              result[v][d] = x(vertex_to_dof[v]);
-        }
+      for (unsigned int v = 0; v < vertices.size(); ++v)
+        for (unsigned int d = 0; d < 2; ++d)
+          if (vertex_to_dof[v][d] != numbers::invalid_unsigned_int)
+            result[v][d] = x(vertex_to_dof[v][d]);
       return result;
     }
   };
@@ -182,51 +170,21 @@ namespace forma
                 m.kind[i] = Impl::fixed; // no partner: keep it in place
             }
 
-    // The harmonic extension's Laplacian, boundary vertices constrained.
+    // Vertex DoFs of the vector P1 field the extension acts on.
     m.dof_handler.reinit(m.tria);
     m.dof_handler.distribute_dofs(m.fe);
-    const unsigned int n = m.dof_handler.n_dofs();
-    m.vertex_to_dof.assign(nv, numbers::invalid_unsigned_int);
+    m.no_constraints.close();
+    const unsigned int invalid = numbers::invalid_unsigned_int;
+    m.vertex_to_dof.assign(nv, {{invalid, invalid}});
     for (const auto &cell : m.dof_handler.active_cell_iterators())
       for (const unsigned int v : cell->vertex_indices())
-        m.vertex_to_dof[cell->vertex_index(v)] = cell->vertex_dof_index(v, 0);
-    m.is_boundary_dof.assign(n, false);
-    for (unsigned int i = 0; i < nv; ++i)
-      if (on_boundary[i] && m.vertex_to_dof[i] != numbers::invalid_unsigned_int)
-        m.is_boundary_dof[m.vertex_to_dof[i]] = true;
-    DynamicSparsityPattern dsp(n, n);
-    DoFTools::make_sparsity_pattern(m.dof_handler, dsp);
-    m.pattern.copy_from(dsp);
-    m.laplace.reinit(m.pattern);
-    m.condensed.reinit(m.pattern);
-    const MappingFE<2>                   mapping(m.fe);
-    const QGaussSimplex<2>               quadrature(1);
-    FEValues<2>                          fv(mapping,
-                   m.fe,
-                   quadrature,
-                   update_gradients | update_JxW_values);
-    FullMatrix<double>                   K(3, 3);
-    std::vector<types::global_dof_index> local(3);
-    for (const auto &cell : m.dof_handler.active_cell_iterators())
-      {
-        fv.reinit(cell);
-        K = 0;
-        for (unsigned int i = 0; i < 3; ++i)
-          for (unsigned int j = 0; j < 3; ++j)
-            K(i, j) = fv.shape_grad(i, 0) * fv.shape_grad(j, 0) * fv.JxW(0);
-        cell->get_dof_indices(local);
-        for (unsigned int i = 0; i < 3; ++i)
-          for (unsigned int j = 0; j < 3; ++j)
-            {
-              m.laplace.add(local[i], local[j], K(i, j));
-              if (!m.is_boundary_dof[local[i]] && !m.is_boundary_dof[local[j]])
-                m.condensed.add(local[i], local[j], K(i, j));
-            }
-      }
-    for (unsigned int i = 0; i < n; ++i)
-      if (m.is_boundary_dof[i])
-        m.condensed.set(i, i, 1.);
-    m.solver.initialize(m.condensed);
+        for (unsigned int d = 0; d < 2; ++d)
+          m.vertex_to_dof[cell->vertex_index(v)][d] =
+            cell->vertex_dof_index(v, d);
+    m.extension = std::make_unique<HarmonicExtension<2>>(m.dof_handler,
+                                                         m.no_constraints,
+                                                         m.mapping,
+                                                         MPI_COMM_SELF);
   }
 
 

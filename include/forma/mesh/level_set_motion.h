@@ -25,7 +25,8 @@ namespace forma
    *    set's normal at the start; where the contour meets a side of the box
    *    they slide along the side, so periodic partners move alike.
    *  - Other vertices on the sides stay; the interior follows by harmonic
-   *    extension (a P1 Laplacian factored once).
+   *    extension (HarmonicExtension, the one the elasticity shape designs
+   *    use).
    *
    * velocities() is the derivative of moved_vertices() at the start, so a
    * Taylor test of C^H(moved mesh) against the shape gradient checks both.
