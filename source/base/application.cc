@@ -5,11 +5,13 @@
 #include <forma/adjoint/registry.h>
 #include <forma/base/application.h>
 #include <forma/base/parameter_override.h>
+#include <forma/base/safe_text.h>
 
 #include <dlfcn.h>
 
 #include <algorithm>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -36,8 +38,10 @@ namespace forma
            std::isspace(static_cast<unsigned char>(text.back())))
       text.pop_back();
     const auto first = text.find_first_not_of(" \t\n");
+    // Messages quote user data (a mesh file's bytes, a parameter value):
+    // escaped and cut, they print and go into summary.json safely.
     return first == std::string::npos ? std::string("unknown error") :
-                                        text.substr(first);
+                                        safe_text(text.substr(first), 1000);
   }
 
 
@@ -146,147 +150,183 @@ namespace forma
 
 
 
+  namespace
+  {
+    int
+    run_checked(int argc, char **argv, const ApplicationDescription &app)
+    {
+      // Started without mpirun, Open MPI's singleton start spawns an `orted`
+      // daemon, 0.2 s of every run here; one process needs none. An explicit
+      // setting wins; other MPI libraries ignore the variable.
+      if (std::getenv("OMPI_COMM_WORLD_SIZE") == nullptr &&
+          std::getenv("PMIX_RANK") == nullptr)
+        ::setenv("OMPI_MCA_ess_singleton_isolated", "1", /*overwrite*/ 0);
+      dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+      const MPI_Comm                           comm = MPI_COMM_WORLD;
+      const bool root = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
+
+      auto report = [&](const std::string &msg) {
+        if (root)
+          std::cerr << app.name << ": error: " << msg << std::endl;
+      };
+
+      dealii::ParameterHandler prm;
+      if (argc < 2 || argc % 2 != 0)
+        {
+          if (root)
+            print_usage(app);
+          return 1;
+        }
+      const std::string arg = argv[1];
+      if (arg == "--help" || arg == "-h")
+        {
+          if (root)
+            print_usage(app);
+          return 0;
+        }
+      if (arg == "--print-parameters")
+        {
+          declare_common(prm, app);
+          if (root)
+            prm.print_parameters(
+              std::cout,
+              dealii::ParameterHandler::KeepDeclarationOrder |
+                dealii::ParameterHandler::PRM);
+          return 0;
+        }
+
+      if (!std::filesystem::exists(arg))
+        {
+          report("parameter file '" + arg + "' does not exist.");
+          return 1;
+        }
+      // Collective: a rank that cannot load a plugin stops every rank (the
+      // first such rank says why).
+      std::string load_error;
+      try
+        {
+          load_shared_libraries(arg);
+          declare_common(prm, app);
+        }
+      catch (const std::exception &exc)
+        {
+          load_error = error_message(exc);
+        }
+      const unsigned int rank = dealii::Utilities::MPI::this_mpi_process(comm);
+      const unsigned int first_failed = dealii::Utilities::MPI::min(
+        load_error.empty() ? dealii::Utilities::MPI::n_mpi_processes(comm) :
+                             rank,
+        comm);
+      if (first_failed < dealii::Utilities::MPI::n_mpi_processes(comm))
+        {
+          if (rank == first_failed)
+            std::cerr << app.name << ": error: " << load_error << std::endl;
+          return 1;
+        }
+      try
+        {
+          prm.parse_input(arg,
+                          "",
+                          /*skip_undefined=*/false,
+                          /*assert_mandatory=*/true);
+        }
+      catch (const std::exception &exc)
+        {
+          report("in parameter file '" + arg + "': " + error_message(exc));
+          return 1;
+        }
+      // Command-line overrides: --set 'Section/Sub/Entry=value'.
+      for (int k = 2; k + 1 < argc; k += 2)
+        {
+          const std::string flag = argv[k], assignment = argv[k + 1];
+          if (flag != "--set" || assignment.find('=') == std::string::npos)
+            {
+              report("expected --set 'Section/Entry=value' after the "
+                     "parameter file, got '" +
+                     flag + " " + assignment + "'.");
+              return 1;
+            }
+          try
+            {
+              set_entry(prm, assignment);
+            }
+          catch (const std::exception &exc)
+            {
+              report("--set " + error_message(exc));
+              return 1;
+            }
+        }
+
+      std::unique_ptr<RunContext> context;
+      try
+        {
+          context =
+            std::make_unique<RunContext>(comm, prm.get("Output directory"));
+        }
+      catch (const std::exception &exc)
+        {
+          report(error_message(exc));
+          return 1;
+        }
+
+      std::ostringstream echoed;
+      prm.print_parameters(echoed, dealii::ParameterHandler::JSON);
+      context->summary["parameters"]  = nlohmann::json::parse(echoed.str());
+      context->summary["application"] = app.name;
+
+      try
+        {
+          const std::string dir =
+            std::filesystem::path(arg).parent_path().string();
+          const std::string mode = prm.get("Mode");
+          const auto        it =
+            std::find_if(app.modes.begin(),
+                         app.modes.end(),
+                         [&](const auto &m) { return m.name == mode; });
+          // The pattern of Mode admits only these names.
+          AssertThrow(it != app.modes.end(), dealii::ExcInternalError());
+          it->run(prm, dir.empty() ? std::string(".") : dir, *context);
+          context->commit();
+          return 0;
+        }
+      catch (const std::exception &exc)
+        {
+          const std::string msg = error_message(exc);
+          report(msg);
+          context->fail(msg);
+          return 1;
+        }
+    }
+  } // namespace
+
+
+
   int
   run_application(int argc, char **argv, const ApplicationDescription &app)
   {
-    // Started without mpirun, Open MPI's singleton start spawns an `orted`
-    // daemon, 0.2 s of every run here; one process needs none. An explicit
-    // setting wins; other MPI libraries ignore the variable.
-    if (std::getenv("OMPI_COMM_WORLD_SIZE") == nullptr &&
-        std::getenv("PMIX_RANK") == nullptr)
-      ::setenv("OMPI_MCA_ess_singleton_isolated", "1", /*overwrite*/ 0);
-    dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-    const MPI_Comm                           comm = MPI_COMM_WORLD;
-    const bool root = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
-
-    auto report = [&](const std::string &msg) {
-      if (root)
-        std::cerr << app.name << ": error: " << msg << std::endl;
-    };
-
-    dealii::ParameterHandler prm;
-    if (argc < 2 || argc % 2 != 0)
-      {
-        if (root)
-          print_usage(app);
-        return 1;
-      }
-    const std::string arg = argv[1];
-    if (arg == "--help" || arg == "-h")
-      {
-        if (root)
-          print_usage(app);
-        return 0;
-      }
-    if (arg == "--print-parameters")
-      {
-        declare_common(prm, app);
-        if (root)
-          prm.print_parameters(std::cout,
-                               dealii::ParameterHandler::KeepDeclarationOrder |
-                                 dealii::ParameterHandler::PRM);
-        return 0;
-      }
-
-    if (!std::filesystem::exists(arg))
-      {
-        report("parameter file '" + arg + "' does not exist.");
-        return 1;
-      }
-    // Collective: a rank that cannot load a plugin stops every rank (the
-    // first such rank says why).
-    std::string load_error;
+    // Last resort: whatever escapes the error handling above (an exception
+    // from a destructor or from a noexcept function) ends in one line and
+    // exit code 1, never in an abort with a stack trace.
+    static std::string name;
+    name = app.name;
+    std::set_terminate([] {
+      std::cerr << name << ": error: internal failure (std::terminate)"
+                << std::endl;
+      std::_Exit(1);
+    });
     try
       {
-        load_shared_libraries(arg);
-        declare_common(prm, app);
+        return run_checked(argc, argv, app);
       }
     catch (const std::exception &exc)
       {
-        load_error = error_message(exc);
+        std::cerr << app.name << ": error: " << error_message(exc) << std::endl;
       }
-    const unsigned int rank = dealii::Utilities::MPI::this_mpi_process(comm);
-    const unsigned int first_failed = dealii::Utilities::MPI::min(
-      load_error.empty() ? dealii::Utilities::MPI::n_mpi_processes(comm) : rank,
-      comm);
-    if (first_failed < dealii::Utilities::MPI::n_mpi_processes(comm))
+    catch (...)
       {
-        if (rank == first_failed)
-          std::cerr << app.name << ": error: " << load_error << std::endl;
-        return 1;
+        std::cerr << app.name << ": error: unknown internal failure"
+                  << std::endl;
       }
-    try
-      {
-        prm.parse_input(arg,
-                        "",
-                        /*skip_undefined=*/false,
-                        /*assert_mandatory=*/true);
-      }
-    catch (const std::exception &exc)
-      {
-        report("in parameter file '" + arg + "': " + error_message(exc));
-        return 1;
-      }
-    // Command-line overrides: --set 'Section/Sub/Entry=value'.
-    for (int k = 2; k + 1 < argc; k += 2)
-      {
-        const std::string flag = argv[k], assignment = argv[k + 1];
-        if (flag != "--set" || assignment.find('=') == std::string::npos)
-          {
-            report("expected --set 'Section/Entry=value' after the "
-                   "parameter file, got '" +
-                   flag + " " + assignment + "'.");
-            return 1;
-          }
-        try
-          {
-            set_entry(prm, assignment);
-          }
-        catch (const std::exception &exc)
-          {
-            report("--set " + error_message(exc));
-            return 1;
-          }
-      }
-
-    std::unique_ptr<RunContext> context;
-    try
-      {
-        context =
-          std::make_unique<RunContext>(comm, prm.get("Output directory"));
-      }
-    catch (const std::exception &exc)
-      {
-        report(error_message(exc));
-        return 1;
-      }
-
-    std::ostringstream echoed;
-    prm.print_parameters(echoed, dealii::ParameterHandler::JSON);
-    context->summary["parameters"]  = nlohmann::json::parse(echoed.str());
-    context->summary["application"] = app.name;
-
-    try
-      {
-        const std::string dir =
-          std::filesystem::path(arg).parent_path().string();
-        const std::string mode = prm.get("Mode");
-        const auto        it =
-          std::find_if(app.modes.begin(), app.modes.end(), [&](const auto &m) {
-            return m.name == mode;
-          });
-        // The pattern of Mode admits only these names.
-        AssertThrow(it != app.modes.end(), dealii::ExcInternalError());
-        it->run(prm, dir.empty() ? std::string(".") : dir, *context);
-        context->commit();
-        return 0;
-      }
-    catch (const std::exception &exc)
-      {
-        const std::string msg = error_message(exc);
-        report(msg);
-        context->fail(msg);
-        return 1;
-      }
+    return 1;
   }
 } // namespace forma

@@ -110,8 +110,14 @@ namespace forma
   {
     if (is_root())
       {
+        // Invalid UTF-8 in a string (say, from a user's file) is replaced,
+        // not thrown: summary.json is written on the error path too.
         std::ofstream out(path("summary.json").c_str());
-        out << summary.dump(2) << std::endl;
+        out << summary.dump(2,
+                            ' ',
+                            false,
+                            nlohmann::json::error_handler_t::replace)
+            << std::endl;
       }
   }
 
@@ -166,7 +172,14 @@ namespace forma
   {
     summary["status"] = "failed";
     summary["error"]  = error;
-    write_summary();
+    try
+      {
+        write_summary();
+      }
+    catch (...)
+      {
+        // A full disk: the message on stderr is all there is.
+      }
     if (is_root())
       {
         log_file.reset();

@@ -169,6 +169,28 @@ main()
                  base + "subsection Loads\n set Additional forms = magnetic "
                         "field : B=1\nend\n",
                  good);
+  // A mesh file of binary junk: the message quotes its bytes escaped and
+  // cut, and failed-run/summary.json stays valid JSON (it once threw
+  // nlohmann's invalid-UTF-8 error inside the error path and aborted).
+  {
+    std::string junk;
+    for (unsigned int i = 0; i < 3000; ++i)
+      junk += static_cast<char>((i * 37 + 131) % 256);
+    std::ofstream("binary.msh", std::ios::binary) << junk;
+  }
+  expect_failure(
+    "binary_mesh",
+    base + "subsection Mesh\n set Source = file\n set File = binary.msh\nend\n",
+    good);
+  dealii::deallog
+    << "failed-run/summary.json is valid JSON: "
+    << (nlohmann::json::parse(read_file("results/failed-run/summary.json"),
+                              nullptr,
+                              false)
+            .is_discarded() ?
+          "no" :
+          "yes")
+    << std::endl;
   dealii::deallog << "failed run recorded in failed-run/summary.json: "
                   << (read_file("results/failed-run/summary.json")
                             .find("\"status\": \"failed\"") !=
