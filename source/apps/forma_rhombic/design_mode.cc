@@ -20,6 +20,7 @@
 #include <forma/mesh/cut_grid_mesh.h>
 #include <forma/mesh/level_set_mesh.h>
 #include <forma/mesh/polygon_domain.h>
+#include <forma/rhombic/half_plane_region.h>
 #include <forma/rhombic/material_map.h>
 #include <forma/rhombic/tiling.h>
 
@@ -211,43 +212,6 @@ namespace forma
         return p;
       }
 
-      /// Closest point of the convex region to m (alternating projections
-      /// onto the violated half-planes).
-      std::array<double, 2>
-      project(std::array<double, 2>                      m,
-              const std::vector<MaterialMap::HalfPlane> &region)
-      {
-        for (unsigned int it = 0; it < 200; ++it)
-          {
-            bool moved = false;
-            for (const auto &h : region)
-              {
-                const double v = h.c_E * m[0] + h.c_nu * m[1] - h.d;
-                if (v > 1e-12)
-                  {
-                    m[0] -= v * h.c_E;
-                    m[1] -= v * h.c_nu;
-                    moved = true;
-                  }
-              }
-            if (!moved)
-              break;
-          }
-        return m;
-      }
-
-      double
-      violation(const std::array<double, 2>               &m,
-                const std::vector<MaterialMap::HalfPlane> &region)
-      {
-        double v = 0;
-        for (const auto &h : region)
-          v = std::max(v, h.c_E * m[0] + h.c_nu * m[1] - h.d);
-        return v;
-      }
-
-
-
       using Region = std::vector<MaterialMap::HalfPlane>;
 
       /**
@@ -364,10 +328,10 @@ namespace forma
           {
             const unsigned int          i = coverage.offset + 2 * g;
             const std::array<double, 2> m = {{q[i] / coverage.E_b, q[i + 1]}};
-            const double                v = violation(m, *coverage.regions[g]);
-            worst                         = std::max(worst, v);
+            const double v = std::max(0., violation(m, *coverage.regions[g]));
+            worst          = std::max(worst, v);
             outside += v > 1e-6;
-            materials.push_back(project(m, *coverage.regions[g]));
+            materials.push_back(closest_point(m, *coverage.regions[g]));
             q[i]     = coverage.E_b * materials.back()[0];
             q[i + 1] = materials.back()[1];
           }
