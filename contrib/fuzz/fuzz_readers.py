@@ -43,10 +43,12 @@ SPECIAL_NUMBERS = ["nan", "inf", "-inf", "-1", "0", "1e308", "-1e308",
                    "4294967297", "99999999999999999999", "1e-320", "-0"]
 
 
-def mutate(data, rng):
-    """One random mutation of `data` (bytes)."""
-    kind = rng.choice(["flip", "junk", "truncate", "number", "number",
-                       "line_delete", "line_duplicate", "utf8", "swap"])
+def mutate(data, rng, kind=None):
+    """One random mutation of `data` (bytes), of the given kind or a random
+    one."""
+    kind = kind or rng.choice(["flip", "junk", "truncate", "number", "number",
+                       "line_delete", "line_duplicate", "utf8", "swap",
+                       "binary"])
     b = bytearray(data)
     if kind == "flip" and b:
         for _ in range(rng.randint(1, 8)):
@@ -55,6 +57,9 @@ def mutate(data, rng):
     elif kind == "junk" and b:
         i = rng.randrange(len(b))
         b[i:i] = bytes(rng.randrange(256) for _ in range(rng.randint(1, 64)))
+    elif kind == "binary":
+        b = bytearray(rng.randrange(256)
+                      for _ in range(rng.randint(1, max(1, len(b)))))
     elif kind == "truncate":
         b = b[:rng.randrange(len(b) + 1)]
     elif kind == "number":
@@ -132,7 +137,8 @@ def main():
             original = f.read()
         counts = {"clean failure": 0, "success": 0, "finding": 0}
         for case in range(options.cases):
-            data, kind = mutate(original, rng)
+            # Every campaign starts with a file of random bytes.
+            data, kind = mutate(original, rng, "binary" if case == 0 else None)
             with open(target, "wb") as f:
                 f.write(data)
             shutil.rmtree(os.path.join(work, "out"), ignore_errors=True)
