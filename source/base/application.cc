@@ -5,6 +5,7 @@
 #include <forma/adjoint/registry.h>
 #include <forma/base/application.h>
 #include <forma/base/parameter_override.h>
+#include <forma/base/parameter_reference.h>
 #include <forma/base/safe_text.h>
 
 #include <dlfcn.h>
@@ -136,6 +137,7 @@ namespace forma
         << "Usage: " << app.name
         << " FILE.prm [--set 'Section/Entry=value' ...]\n"
         << "       " << app.name << " --print-parameters\n"
+        << "       " << app.name << " --parameter-reference\n"
         << "       " << app.name << " --help\n\n"
         << app.description << "\n\n"
         << "FILE.prm is a deal.II parameter file; it may 'include' other "
@@ -144,7 +146,9 @@ namespace forma
            "'Output directory=results/run2' or --set "
            "'Optimization/Max iterations=10'.\n"
         << "--print-parameters lists every parameter with its "
-           "documentation and default value.\n";
+           "documentation and default value; --parameter-reference writes "
+           "the same as Markdown with the allowed values "
+           "(doc/parameters/).\n";
     }
   } // namespace
 
@@ -182,6 +186,16 @@ namespace forma
         {
           if (root)
             print_usage(app);
+          return 0;
+        }
+      if (arg == "--parameter-reference")
+        {
+          declare_common(prm, app);
+          if (root)
+            write_parameter_reference(std::cout,
+                                      prm,
+                                      app.name,
+                                      app.description);
           return 0;
         }
       if (arg == "--print-parameters")
