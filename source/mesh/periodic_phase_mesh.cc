@@ -11,6 +11,7 @@
 #include <gmsh.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <tuple>
@@ -45,6 +46,79 @@ namespace forma
       return result;
     }
 
+    ConvexPolygon
+    clipped_to_box(const std::vector<Point<2>> &polygon, const Point<2> &box)
+    {
+      ConvexPolygon p = polygon;
+      p               = clip(p, Point<2>(), Tensor<1, 2>({-1., 0.}));
+      p               = clip(p, Point<2>(), Tensor<1, 2>({0., -1.}));
+      p               = clip(p, box, Tensor<1, 2>({1., 0.}));
+      return clip(p, box, Tensor<1, 2>({0., 1.}));
+    }
+
+    /**
+     * Where the polygons meet each pair of opposite sides (vertices within
+     * `tolerance` of a side, by their coordinate along it), merged over both
+     * sides and clustered within `tolerance`:
+     * periodic images meet the sides at the same places up to round-off,
+     * but a vertex of one image can land within a micron of another's, which
+     * would leave a curve on one side that the other lacks.
+     */
+    std::array<std::vector<double>, 2>
+    side_breakpoints(const std::vector<ConvexPolygon> &polygons,
+                     const Point<2>                   &box,
+                     const double                      snap,
+                     const double                      tolerance)
+    {
+      std::array<std::vector<double>, 2> result;
+      for (unsigned int d = 0; d < 2; ++d)
+        {
+          std::vector<double> t;
+          for (const auto &p : polygons)
+            for (const auto &v : p)
+              if (std::abs(v[d]) < tolerance ||
+                  std::abs(v[d] - box[d]) < tolerance)
+                t.push_back(v[1 - d]);
+          std::sort(t.begin(), t.end());
+          for (const double x : t)
+            if (result[d].empty() || x - result[d].back() > tolerance)
+              result[d].push_back(x);
+        }
+      return result;
+    }
+
+    /// `p` with vertices within `tolerance` of a side moved onto it and,
+    /// along it, onto the nearest breakpoint; repeated vertices removed.
+    ConvexPolygon
+    snapped_to_sides(const ConvexPolygon                      &p,
+                     const Point<2>                           &box,
+                     const std::array<std::vector<double>, 2> &breakpoints,
+                     const double                              snap,
+                     const double                              tolerance)
+    {
+      ConvexPolygon result;
+      for (Point<2> v : p)
+        {
+          for (unsigned int d = 0; d < 2; ++d)
+            for (const double side : {0., box[d]})
+              if (std::abs(v[d] - side) < tolerance)
+                {
+                  v[d]          = side;
+                  const auto &b = breakpoints[d];
+                  auto        it =
+                    std::lower_bound(b.begin(), b.end(), v[1 - d] - tolerance);
+                  if (it != b.end() && std::abs(*it - v[1 - d]) <= tolerance)
+                    v[1 - d] = *it;
+                }
+          if (result.empty() || v.distance(result.back()) > snap)
+            result.push_back(v);
+        }
+      while (result.size() > 1 &&
+             result.front().distance(result.back()) <= snap)
+        result.pop_back();
+      return result;
+    }
+
     internal::GmshTriangles
     generate(const std::vector<std::pair<std::vector<Point<2>>, unsigned int>>
                             &polygons,
@@ -53,33 +127,20 @@ namespace forma
     {
       namespace occ     = gmsh::model::occ;
       const double snap = 1e-7 * std::max(box[0], box[1]);
+      // Features this much smaller than an element are not meshed anyway.
+      const double tolerance = std::max(snap, 1e-3 * size);
       gmsh::option::setNumber("Geometry.ToleranceBoolean", snap);
-      const int        rectangle = occ::addRectangle(0, 0, 0, box[0], box[1]);
-      gmsh::vectorpair tools;
+      const int rectangle = occ::addRectangle(0, 0, 0, box[0], box[1]);
+      std::vector<ConvexPolygon> clipped;
+      for (const auto &polygon : polygons)
+        clipped.push_back(clipped_to_box(polygon.first, box));
+      const auto breakpoints = side_breakpoints(clipped, box, snap, tolerance);
+      gmsh::vectorpair          tools;
       std::vector<unsigned int> tool_phase;
-      for (const auto &[polygon, phase] : polygons)
+      for (unsigned int k = 0; k < clipped.size(); ++k)
         {
-          ConvexPolygon p = polygon;
-          p               = clip(p, Point<2>(), Tensor<1, 2>({-1., 0.}));
-          p               = clip(p, Point<2>(), Tensor<1, 2>({0., -1.}));
-          p               = clip(p, box, Tensor<1, 2>({1., 0.}));
-          p               = clip(p, box, Tensor<1, 2>({0., 1.}));
-          // Periodic images meet the sides up to round-off: snap, so that
-          // no sliver (and no extra curve on a side) is left.
-          ConvexPolygon snapped;
-          for (Point<2> v : p)
-            {
-              for (unsigned int d = 0; d < 2; ++d)
-                for (const double side : {0., box[d]})
-                  if (std::abs(v[d] - side) < snap)
-                    v[d] = side;
-              if (snapped.empty() || v.distance(snapped.back()) > snap)
-                snapped.push_back(v);
-            }
-          while (snapped.size() > 1 &&
-                 snapped.front().distance(snapped.back()) <= snap)
-            snapped.pop_back();
-          p = snapped;
+          const ConvexPolygon p =
+            snapped_to_sides(clipped[k], box, breakpoints, snap, tolerance);
           if (p.size() < 3 || area(p) < snap * std::max(box[0], box[1]))
             continue;
           std::vector<int> points, lines;
@@ -90,7 +151,7 @@ namespace forma
               occ::addLine(points[i], points[(i + 1) % points.size()]));
           tools.push_back(
             {2, occ::addPlaneSurface({occ::addCurveLoop(lines)})});
-          tool_phase.push_back(phase);
+          tool_phase.push_back(polygons[k].second);
         }
       gmsh::vectorpair              pieces;
       std::vector<gmsh::vectorpair> children;

@@ -5,7 +5,9 @@
 // (beam shift 0.3514 of the joint width, fitted once to E on a finer mesh)
 // on a coarse conforming P2 mesh (element size 0.025) must land within 4%
 // of the thesis's E and 0.025 of its nu (Unstr. columns); the read-as-named
-// Hexagon row 1 must not (E 0.596, nu 0.123).
+// Hexagon row 1 must not (E 0.596, nu 0.123). Last, a structure with steep
+// beams whose periodic images meet a side 4e-6 apart, which the periodic
+// mesher once refused as "not periodic", must mesh.
 
 #include "../tests.h"
 #include <nlohmann/json.hpp>
@@ -34,7 +36,13 @@ namespace
         << "\n set p4 = " << p4 << "\nend\n"
         << "subsection Conforming mesh\n set Element size = 0.025\nend\n"
         << "subsection Output\n set Write vtu = false\nend\n";
-    const int    code = run_app(FORMA_APP, name, prm.str());
+    const int code = run_app(FORMA_APP, name, prm.str());
+    if (E_thesis < 1e-3) // only whether it meshes and runs
+      {
+        dealii::deallog << name << " (" << family << "): exit code " << code
+                        << std::endl;
+        return;
+      }
     const auto   s  = nlohmann::json::parse(read_file(name + "/summary.json"));
     const double E  = s["conforming_mesh"]["result"]["E"];
     const double nu = s["conforming_mesh"]["result"]["nu"];
@@ -58,4 +66,6 @@ main()
   row("hexagon_3", "triangle", 0.88, 0, 0.1, 0.642, 0.6845, 0.1656);
   row("triangle_2", "hexagon", 0.84, 0.3514, 0.13, 0.769, 0.0759, -0.7375);
   row("hexagon_1_as_named", "hexagon", 0.75, 0.1, 1, 0.74, 0.3554, 0.4873);
+  // Only the exit code matters here (E/E_b is about 4e-4).
+  row("steep_beams", "hexagon", 0.84, 0.9, 0.13, 0.769, 4e-4, -0.98);
 }
