@@ -15,7 +15,8 @@ The thesis's parameters map to forma's as
     check.
 For each row: the conforming P2 mesh at the thesis's unstructured p4 (E, nu
 against the thesis's Unstr. row), then forma's compare-meshes grid match
-(the grid p4 that gives the mesh's E, against the thesis's Reg. p4).
+(the grid p4 that gives the mesh's E, against the thesis's Reg. p4), and
+the mesh's p4 that gives the thesis's E with nu there (nu at matched E).
 
   python3 contrib/benchmarks/table_5_2_thesis_reading.py [element size]
       [cells along height] [gray pixels] > results/table_5_2_thesis_reading.csv
@@ -99,6 +100,26 @@ def fit_inclination(work, p1, p3, p4, E_target, size):
     return x
 
 
+def fit_p4(work, family, p1, p2, p3, E_target, size, p4):
+    """The beam width p4 that gives E_target on the mesh (E grows with it):
+    to compare nu at matched E, as Table 5.2 does."""
+    lo, hi = max(0.05, p4 - 0.2), min(1.0, p4 + 0.2)
+    E = lambda x: mesh_result(work, family, p1, p2, p3, x, size)["E"]
+    f_lo, f_hi = E(lo) - E_target, E(hi) - E_target
+    x = p4
+    for _ in range(30):
+        f = E(x) - E_target
+        if abs(f) < 1e-4 * E_target:
+            break
+        if f < 0:
+            lo, f_lo = x, f
+        else:
+            hi, f_hi = x, f
+        x = lo - f_lo * (hi - lo) / (f_hi - f_lo)
+        x = min(max(x, lo + 0.02 * (hi - lo)), hi - 0.02 * (hi - lo))
+    return x, mesh_result(work, family, p1, p2, p3, x, size)["nu"]
+
+
 def main():
     size = float(sys.argv[1]) if len(sys.argv) > 1 else 0.015
     cells = int(sys.argv[2]) if len(sys.argv) > 2 else 148
@@ -106,7 +127,8 @@ def main():
     print("type,p1,p2,p3,n_beams,forma_family,forma_p2,forma_p3,"
           "thesis_p4_unstr,thesis_E_unstr,thesis_nu_unstr,forma_E_mesh,"
           "forma_nu_mesh,thesis_p4_reg,forma_p4_grid,forma_nu_grid,"
-          "thesis_eps,forma_nu_grid_minus_mesh")
+          "thesis_eps,forma_nu_grid_minus_mesh,forma_p4_mesh_at_thesis_E,"
+          "forma_nu_mesh_at_thesis_E")
     with tempfile.TemporaryDirectory() as work:
         for (kind, p1, p2, p3, p4, E_u, nu_u, p4_r, E_r, nu_r) in ROWS:
             family = "triangle" if kind == "Hexagon" else "hexagon"
@@ -117,11 +139,14 @@ def main():
             s = compare(work, family, p1, forma_p2, forma_p3, p4, size, cells,
                         gray)
             m, g = s["conforming_mesh"]["result"], s["matched_grid"]
+            p4_E, nu_E = fit_p4(work, family, p1, forma_p2, forma_p3, E_u,
+                                size, p4)
             print("%s,%g,%g,%g,%.2f,%s,%.4f,%.4f,%g,%.4f,%.4f,%.4f,%.4f,%g,"
-                  "%.4f,%.4f,%.4f,%.4f" % (
+                  "%.4f,%.4f,%.4f,%.4f,%.4f,%.4f" % (
                       kind, p1, p2, p3, 1 / forma_p3, family, forma_p2,
                       forma_p3, p4, E_u, nu_u, m["E"], m["nu"], p4_r,
-                      g["value"], g["nu"], abs(nu_r - nu_u) , g["nu_difference"]))
+                      g["value"], g["nu"], abs(nu_r - nu_u),
+                      g["nu_difference"], p4_E, nu_E))
             sys.stdout.flush()
 
 

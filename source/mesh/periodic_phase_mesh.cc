@@ -67,7 +67,6 @@ namespace forma
     std::array<std::vector<double>, 2>
     side_breakpoints(const std::vector<ConvexPolygon> &polygons,
                      const Point<2>                   &box,
-                     const double                      snap,
                      const double                      tolerance)
     {
       std::array<std::vector<double>, 2> result;
@@ -119,6 +118,21 @@ namespace forma
       return result;
     }
 
+    /// Whether `p` has an edge along a side of the box (vertices snapped).
+    bool
+    touches_side(const ConvexPolygon &p, const Point<2> &box)
+    {
+      for (unsigned int i = 0; i < p.size(); ++i)
+        {
+          const Point<2> &a = p[i], &b = p[(i + 1) % p.size()];
+          for (unsigned int d = 0; d < 2; ++d)
+            for (const double side : {0., box[d]})
+              if (a[d] == side && b[d] == side && a.distance(b) > 0)
+                return true;
+        }
+      return false;
+    }
+
     internal::GmshTriangles
     generate(const std::vector<std::pair<std::vector<Point<2>>, unsigned int>>
                             &polygons,
@@ -134,14 +148,18 @@ namespace forma
       std::vector<ConvexPolygon> clipped;
       for (const auto &polygon : polygons)
         clipped.push_back(clipped_to_box(polygon.first, box));
-      const auto breakpoints = side_breakpoints(clipped, box, snap, tolerance);
-      gmsh::vectorpair          tools;
+      const auto       breakpoints = side_breakpoints(clipped, box, tolerance);
+      gmsh::vectorpair tools;
       std::vector<unsigned int> tool_phase;
       for (unsigned int k = 0; k < clipped.size(); ++k)
         {
           const ConvexPolygon p =
             snapped_to_sides(clipped[k], box, breakpoints, snap, tolerance);
-          if (p.size() < 3 || area(p) < snap * std::max(box[0], box[1]))
+          // A sliver is dropped only away from the sides: on a side its
+          // periodic partner may be a large piece whose side points must
+          // have their match here.
+          if (p.size() < 3 || (area(p) < snap * std::max(box[0], box[1]) &&
+                               !touches_side(p, box)))
             continue;
           std::vector<int> points, lines;
           for (const auto &v : p)

@@ -7,7 +7,9 @@
 // of the thesis's E and 0.025 of its nu (Unstr. columns); the read-as-named
 // Hexagon row 1 must not (E 0.596, nu 0.123). Last, a structure with steep
 // beams whose periodic images meet a side 4e-6 apart, which the periodic
-// mesher once refused as "not periodic", must mesh.
+// mesher once refused as "not periodic", must mesh, and one whose clipped
+// beams leave slivers on one side only (once dropped there, breaking the
+// match with the other side).
 
 #include "../tests.h"
 #include <nlohmann/json.hpp>
@@ -68,4 +70,5 @@ main()
   row("hexagon_1_as_named", "hexagon", 0.75, 0.1, 1, 0.74, 0.3554, 0.4873);
   // Only the exit code matters here (E/E_b is about 4e-4).
   row("steep_beams", "hexagon", 0.84, 0.9, 0.13, 0.769, 4e-4, -0.98);
+  row("steep_beams_slivers", "hexagon", 0.9, 0.37, 1. / 6, 0.8, 4e-4, -0.9);
 }
