@@ -1,0 +1,113 @@
+#!/usr/bin/env python3
+"""Coverage at E/E_b = 0.5 on conforming meshes (thesis Delta_L, Delta_R,
+ch. 5.5), resolved by construction (forma-laminate `compare meshes`, P2).
+
+left:  forma's `hexagon` family (the thesis's Triangle, see doc/laminate.md
+       "Table 5.2 row by row") at tile size p1, beam width p4 and n beams
+       per joint; the beam shift p2 is bisected until E/E_b = 0.5, and
+       Delta_L = nu / (-0.5).
+right: forma's `triangle` family (the thesis's Hexagon) with straight beams
+       at p1 and n; the beam width p4 is bisected until E/E_b = 0.5, and
+       Delta_R = nu / 0.5.
+
+  python3 contrib/benchmarks/laminate_resolved_coverage.py left|right \
+      [element size] > contrib/benchmarks/results/laminate_resolved_coverage_SIDE.csv
+"""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(
+    os.path.abspath(__file__))))
+APP = os.path.join(ROOT, "build", "bin", "forma-laminate")
+
+# p1, p4, beams per joint
+LEFT = [(0.90, 0.80, 6), (0.90, 0.80, 10), (0.90, 0.90, 6), (0.90, 0.90, 10),
+         (0.95, 0.80, 6), (0.95, 0.80, 10), (0.95, 0.90, 10), (0.95, 0.90, 20)]
+# p1, beams per joint
+RIGHT = [(0.8, 10), (0.8, 20), (0.9, 10), (0.9, 20), (0.95, 10), (0.95, 20)]
+
+
+def mesh(work, family, p1, p2, p3, p4, size):
+    prm = os.path.join(work, "c.prm")
+    with open(prm, "w") as f:
+        f.write("""set Output directory = %s
+set Mode = compare meshes
+subsection Base material
+  set Poisson's ratio = 0
+end
+subsection Grid
+  set Cells along height = 12
+end
+subsection Structure
+  set Type = %s
+  set p1 = %r
+  set p2 = %r
+  set p3 = %r
+  set p4 = %r
+end
+subsection Conforming mesh
+  set Element size = %r
+end
+subsection Output
+  set Write vtu = false
+end
+""" % (os.path.join(work, "c"), family, p1, p2, p3, p4, size))
+    p = subprocess.run([APP, prm], capture_output=True, text=True)
+    if p.returncode != 0:
+        return None, p.stderr.strip().splitlines()[-1]
+    with open(os.path.join(work, "c", "summary.json")) as f:
+        return json.load(f)["conforming_mesh"]["result"], None
+
+
+def bisect(evaluate, lo, hi, x, falls):
+    """x in [lo, hi] with E(x) = 0.5; E falls (or grows) with x."""
+    r, error = None, None
+    for _ in range(16):
+        r, error = evaluate(x)
+        if r is None or abs(r["E"] - 0.5) < 2e-3:
+            break
+        if (r["E"] > 0.5) == falls:
+            lo = x
+        else:
+            hi = x
+        x = 0.5 * (lo + hi)
+    return x, r, error
+
+
+def row(values, x, r, error, sign):
+    if r is None:
+        return ",".join(values) + ",%.4f,,,,,%s" % (x, error.replace(",", ";"))
+    return ",".join(values) + ",%.4f,%.4f,%.4f,%.4f,%.3f," % (
+        x, r["E"], r["nu"], r["volume_fraction"], sign * r["nu"] / 0.5)
+
+
+def main():
+    side = sys.argv[1] if len(sys.argv) > 1 else "left"
+    size = float(sys.argv[2]) if len(sys.argv) > 2 else 0.012
+    with tempfile.TemporaryDirectory() as work:
+        if side == "left":
+            print("p1,p4,n_beams,element_size,shift_p2,E,nu,phi,Delta_L,error")
+            for p1, p4, n in LEFT:
+                # E falls from about 0.9 (straight beams) to below 0.5 well
+                # before a shift of 0.3 at these p1.
+                x, r, error = bisect(
+                    lambda x: mesh(work, "hexagon", p1, x, 1.0 / n, p4, size),
+                    0.0, 0.3, 0.14, True)
+                print(row(["%g" % p1, "%g" % p4, "%d" % n, "%g" % size], x, r,
+                          error, -1))
+                sys.stdout.flush()
+        else:
+            print("p1,n_beams,element_size,p4,E,nu,phi,Delta_R,error")
+            for p1, n in RIGHT:
+                x, r, error = bisect(
+                    lambda x: mesh(work, "triangle", p1, 0.0, 1.0 / n, x, size),
+                    0.05, 1.0, 0.5, False)
+                print(row(["%g" % p1, "%d" % n, "%g" % size], x, r, error, 1))
+                sys.stdout.flush()
+
+
+if __name__ == "__main__":
+    main()
