@@ -13,15 +13,12 @@ right: forma's `triangle` family (the thesis's Hexagon) with straight beams
   python3 contrib/benchmarks/laminate_resolved_coverage.py left|right \
       [element size] > contrib/benchmarks/results/laminate_resolved_coverage_SIDE.csv
 """
-import json
 import os
-import subprocess
 import sys
 import tempfile
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(
-    os.path.abspath(__file__))))
-APP = os.path.join(ROOT, "build", "bin", "forma-laminate")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from laminate_compare_meshes import compare_meshes  # noqa: E402
 
 # p1, p4, beams per joint
 LEFT = [(0.90, 0.80, 6), (0.90, 0.80, 10), (0.90, 0.90, 6), (0.90, 0.90, 10),
@@ -31,35 +28,9 @@ RIGHT = [(0.8, 10), (0.8, 20), (0.9, 10), (0.9, 20), (0.95, 10), (0.95, 20)]
 
 
 def mesh(work, family, p1, p2, p3, p4, size):
-    prm = os.path.join(work, "c.prm")
-    with open(prm, "w") as f:
-        f.write("""set Output directory = %s
-set Mode = compare meshes
-subsection Base material
-  set Poisson's ratio = 0
-end
-subsection Grid
-  set Cells along height = 12
-end
-subsection Structure
-  set Type = %s
-  set p1 = %r
-  set p2 = %r
-  set p3 = %r
-  set p4 = %r
-end
-subsection Conforming mesh
-  set Element size = %r
-end
-subsection Output
-  set Write vtu = false
-end
-""" % (os.path.join(work, "c"), family, p1, p2, p3, p4, size))
-    p = subprocess.run([APP, prm], capture_output=True, text=True)
-    if p.returncode != 0:
-        return None, p.stderr.strip().splitlines()[-1]
-    with open(os.path.join(work, "c", "summary.json")) as f:
-        return json.load(f)["conforming_mesh"]["result"], None
+    summary, error = compare_meshes(work, family, p1, p2, p3, p4, size)
+    return (summary["conforming_mesh"]["result"], None) if summary else (
+        None, error)
 
 
 def bisect(evaluate, lo, hi, x, falls):

@@ -21,15 +21,12 @@ the mesh's p4 that gives the thesis's E with nu there (nu at matched E).
   python3 contrib/benchmarks/table_5_2_thesis_reading.py [element size]
       [cells along height] [gray pixels] > results/table_5_2_thesis_reading.csv
 """
-import json
 import os
-import subprocess
 import sys
 import tempfile
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(
-    os.path.abspath(__file__))))
-APP = os.path.join(ROOT, "build", "bin", "forma-laminate")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from laminate_compare_meshes import compare_meshes  # noqa: E402
 
 # type, p1, p2, p3, p4 unstr, E unstr, nu unstr, p4 reg, E reg, nu reg
 ROWS = [
@@ -43,36 +40,11 @@ ROWS = [
 
 
 def compare(work, family, p1, p2, p3, p4, size, cells, gray):
-    """forma-laminate `compare meshes`; returns its summary."""
-    prm = os.path.join(work, "c.prm")
-    with open(prm, "w") as f:
-        f.write("""set Output directory = %s
-set Mode = compare meshes
-subsection Base material
-  set Young's modulus = 1
-  set Poisson's ratio = 0
-end
-subsection Grid
-  set Cells along height = %d
-  set Gray pixels = %s
-end
-subsection Structure
-  set Type = %s
-  set p1 = %r
-  set p2 = %r
-  set p3 = %r
-  set p4 = %r
-end
-subsection Conforming mesh
-  set Element size = %r
-end
-subsection Output
-  set Write vtu = false
-end
-""" % (os.path.join(work, "c"), cells, gray, family, p1, p2, p3, p4, size))
-    subprocess.run([APP, prm], check=True, capture_output=True)
-    with open(os.path.join(work, "c", "summary.json")) as f:
-        return json.load(f)
+    summary, error = compare_meshes(work, family, p1, p2, p3, p4, size, cells,
+                                    gray)
+    if summary is None:
+        raise RuntimeError(error)
+    return summary
 
 
 def mesh_result(work, family, p1, p2, p3, p4, size):
