@@ -159,15 +159,8 @@ namespace forma
     int
     run_checked(int argc, char **argv, const ApplicationDescription &app)
     {
-      // Started without mpirun, Open MPI's singleton start spawns an `orted`
-      // daemon, 0.2 s of every run here; one process needs none. An explicit
-      // setting wins; other MPI libraries ignore the variable.
-      if (std::getenv("OMPI_COMM_WORLD_SIZE") == nullptr &&
-          std::getenv("PMIX_RANK") == nullptr)
-        ::setenv("OMPI_MCA_ess_singleton_isolated", "1", /*overwrite*/ 0);
-      dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-      const MPI_Comm                           comm = MPI_COMM_WORLD;
-      const bool root = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
+      const MPI_Comm comm = MPI_COMM_WORLD;
+      const bool     root = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
 
       auto report = [&](const std::string &msg) {
         if (root)
@@ -283,9 +276,13 @@ namespace forma
           return 1;
         }
 
+      // Values are the user's bytes: kept as text if they are not UTF-8.
       std::ostringstream echoed;
       prm.print_parameters(echoed, dealii::ParameterHandler::JSON);
-      context->summary["parameters"]  = nlohmann::json::parse(echoed.str());
+      auto parameters = nlohmann::json::parse(echoed.str(), nullptr, false);
+      context->summary["parameters"] =
+        parameters.is_discarded() ? nlohmann::json(safe_text(echoed.str())) :
+                                    parameters;
       context->summary["application"] = app.name;
 
       try
@@ -310,6 +307,12 @@ namespace forma
           context->fail(msg);
           return 1;
         }
+      catch (...) // e.g. an int thrown by a solver library
+        {
+          report("unknown internal failure");
+          context->fail("unknown internal failure");
+          return 1;
+        }
     }
   } // namespace
 
@@ -321,7 +324,16 @@ namespace forma
     // Last resort: whatever escapes the error handling above (an exception
     // from a destructor or from a noexcept function) ends in one line and
     // exit code 1, never in an abort with a stack trace.
-    static std::string name;
+    // Started without mpirun, Open MPI's singleton start spawns an `orted`
+    // daemon, 0.2 s of every run here; one process needs none. An explicit
+    // setting wins; other MPI libraries ignore the variable.
+    if (std::getenv("OMPI_COMM_WORLD_SIZE") == nullptr &&
+        std::getenv("PMIX_RANK") == nullptr)
+      ::setenv("OMPI_MCA_ess_singleton_isolated", "1", /*overwrite*/ 0);
+    // Outside the try below: MPI is finalized after an error too (deal.II
+    // skips MPI_Finalize while an exception is in flight).
+    dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+    static std::string                       name;
     name = app.name;
     std::set_terminate([] {
       std::cerr << name << ": error: internal failure (std::terminate)"

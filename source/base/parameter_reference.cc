@@ -13,6 +13,28 @@ namespace forma
   {
     using Json = nlohmann::ordered_json;
 
+    /// `text` as inline code inside a Markdown table cell: only `|` is
+    /// escaped (entities would show literally), and the fence is longer
+    /// than any run of backticks in the text.
+    std::string
+    code_cell(const std::string &text)
+    {
+      if (text.empty())
+        return "*(empty)*";
+      std::string fence = "`", escaped;
+      for (std::size_t i = 0, run = 0; i < text.size(); ++i)
+        {
+          run = (text[i] == '`') ? run + 1 : 0;
+          if (run >= fence.size())
+            fence += '`';
+          escaped +=
+            (text[i] == '|') ? std::string("\\|") : std::string(1, text[i]);
+        }
+      const std::string pad =
+        (text.front() == '`' || text.back() == '`') ? " " : "";
+      return fence + pad + escaped + pad + fence;
+    }
+
     /// Text safe inside a Markdown table cell.
     std::string
     cell(std::string text)
@@ -66,9 +88,8 @@ namespace forma
           for (const auto &[name, node] : section.items())
             if (is_entry(node))
               {
-                const std::string value = node["default_value"];
-                out << "| `" << cell(name) << "` | "
-                    << (value.empty() ? "*(empty)*" : "`" + cell(value) + "`")
+                out << "| " << code_cell(name) << " | "
+                    << code_cell(node["default_value"].get<std::string>())
                     << " | "
                     << cell(allowed_values(
                          node.value("pattern_description", std::string())))

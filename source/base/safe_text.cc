@@ -55,7 +55,10 @@ namespace forma
       {
         const unsigned char c = static_cast<unsigned char>(text[i]);
         const std::size_t   n = utf8_length(text, i);
-        if (n == 0 || (c < 0x20 && c != '\n' && c != '\t') || c == 0x7F)
+        // C1 controls (U+0080-U+009F, e.g. the terminal's CSI) too.
+        const bool c1 =
+          n == 2 && c == 0xC2 && static_cast<unsigned char>(text[i + 1]) < 0xA0;
+        if (n == 0 || (c < 0x20 && c != '\n' && c != '\t') || c == 0x7F || c1)
           {
             char escaped[8];
             std::snprintf(escaped, sizeof(escaped), "\\x%02X", c);

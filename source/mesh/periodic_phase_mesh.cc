@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iterator>
 #include <map>
 #include <tuple>
 
@@ -56,59 +57,86 @@ namespace forma
       return clip(p, box, Tensor<1, 2>({0., 1.}));
     }
 
+    /// Which sides of direction d the point is within `tolerance` of:
+    /// -1 none, 0 the lower one, 1 the upper one.
+    int
+    near_side(const Point<2>    &v,
+              const Point<2>    &box,
+              const unsigned int d,
+              const double       tolerance)
+    {
+      return std::abs(v[d]) < tolerance          ? 0 :
+             std::abs(v[d] - box[d]) < tolerance ? 1 :
+                                                   -1;
+    }
+
     /**
      * Where the polygons meet each pair of opposite sides (vertices within
-     * `tolerance` of a side, by their coordinate along it), merged over both
-     * sides and clustered within `tolerance`:
-     * periodic images meet the sides at the same places up to round-off,
-     * but a vertex of one image can land within a micron of another's, which
-     * would leave a curve on one side that the other lacks.
+     * `tolerance` of a side, corners aside, by their coordinate along it),
+     * merged over both sides and clustered: a cluster grows while the gaps
+     * stay within `tolerance`, and is represented by its first value.
+     * Periodic images meet the sides at the same places up to round-off,
+     * but a vertex of one image can land within a micron of another's; the
+     * box's sides are split at every breakpoint, so both get the same curves.
      */
-    std::array<std::vector<double>, 2>
+    std::array<std::vector<std::pair<double, double>>, 2>
     side_breakpoints(const std::vector<ConvexPolygon> &polygons,
                      const Point<2>                   &box,
                      const double                      tolerance)
     {
-      std::array<std::vector<double>, 2> result;
+      std::array<std::vector<std::pair<double, double>>, 2> result;
       for (unsigned int d = 0; d < 2; ++d)
         {
           std::vector<double> t;
           for (const auto &p : polygons)
             for (const auto &v : p)
-              if (std::abs(v[d]) < tolerance ||
-                  std::abs(v[d] - box[d]) < tolerance)
+              if (near_side(v, box, d, tolerance) >= 0 &&
+                  near_side(v, box, 1 - d, tolerance) < 0)
                 t.push_back(v[1 - d]);
           std::sort(t.begin(), t.end());
-          for (const double x : t)
-            if (result[d].empty() || x - result[d].back() > tolerance)
-              result[d].push_back(x);
+          for (unsigned int i = 0; i < t.size(); ++i)
+            if (i == 0 || t[i] - t[i - 1] > tolerance)
+              result[d].emplace_back(t[i], t[i]); // (first, last) value
+            else
+              result[d].back().second = t[i];
         }
       return result;
     }
 
     /// `p` with vertices within `tolerance` of a side moved onto it and,
-    /// along it, onto the nearest breakpoint; repeated vertices removed.
+    /// along it, onto their breakpoint (near two sides: onto the corner);
+    /// repeated vertices removed.
     ConvexPolygon
-    snapped_to_sides(const ConvexPolygon                      &p,
-                     const Point<2>                           &box,
-                     const std::array<std::vector<double>, 2> &breakpoints,
-                     const double                              snap,
-                     const double                              tolerance)
+    snapped_to_sides(
+      const ConvexPolygon                                         &p,
+      const Point<2>                                              &box,
+      const std::array<std::vector<std::pair<double, double>>, 2> &breakpoints,
+      const double                                                 snap,
+      const double                                                 tolerance)
     {
       ConvexPolygon result;
       for (Point<2> v : p)
         {
+          const std::array<int, 2> near = {
+            {near_side(v, box, 0, tolerance), near_side(v, box, 1, tolerance)}};
           for (unsigned int d = 0; d < 2; ++d)
-            for (const double side : {0., box[d]})
-              if (std::abs(v[d] - side) < tolerance)
-                {
-                  v[d]          = side;
-                  const auto &b = breakpoints[d];
-                  auto        it =
-                    std::lower_bound(b.begin(), b.end(), v[1 - d] - tolerance);
-                  if (it != b.end() && std::abs(*it - v[1 - d]) <= tolerance)
-                    v[1 - d] = *it;
-                }
+            if (near[d] >= 0)
+              {
+                v[d] = near[d] == 0 ? 0. : box[d];
+                if (near[1 - d] >= 0)
+                  continue; // a corner: the other direction snaps it too
+                const auto &b = breakpoints[d];
+                const auto  it =
+                  std::upper_bound(b.begin(),
+                                   b.end(),
+                                   v[1 - d],
+                                   [](const double                     x,
+                                      const std::pair<double, double> &c) {
+                                     return x < c.first;
+                                   });
+                if (it != b.begin() && v[1 - d] <= std::prev(it)->second)
+                  v[1 - d] = std::prev(it)->first;
+              }
           if (result.empty() || v.distance(result.back()) > snap)
             result.push_back(v);
         }
@@ -118,19 +146,52 @@ namespace forma
       return result;
     }
 
-    /// Whether `p` has an edge along a side of the box (vertices snapped).
-    bool
-    touches_side(const ConvexPolygon &p, const Point<2> &box)
+    /**
+     * The box as a polygon through its corners and every breakpoint, the
+     * same ones on opposite sides: OpenCASCADE then splits both sides alike
+     * even where a sliver of a polygon was left out on one side.
+     */
+    int
+    add_box(
+      const Point<2>                                              &box,
+      const std::array<std::vector<std::pair<double, double>>, 2> &breakpoints)
     {
-      for (unsigned int i = 0; i < p.size(); ++i)
-        {
-          const Point<2> &a = p[i], &b = p[(i + 1) % p.size()];
-          for (unsigned int d = 0; d < 2; ++d)
-            for (const double side : {0., box[d]})
-              if (a[d] == side && b[d] == side && a.distance(b) > 0)
-                return true;
-        }
-      return false;
+      namespace occ = gmsh::model::occ;
+      std::vector<Point<2>> corners;
+      const auto            along = [&](const unsigned int d, const double at) {
+        std::vector<Point<2>> points;
+        for (const auto &c : breakpoints[d])
+          if (c.first > 0 && c.first < box[1 - d])
+            {
+              Point<2> x;
+              x[d]     = at;
+              x[1 - d] = c.first;
+              points.push_back(x);
+            }
+        return points;
+      };
+      // Counterclockwise: bottom, right, top, left.
+      std::vector<Point<2>> outline = {Point<2>(0, 0)};
+      for (const auto &x : along(1, 0.))
+        outline.push_back(x);
+      outline.emplace_back(box[0], 0);
+      for (const auto &x : along(0, box[0]))
+        outline.push_back(x);
+      outline.push_back(box);
+      auto top = along(1, box[1]);
+      for (auto x = top.rbegin(); x != top.rend(); ++x)
+        outline.push_back(*x);
+      outline.emplace_back(0, box[1]);
+      auto left = along(0, 0.);
+      for (auto x = left.rbegin(); x != left.rend(); ++x)
+        outline.push_back(*x);
+      std::vector<int> points, lines;
+      for (const auto &v : outline)
+        points.push_back(occ::addPoint(v[0], v[1], 0));
+      for (unsigned int i = 0; i < points.size(); ++i)
+        lines.push_back(
+          occ::addLine(points[i], points[(i + 1) % points.size()]));
+      return occ::addPlaneSurface({occ::addCurveLoop(lines)});
     }
 
     internal::GmshTriangles
@@ -144,22 +205,20 @@ namespace forma
       // Features this much smaller than an element are not meshed anyway.
       const double tolerance = std::max(snap, 1e-3 * size);
       gmsh::option::setNumber("Geometry.ToleranceBoolean", snap);
-      const int rectangle = occ::addRectangle(0, 0, 0, box[0], box[1]);
       std::vector<ConvexPolygon> clipped;
       for (const auto &polygon : polygons)
         clipped.push_back(clipped_to_box(polygon.first, box));
       const auto       breakpoints = side_breakpoints(clipped, box, tolerance);
+      const int        rectangle   = add_box(box, breakpoints);
       gmsh::vectorpair tools;
       std::vector<unsigned int> tool_phase;
       for (unsigned int k = 0; k < clipped.size(); ++k)
         {
           const ConvexPolygon p =
             snapped_to_sides(clipped[k], box, breakpoints, snap, tolerance);
-          // A sliver is dropped only away from the sides: on a side its
-          // periodic partner may be a large piece whose side points must
-          // have their match here.
-          if (p.size() < 3 || (area(p) < snap * std::max(box[0], box[1]) &&
-                               !touches_side(p, box)))
+          // Slivers (also those flattened onto a side) are left out; the
+          // box's own breakpoints keep the sides matched.
+          if (p.size() < 3 || area(p) < snap * std::max(box[0], box[1]))
             continue;
           std::vector<int> points, lines;
           for (const auto &v : p)

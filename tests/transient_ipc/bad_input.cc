@@ -182,6 +182,12 @@ main()
     "binary_mesh",
     base + "subsection Mesh\n set Source = file\n set File = binary.msh\nend\n",
     good);
+  // A parameter value that is not UTF-8 (a Latin-1 file name): quoted
+  // escaped, and the echoed parameters still make valid JSON.
+  expect_failure("latin1_file_name",
+                 base + "subsection Mesh\n set Source = file\n"
+                        " set File = caf\xe9.msh\nend\n",
+                 good);
   dealii::deallog
     << "failed-run/summary.json is valid JSON: "
     << (nlohmann::json::parse(read_file("results/failed-run/summary.json"),
