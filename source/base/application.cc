@@ -321,9 +321,6 @@ namespace forma
   int
   run_application(int argc, char **argv, const ApplicationDescription &app)
   {
-    // Last resort: whatever escapes the error handling above (an exception
-    // from a destructor or from a noexcept function) ends in one line and
-    // exit code 1, never in an abort with a stack trace.
     // Started without mpirun, Open MPI's singleton start spawns an `orted`
     // daemon, 0.2 s of every run here; one process needs none. An explicit
     // setting wins; other MPI libraries ignore the variable.
@@ -333,7 +330,10 @@ namespace forma
     // Outside the try below: MPI is finalized after an error too (deal.II
     // skips MPI_Finalize while an exception is in flight).
     dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
-    static std::string                       name;
+    // Last resort: whatever escapes the error handling of run_checked() (an
+    // exception from a destructor or from a noexcept function) ends in one
+    // line and exit code 1, never in an abort with a stack trace.
+    static std::string name;
     name = app.name;
     std::set_terminate([] {
       std::cerr << name << ": error: internal failure (std::terminate)"
