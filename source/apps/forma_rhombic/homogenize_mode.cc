@@ -62,8 +62,19 @@ namespace forma
       for (const auto &[nu, m] : setup.material.clm_fits(r.C))
         context.print("CLM, base nu = " + sig(nu) + ": E = " + sig(m.E, 5) +
                       ", nu = " + sig(m.nu, 5));
+      write_cell_results(context, s, model, setup);
+    }
+
+
+
+    void
+    write_cell_results(RunContext             &context,
+                       const RhombicStructure &s,
+                       const CellModel        &model,
+                       const Setup            &setup)
+    {
       context.summary["structure"] = structure_json(s);
-      context.summary["result"]    = sample_json(r, setup);
+      context.summary["result"]    = sample_json(model.sample(), setup);
       if (context.is_root())
         {
           write_structure_png(context.path("structure.png"), s);

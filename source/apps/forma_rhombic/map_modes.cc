@@ -863,17 +863,9 @@ namespace forma
       nlohmann::json &S = context.summary;
       S["query"] = {{"E_over_Eb", E}, {"nu", nu}, {"angle_degrees", angle}};
       S["inside_coverage"]  = inside;
-      S["structure"]        = structure_json(s);
-      S["result"]           = sample_json(r, setup);
       S["E_relative_error"] = dE;
       S["nu_error"]         = dnu;
-      if (context.is_root())
-        {
-          write_structure_png(context.path("structure.png"), s);
-          model.write_svg(context.path("structure.svg"), setup.svg_cell_side);
-        }
-      if (setup.write_vtu)
-        model.write_vtu(context.path("cell"));
+      write_cell_results(context, s, model, setup);
     }
   } // namespace rhombic
 } // namespace forma

@@ -19,6 +19,16 @@ namespace forma
   namespace rhombic
   {
     /// One structure -> summary.json, structure.png, cell.vtu.
+    class CellModel;
+
+    /// A homogenized cell's result files: summary entries "structure" and
+    /// "result", structure.png and .svg, and the fields if asked for.
+    void
+    write_cell_results(RunContext             &context,
+                       const RhombicStructure &s,
+                       const CellModel        &model,
+                       const Setup            &setup);
+
     void
     homogenize_mode(dealii::ParameterHandler &prm,
                     const Setup              &setup,
