@@ -462,11 +462,11 @@ namespace forma
       }
     if (symmetric && exact)
       {
-        linear_solver.solve_reusing(jacobian, lambda, rhs);
+        solve_jacobian(lambda, rhs, true);
         return;
       }
     assemble_adjoint_jacobian(0, !symmetric);
-    linear_solver.solve(jacobian, lambda, rhs, fe.max_degree() > 1);
+    solve_jacobian(lambda, rhs);
   }
 
 
@@ -599,7 +599,7 @@ namespace forma
         Timer solve_timer;
         assemble_adjoint_jacobian(i, true);
         lambda[i].reinit(owned, comm);
-        linear_solver.solve(jacobian, lambda[i], rhs, fe.max_degree() > 1);
+        solve_jacobian(lambda[i], rhs);
         constraints_zero.distribute(lambda[i]);
         adjoint_solve_seconds += solve_timer.wall_time();
 

@@ -182,7 +182,7 @@ namespace forma
     c.dofs.resize(n);
     cell->get_dof_indices(c.dofs);
     c.residual.reinit(n);
-    if (with_matrix)
+    if (with_matrix && !matrix_free)
       c.matrix.reinit(n, n);
     c.admissible = true;
     c.energy     = 0;
@@ -201,7 +201,12 @@ namespace forma
             }
         }
     c.energy = t.energy;
-    contract_cell_terms(fv, s, c, with_matrix);
+    if (with_matrix && matrix_free)
+      matrix_free->set_cell_tangent(cell->active_cell_index(),
+                                    t.flux_tangent,
+                                    t.source_tangent,
+                                    transpose_matrix);
+    contract_cell_terms(fv, s, c, with_matrix && !matrix_free);
     if (cell->at_boundary())
       assemble_faces(cell, s, c, with_matrix, energy);
   }
@@ -291,7 +296,9 @@ namespace forma
               const unsigned int ci = cfe.system_to_component_index(i).first;
               const double       vi = ff.shape_value(i, q);
               c.residual(i) += t.source[q][ci] * vi * ff.JxW(q);
-              if (with_matrix && t.source_tangent[q] != 0)
+              if (with_matrix && matrix_free && t.source_tangent[q] != 0)
+                face_tangent_missed = true;
+              else if (with_matrix && t.source_tangent[q] != 0)
                 for (unsigned int j = 0; j < n; ++j)
                   if (cfe.system_to_component_index(j).first == ci)
                     c.matrix(i, j) += t.source_tangent[q] * vi *
@@ -309,8 +316,9 @@ namespace forma
                                            Vector_t       *raw)
   {
     Timer timer;
-    u_ghost = u_owned;
-    if (with_matrix)
+    u_ghost             = u_owned;
+    face_tangent_missed = false;
+    if (with_matrix && !matrix_free)
       jacobian = 0;
     residual = 0;
     if (raw)
@@ -333,14 +341,14 @@ namespace forma
           return;
         }
       energy_sum += c.energy;
-      if (with_matrix && transpose_matrix)
+      if (with_matrix && !matrix_free && transpose_matrix)
         {
           FullMatrix<double> t(c.matrix.n(), c.matrix.m());
           t.copy_transposed(c.matrix);
           constraints_zero.distribute_local_to_global(
             t, c.residual, c.dofs, jacobian, residual);
         }
-      else if (with_matrix)
+      else if (with_matrix && !matrix_free)
         constraints_zero.distribute_local_to_global(
           c.matrix, c.residual, c.dofs, jacobian, residual);
       else
@@ -369,7 +377,9 @@ namespace forma
         typename Form<dim>::GlobalAssembly a{u_owned,
                                              u_ghost,
                                              constraints_zero,
-                                             with_matrix ? &jacobian : nullptr,
+                                             with_matrix && !matrix_free ?
+                                               &jacobian :
+                                               nullptr,
                                              residual,
                                              raw,
                                              transpose_matrix,
@@ -382,7 +392,7 @@ namespace forma
 
     // Compress even when a cell was inadmissible, so the containers stay
     // usable for the next (shorter-step) assembly.
-    if (with_matrix)
+    if (with_matrix && !matrix_free)
       jacobian.compress(VectorOperation::add);
     residual.compress(VectorOperation::add);
     if (raw)

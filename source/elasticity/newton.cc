@@ -153,6 +153,25 @@ namespace forma
 
 
   template <int dim>
+  unsigned int
+  ElasticitySimulator<dim>::Impl::solve_jacobian(Vector_t       &x,
+                                                 const Vector_t &b,
+                                                 const bool      reuse)
+  {
+    if (!matrix_free)
+      return reuse ? linear_solver.solve_reusing(jacobian, x, b) :
+                     linear_solver.solve(jacobian, x, b, fe.max_degree() > 1);
+    AssertThrow(!Utilities::MPI::logical_or(face_tangent_missed.load(), comm),
+                ExcMessage("Solver/Linear solver = cg-mg: a boundary load "
+                           "depends on the displacement (its tangent lives on "
+                           "faces, which the matrix-free operator does not "
+                           "apply); use cg-amg or direct."));
+    return matrix_free->solve(x, b);
+  }
+
+
+
+  template <int dim>
   std::pair<unsigned int, unsigned int>
   ElasticitySimulator<dim>::Impl::newton(const double       t,
                                          const std::string &where)
@@ -160,6 +179,8 @@ namespace forma
     time = t;
     make_constraints(t);
     apply_prescribed_motion(t, where);
+    if (matrix_free) // the mesh, its mapping or the constraints may be new
+      matrix_free->reinit(mapping[0], dof_handler, constraints_zero, p.degree);
 
     AssertThrow(assemble(u, true, nullptr),
                 ExcMessage(where + " (t = " + fmt(t) +
@@ -201,8 +222,7 @@ namespace forma
         rhs *= -1.;
         du = 0;
         Timer timer;
-        linear_its +=
-          linear_solver.solve(jacobian, du, rhs, fe.max_degree() > 1);
+        linear_its += solve_jacobian(du, rhs);
         solver_seconds += timer.wall_time();
         constraints_zero.distribute(du);
 

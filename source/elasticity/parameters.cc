@@ -301,6 +301,16 @@ namespace forma
                 ExcMessage("Contact: the smoothed penalty model is linearized "
                            "(gaps along the undeformed normal, thesis ch. 2): "
                            "set Material/Model = linear elastic."));
+    AssertThrow(linear_solver.type != "cg-mg" ||
+                  (contact.empty() && !ipc.enabled && adaptivity != "hp"),
+                ExcMessage("Solver/Linear solver = cg-mg (matrix-free) "
+                           "handles elasticity, inertia and damping on one "
+                           "polynomial degree; with contact, IPC or hp "
+                           "adaptivity use cg-amg, gmres-amg or direct."));
+    AssertThrow(linear_solver.type != "cg-mg" || degree >= 2,
+                ExcMessage("Solver/Linear solver = cg-mg smooths on Q_p and "
+                           "solves on Q1: it needs Finite element/Degree 2, 3 "
+                           "or 4 (got 1); for Q1 use cg-amg."));
     AssertThrow(!contact.has_friction() || linear_solver.type != "cg-amg",
                 ExcMessage("Contact: friction makes the Jacobian "
                            "unsymmetric; use Solver/Linear solver = direct or "

@@ -146,6 +146,17 @@ namespace forma
           std::make_unique<SurfaceLoadForm<dim>>(t, pr, *load_scales));
       }
     add_registered_forms();
+    if (p.linear_solver.type == "cg-mg")
+      {
+        for (const auto &f : forms)
+          AssertThrow(!f->has_global_terms(),
+                      ExcMessage("Solver/Linear solver = cg-mg cannot apply "
+                                 "the global terms of the form '" +
+                                 f->name() +
+                                 "'; use cg-amg, gmres-amg or direct."));
+        matrix_free =
+          std::make_unique<MatrixFreeElasticity<dim>>(p.linear_solver);
+      }
     if (!p.contact.rigid.empty() || !p.contact.deformable.empty())
       forms.push_back(
         std::make_unique<PenaltyContactForm<dim>>(contact, mapping));
@@ -428,6 +439,11 @@ namespace forma
         context->log("assembly wall time " + fmt(assembly_seconds, 4) +
                      " s, linear solver wall time " + fmt(solver_seconds, 4) +
                      " s");
+        if (matrix_free)
+          context->log("cg-mg: last preconditioner setup " +
+                       fmt(matrix_free->last_times().first, 4) +
+                       " s, last Krylov solve " +
+                       fmt(matrix_free->last_times().second, 4) + " s");
       }
   }
 

@@ -37,8 +37,10 @@
 #include <forma/physics/elastic_form.h>
 #include <forma/physics/material.h>
 #include <forma/solvers/linear_solver.h>
+#include <forma/solvers/matrix_free_elasticity.h>
 
 #include <array>
+#include <atomic>
 #include <deque>
 #include <functional>
 #include <limits>
@@ -522,6 +524,15 @@ namespace forma
     unsigned int        forward_solves = 0, gradients = 0;
 
     LinearSolver linear_solver;
+    /// Linear solver = cg-mg: the Jacobian is never assembled; assemble()
+    /// hands the forms' tangents to this solver instead.
+    std::unique_ptr<MatrixFreeElasticity<dim>> matrix_free;
+    /// A form reported a boundary-face tangent, which cg-mg cannot apply.
+    mutable std::atomic<bool> face_tangent_missed{false};
+    /// Solve J x = b with the Jacobian of the last assembly (cg-mg, or the
+    /// linear solver; `reuse`: its preconditioner, for an adjoint).
+    unsigned int
+    solve_jacobian(Vector_t &x, const Vector_t &b, const bool reuse = false);
 
     // Smoothed penalty contact and friction (Contact section; thesis ch. 2).
     PenaltyContact<dim> contact;

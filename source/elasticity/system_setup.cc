@@ -32,6 +32,7 @@
 #include <forma/mesh/mesh.h>
 #include <forma/physics/material.h>
 #include <forma/solvers/linear_solver.h>
+#include <forma/solvers/rigid_body_modes.h>
 
 #include "simulator_impl.h"
 
@@ -272,7 +273,7 @@ namespace forma
     w_ghost.reinit(owned, relevant, comm);
     u_old_ghost.reinit(owned, relevant, comm);
     v.reinit(owned, comm);
-    if (p.linear_solver.type != "direct")
+    if (p.linear_solver.type == "cg-amg" || p.linear_solver.type == "gmres-amg")
       compute_null_space();
   }
 
@@ -410,6 +411,8 @@ namespace forma
   void
   ElasticitySimulator<dim>::Impl::build_jacobian_pattern()
   {
+    if (matrix_free)
+      return; // no matrix: the memory cg-mg saves
     // Rows of constraint_lines are writable: contact adds to rows of DoFs
     // owned elsewhere.
     TrilinosWrappers::SparsityPattern sp(owned, owned, constraint_lines, comm);
@@ -466,32 +469,8 @@ namespace forma
   void
   ElasticitySimulator<dim>::Impl::compute_null_space()
   {
-    std::map<types::global_dof_index, Point<dim>> support;
-    DoFTools::map_dofs_to_support_points(mapping, dof_handler, support);
-    const std::vector<unsigned int>  component = owned_components();
-    const unsigned int               n_rot     = dim == 2 ? 1 : 3;
-    std::vector<std::vector<double>> modes(
-      dim + n_rot, std::vector<double>(owned.n_elements()));
-    for (const auto i : owned)
-      {
-        const unsigned int k = owned.index_within_set(i);
-        const unsigned int c = component[k];
-        const Point<dim>   x = support.at(i);
-        modes[c][k]          = 1.;
-        if (dim == 2)
-          modes[2][k] = (c == 0 ? -x[1] : x[0]);
-        else
-          {
-            // rotations about z, x, y
-            const double r_z[3] = {-x[1], x[0], 0};
-            const double r_x[3] = {0, -x[dim - 1], x[1]};
-            const double r_y[3] = {x[dim - 1], 0, -x[0]};
-            modes[dim][k]       = r_z[c];
-            modes[dim + 1][k]   = r_x[c];
-            modes[dim + 2][k]   = r_y[c];
-          }
-      }
-    linear_solver.set_null_space(modes);
+    RigidBodyModes r = rigid_body_modes(mapping, dof_handler);
+    linear_solver.set_null_space(std::move(r.modes), r.pde_equations);
   }
 
 

@@ -20,12 +20,16 @@ namespace forma
   {
     prm.declare_entry("Linear solver",
                       "direct",
-                      Patterns::Selection("direct|cg-amg|gmres-amg"),
+                      Patterns::Selection("direct|cg-amg|gmres-amg|cg-mg"),
                       "direct: sparse LU (Amesos KLU), robust for small and "
                       "stiff problems. cg-amg: conjugate gradients with "
                       "algebraic multigrid (symmetric problems, large meshes). "
                       "gmres-amg: GMRES with AMG (non-symmetric tangents, e.g. "
-                      "with damping).");
+                      "with damping). cg-mg: conjugate gradients on the "
+                      "Jacobian applied without a matrix, preconditioned by "
+                      "p-multigrid (Chebyshev smoothing, AMG on Q1): the "
+                      "fastest and leanest for large quad/hex meshes of "
+                      "degree 2-4 without contact (forma-transient-ipc).");
     prm.declare_entry("Linear tolerance",
                       "1e-10",
                       Patterns::Double(0),
@@ -66,12 +70,65 @@ namespace forma
 
 
   void
-  LinearSolver::set_null_space(std::vector<std::vector<double>> modes)
+  LinearSolver::set_null_space(std::vector<std::vector<double>> modes,
+                               const unsigned int               pde_equations)
   {
     n_modes = modes.size();
     null_space.clear();
     for (const auto &m : modes)
       null_space.insert(null_space.end(), m.begin(), m.end());
+    this->pde_equations = pde_equations;
+  }
+
+
+
+  namespace
+  {
+    void
+    initialize_amg(TrilinosWrappers::PreconditionAMG    &amg,
+                   const TrilinosWrappers::SparseMatrix &A,
+                   std::vector<double>                   modes,
+                   const unsigned int                    n_modes,
+                   const bool                            higher_order,
+                   const unsigned int                    pde_equations)
+    {
+      // ML with the rigid-body modes as near null space: translations and
+      // rotations keep the AMG iteration count flat under refinement.
+      TrilinosWrappers::PreconditionAMG::AdditionalData data;
+      data.elliptic              = true;
+      data.higher_order_elements = higher_order;
+      data.smoother_sweeps       = 2;
+      // Measured on 3D Q2 elasticity (182k DoFs): 0.02 -> 1e-3 takes CG
+      // from 47 to 34 iterations, on the Q1 level of cg-mg from 26 to 13.
+      data.aggregation_threshold = 1e-3;
+      Teuchos::ParameterList              list;
+      std::unique_ptr<Epetra_MultiVector> distributed_modes;
+      data.set_parameters(list, distributed_modes, A);
+      if (n_modes > 0)
+        {
+          list.set("null space: type", "pre-computed");
+          list.set("null space: dimension", static_cast<int>(n_modes));
+          list.set("null space: vectors", modes.data());
+        }
+      if (pde_equations > 1)
+        list.set("PDE equations", static_cast<int>(pde_equations));
+      amg.initialize(A, list);
+    }
+  } // namespace
+
+
+
+  void
+  initialize_elasticity_amg(TrilinosWrappers::PreconditionAMG      &amg,
+                            const TrilinosWrappers::SparseMatrix   &A,
+                            const std::vector<std::vector<double>> &modes,
+                            const bool         higher_order,
+                            const unsigned int pde_equations)
+  {
+    std::vector<double> flat;
+    for (const auto &m : modes)
+      flat.insert(flat.end(), m.begin(), m.end());
+    initialize_amg(amg, A, flat, modes.size(), higher_order, pde_equations);
   }
 
 
@@ -104,26 +161,10 @@ namespace forma
         return 1;
       }
 
-    // ML with the rigid-body modes as near null space: translations and
-    // rotations keep the AMG iteration count flat under refinement.
-    TrilinosWrappers::PreconditionAMG::AdditionalData data;
-    data.elliptic              = true;
-    data.higher_order_elements = higher_order;
-    data.smoother_sweeps       = 2;
-    data.aggregation_threshold = 0.02;
-    Teuchos::ParameterList              list;
-    std::unique_ptr<Epetra_MultiVector> distributed_modes;
-    data.set_parameters(list, distributed_modes, A);
-    std::vector<double> modes = null_space;
-    if (n_modes > 0)
-      {
-        list.set("null space: type", "pre-computed");
-        list.set("null space: dimension", static_cast<int>(n_modes));
-        list.set("null space: vectors", modes.data());
-      }
+    initialize_amg(
+      state->amg, A, null_space, n_modes, higher_order, pde_equations);
     TrilinosWrappers::PreconditionAMG &amg = state->amg;
-    amg.initialize(A, list);
-    state->has_amg = true;
+    state->has_amg                         = true;
 
     SolverControl control(parameters.max_iterations,
                           parameters.relative_tolerance * b.l2_norm(),
@@ -131,7 +172,7 @@ namespace forma
                           false);
     try
       {
-        if (parameters.type == "cg-amg")
+        if (parameters.type != "gmres-amg")
           {
             SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
             cg.solve(A, x, b, amg);
@@ -189,7 +230,7 @@ namespace forma
     if (!state->has_amg)
       return solve(A, x, b, true);
     SolverControl control(parameters.max_iterations, tolerance, false, false);
-    if (parameters.type == "cg-amg")
+    if (parameters.type != "gmres-amg")
       {
         SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
         cg.solve(A, x, b, state->amg);

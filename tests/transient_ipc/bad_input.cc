@@ -169,6 +169,20 @@ main()
                  base + "subsection Loads\n set Additional forms = magnetic "
                         "field : B=1\nend\n",
                  good);
+  // The matrix-free solver where it does not apply: Q1, simplices, IPC.
+  const std::string mg = "subsection Solver\n set Linear solver = cg-mg\nend\n";
+  expect_failure("matrix_free_degree_1", base + mg, good);
+  expect_failure("matrix_free_simplex",
+                 base + mg +
+                   "subsection Finite element\n set Degree = 2\nend\n"
+                   "subsection Mesh\n set Generator = subdivided_hyper_"
+                   "rectangle\n set Generator arguments = 2, 2 : 0, 0 : 1, 1 "
+                   ": true\n set Convert to simplices = true\nend\n",
+                 good);
+  expect_failure("matrix_free_ipc",
+                 base + mg + ipc +
+                   "subsection Finite element\n set Degree = 2\nend\n",
+                 good);
   // A mesh file of binary junk: the message quotes its bytes escaped and
   // cut, and failed-run/summary.json stays valid JSON (it once threw
   // nlohmann's invalid-UTF-8 error inside the error path and aborted).

@@ -256,6 +256,14 @@ namespace forma
     assemble_global(GlobalAssembly &) const
     {}
 
+    /// Whether assemble_global() adds anything (contact): a matrix-free
+    /// Jacobian has no place for it.
+    virtual bool
+    has_global_terms() const
+    {
+      return false;
+    }
+
     /// The state changed (or will move by `du`): update what depends on
     /// it; true if the Jacobian's pattern must be rebuilt. Collective.
     virtual bool

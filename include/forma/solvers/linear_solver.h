@@ -2,6 +2,7 @@
 #define forma_solvers_linear_solver_h
 
 #include <deal.II/base/parameter_handler.h>
+#include <deal.II/lac/trilinos_precondition.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/trilinos_vector.h>
 
@@ -34,9 +35,12 @@ namespace forma
 
     explicit LinearSolver(const Parameters &parameters);
 
-    /// Rigid-body modes (owned entries of each mode) for the AMG null space.
+    /// Rigid-body modes (owned entries of each mode) for the AMG null space;
+    /// `pde_equations` > 1 lets ML aggregate node-wise groups of that many
+    /// consecutive DoFs (see RigidBodyModes).
     void
-    set_null_space(std::vector<std::vector<double>> modes);
+    set_null_space(std::vector<std::vector<double>> modes,
+                   const unsigned int               pde_equations = 1);
 
     /// Solve A x = b; returns the iteration count (1 for direct).
     unsigned int
@@ -62,8 +66,22 @@ namespace forma
     std::shared_ptr<State> state; ///< last factorization / preconditioner
     Parameters             parameters;
     std::vector<double>    null_space; ///< column-major, n_owned x n_modes
-    unsigned int           n_modes = 0;
+    unsigned int           n_modes       = 0;
+    unsigned int           pde_equations = 1;
   };
+
+  /**
+   * ML smoothed aggregation for an elasticity matrix: `modes` (owned
+   * entries, one vector per mode; may be empty) as near null space, node-wise
+   * aggregation of `pde_equations` DoFs. Shared by LinearSolver and the
+   * coarse level of the matrix-free multigrid.
+   */
+  void
+  initialize_elasticity_amg(dealii::TrilinosWrappers::PreconditionAMG    &amg,
+                            const dealii::TrilinosWrappers::SparseMatrix &A,
+                            const std::vector<std::vector<double>>       &modes,
+                            const bool         higher_order,
+                            const unsigned int pde_equations);
 } // namespace forma
 
 #endif
