@@ -316,8 +316,9 @@ namespace forma
                                            Vector_t       *raw)
   {
     Timer timer;
-    u_ghost             = u_owned;
-    face_tangent_missed = false;
+    u_ghost = u_owned;
+    if (with_matrix) // the last Jacobian's verdict holds until the next
+      face_tangent_missed = false;
     if (with_matrix && !matrix_free)
       jacobian = 0;
     residual = 0;

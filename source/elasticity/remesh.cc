@@ -232,6 +232,9 @@ namespace forma
     // The DoF handlers let go of the old mesh before it is destroyed.
     dof_handler.reinit(*new_tria);
     shape_dof_handler.reinit(*new_tria);
+    if (matrix_free) // its own DoF handlers hold the old mesh too
+      matrix_free =
+        std::make_unique<MatrixFreeElasticity<dim>>(p.linear_solver);
     tria = std::move(new_tria);
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())

@@ -181,7 +181,8 @@ namespace forma
           {
             SolverGMRES<TrilinosWrappers::MPI::Vector> gmres(
               control,
-              SolverGMRES<TrilinosWrappers::MPI::Vector>::AdditionalData(100));
+              SolverGMRES<TrilinosWrappers::MPI::Vector>::AdditionalData(
+                100, true /* right preconditioning: true residual */));
             gmres.solve(A, x, b, amg);
           }
       }
@@ -239,7 +240,8 @@ namespace forma
       {
         SolverGMRES<TrilinosWrappers::MPI::Vector> gmres(
           control,
-          SolverGMRES<TrilinosWrappers::MPI::Vector>::AdditionalData(100));
+          SolverGMRES<TrilinosWrappers::MPI::Vector>::AdditionalData(
+            100, true /* right preconditioning: true residual */));
         gmres.solve(A, x, b, state->amg);
       }
     return control.last_step();

@@ -279,8 +279,14 @@ namespace forma
           }
         ++own;
       }
-    AssertThrow(dofs.locally_owned_dofs().n_elements() ==
-                  caller_owned.n_elements(),
+    // Same owners in both numberings (p4est's rule, same element):
+    // checked on every rank together, so no rank waits for one that threw.
+    bool same =
+      dofs.locally_owned_dofs().n_elements() == caller_owned.n_elements();
+    for (const auto i : own_index)
+      same &= dofs.locally_owned_dofs().is_element(i);
+    AssertThrow(Utilities::MPI::min(same ? 1u : 0u, dofs.get_communicator()) ==
+                  1u,
                 ExcMessage("matrix-free solver: the DoFs are owned "
                            "differently from the caller's."));
   }
@@ -302,9 +308,7 @@ namespace forma
       {
         cell[v] = data.get_cell_iterator(batch, v < n_lanes ? v : 0)
                     ->active_cell_index();
-        AssertThrow(!cell_flux[cell[v]].empty(),
-                    ExcMessage("matrix-free solver: a cell has no tangent "
-                               "(set_cell_tangent() not called for it)."));
+        Assert(!cell_flux[cell[v]].empty(), ExcInternalError());
       }
     const auto entries = [&](const auto &per_cell) {
       unsigned int n = 1;
@@ -507,6 +511,14 @@ namespace forma
   MatrixFreeElasticity<dim>::Impl::setup_preconditioner()
   {
     Timer timer;
+    bool  complete = true;
+    for (const auto &cell : dofs.active_cell_iterators())
+      if (cell->is_locally_owned())
+        complete &= !cell_flux[cell->active_cell_index()].empty();
+    AssertThrow(Utilities::MPI::min(complete ? 1u : 0u,
+                                    dofs.get_communicator()) == 1u,
+                ExcMessage("matrix-free solver: a cell has no tangent "
+                           "(set_cell_tangent() not called for it)."));
     has_source = false;
     for (const auto &s : cell_source)
       has_source |= !s.empty();
@@ -529,6 +541,7 @@ namespace forma
         source_stride[b] = batch_source.size() - source_offset[b] == 1 ? 0 : 1;
       }
 
+    amg.clear(); // the old hierarchy points into the old matrix
     matrix_q1.clear();
     TrilinosWrappers::SparsityPattern sp(
       dofs_q1.locally_owned_dofs(),
@@ -693,7 +706,9 @@ namespace forma
                                    const TrilinosWrappers::MPI::Vector &b)
   {
     Impl &m = *impl;
-    if (m.tangent_changed)
+    // Collective: a rank without cells sets no tangent but must take part.
+    if (Utilities::MPI::logical_or(m.tangent_changed.load(),
+                                   m.dofs.get_communicator()))
       m.setup_preconditioner();
     Timer      timer;
     VectorType own_x, own_b;
@@ -714,8 +729,11 @@ namespace forma
         const typename Impl::TwoLevel preconditioner{&m};
         if (unsymmetric)
           {
+            // Right preconditioning: the stopping test sees the true
+            // residual, as CG's does (left: the preconditioned one).
             SolverGMRES<VectorType> gmres(
-              control, typename SolverGMRES<VectorType>::AdditionalData(100));
+              control,
+              typename SolverGMRES<VectorType>::AdditionalData(100, true));
             gmres.solve(m.op, own_x, own_b, preconditioner);
           }
         else
