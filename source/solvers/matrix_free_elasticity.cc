@@ -80,7 +80,8 @@ namespace forma
   template <int dim>
   struct MatrixFreeElasticity<dim>::Impl
   {
-    /// The Q_p operator as CG and Chebyshev see it.
+    /// The Q_p operator as CG, GMRES and Chebyshev see it (no Tvmult: an
+    /// adjoint sets transposed tangents instead).
     struct Operator : public Subscriptor
     {
       explicit Operator(const Impl *impl)
@@ -89,11 +90,6 @@ namespace forma
       const Impl *impl;
       void
       vmult(VectorType &dst, const VectorType &src) const
-      {
-        impl->apply(dst, src);
-      }
-      void
-      Tvmult(VectorType &dst, const VectorType &src) const
       {
         impl->apply(dst, src);
       }

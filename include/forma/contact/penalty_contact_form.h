@@ -36,12 +36,12 @@ namespace forma
 
     void
     assemble_global(GlobalAssembly &a) const override;
+
     bool
     has_global_terms() const override
     {
       return true;
     }
-
 
     bool
     is_potential() const override

@@ -46,12 +46,12 @@ namespace forma
 
       void
       assemble_global(GlobalAssembly &a) const override;
+
       bool
       has_global_terms() const override
       {
         return true;
       }
-
 
       bool
       update_state(const Vector &u, const Vector *du) override;
