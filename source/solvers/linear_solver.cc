@@ -133,6 +133,19 @@ namespace forma
 
 
 
+  std::string
+  no_convergence_message(const std::string &solver,
+                         const unsigned int last_step,
+                         const double       last_residual)
+  {
+    return "the linear solver '" + solver + "' did not converge in " +
+           std::to_string(last_step) + " iterations (residual " +
+           std::to_string(last_residual) +
+           "); raise 'Max linear iterations' or use the direct solver.";
+  }
+
+
+
   unsigned int
   LinearSolver::solve(const TrilinosWrappers::SparseMatrix &A,
                       TrilinosWrappers::MPI::Vector        &x,
@@ -189,13 +202,9 @@ namespace forma
     catch (const SolverControl::NoConvergence &exc)
       {
         AssertThrow(false,
-                    ExcMessage("the linear solver '" + parameters.type +
-                               "' did not converge in " +
-                               std::to_string(exc.last_step) +
-                               " iterations (residual " +
-                               std::to_string(exc.last_residual) +
-                               "); raise 'Max linear iterations' or use the "
-                               "direct solver."));
+                    ExcMessage(no_convergence_message(parameters.type,
+                                                      exc.last_step,
+                                                      exc.last_residual)));
       }
     return control.last_step();
   }

@@ -665,16 +665,6 @@ namespace forma
     const std::vector<double>         &source_tangent,
     const bool                         transpose)
   {
-    for (const auto &A : flux_tangent)
-      if ((A - transposed(A)).norm() > 1e-12 * A.norm())
-        {
-          impl->unsymmetric = true;
-          break;
-        }
-    std::vector<Tensor<4, dim>> flux = flux_tangent;
-    if (transpose)
-      for (auto &A : flux)
-        A = transposed(A);
     // One entry where the tangent is the same at every point (linear
     // elasticity), which is what keeps the memory low.
     const auto compact = [](const auto &values) {
@@ -685,8 +675,17 @@ namespace forma
                                             values.begin() +
                                               (values.empty() ? 0 : 1));
     };
-    impl->cell_flux[active_cell_index] = compact(flux);
-    bool any_source                    = false;
+    auto &flux = impl->cell_flux[active_cell_index];
+    flux       = compact(flux_tangent);
+    for (auto &A : flux)
+      {
+        const Tensor<4, dim> T = transposed(A);
+        if (!impl->unsymmetric && (A - T).norm() > 1e-12 * A.norm())
+          impl->unsymmetric = true;
+        if (transpose)
+          A = T;
+      }
+    bool any_source = false;
     for (const double s : source_tangent)
       any_source |= (s != 0.);
     impl->cell_source[active_cell_index] =
@@ -741,14 +740,11 @@ namespace forma
     catch (const SolverControl::NoConvergence &exc)
       {
         AssertThrow(false,
-                    ExcMessage("the linear solver 'cg-mg' (" +
-                               std::string(unsymmetric ? "GMRES" : "CG") +
-                               ") did not converge in " +
-                               std::to_string(exc.last_step) +
-                               " iterations (residual " +
-                               std::to_string(exc.last_residual) +
-                               "); raise 'Max linear iterations' or use the "
-                               "direct solver."));
+                    ExcMessage(no_convergence_message(unsymmetric ?
+                                                        "cg-mg (GMRES)" :
+                                                        "cg-mg (CG)",
+                                                      exc.last_step,
+                                                      exc.last_residual)));
       }
     k = 0;
     for (const auto i : m.caller_owned)

@@ -70,6 +70,12 @@ namespace forma
     unsigned int           pde_equations = 1;
   };
 
+  /// The message of a Krylov solve that ran out of iterations.
+  std::string
+  no_convergence_message(const std::string &solver,
+                         const unsigned int last_step,
+                         const double       last_residual);
+
   /**
    * ML smoothed aggregation for an elasticity matrix: `modes` (owned
    * entries, one vector per mode; may be empty) as near null space, node-wise
