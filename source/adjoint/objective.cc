@@ -140,13 +140,11 @@ namespace forma
 
   template <int dim>
   double
-  Objective<dim>::step_weight(const unsigned int i,
-                              const unsigned int n,
-                              const double       dt) const
+  Objective<dim>::step_weight(const unsigned int i, const TimeGrid &grid) const
   {
     if (parameters.time_weighting == "final")
-      return i == n ? 1. : 0.;
-    return (i == 0 || i == n) ? 0.5 * dt : dt;
+      return i == grid.n_steps() ? 1. : 0.;
+    return grid.trapezoid_weight(i);
   }
 
 

@@ -51,12 +51,12 @@ namespace forma
         u_ghost   = u;
         return;
       }
-    transient            = true;
-    const unsigned int n = u_states.size() - 1;
-    dt                   = p.end_time / n;
-    time                 = i * dt;
-    u                    = u_states[i];
-    u_ghost              = u;
+    transient  = true;
+    step_index = i;
+    time       = time_grid.time(i);
+    dt         = time_grid.step(i);
+    u          = u_states[i];
+    u_ghost    = u;
     if (i == 0)
       {
         inertia_factor = 0;
@@ -64,7 +64,7 @@ namespace forma
         u_old_ghost    = u;
         return;
       }
-    const auto   bdf = bdf_coefficients_at_step(p.bdf_order, i);
+    const auto   bdf = time_grid.bdf(i, p.bdf_order);
     const double bdt = bdf.beta * dt;
     Vector_t     w(owned, comm);
     for (unsigned int j = 0; j < bdf.alpha.size(); ++j)
@@ -105,7 +105,7 @@ namespace forma
     term_values.assign(J.terms().size(), 0.);
     for (unsigned int i = 0; i <= n; ++i)
       {
-        const double sw = is_static ? 1. : J.step_weight(i, n, p.end_time / n);
+        const double sw = is_static ? 1. : J.step_weight(i, time_grid);
         if (sw == 0)
           continue;
         const auto I = objective_integrals(J, i);
@@ -375,7 +375,7 @@ namespace forma
     PointTerms<dim>                      t;
     std::vector<types::global_dof_index> dofs;
     Vector<double>                       local;
-    hs.dt = dt;
+    hs.dt = time_grid.step(next); // damping couples through step `next`
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
@@ -476,16 +476,14 @@ namespace forma
   ElasticitySimulator<dim>::Impl::compute_gradient(const Objective<dim> &J,
                                                    std::vector<double>  &dJ)
   {
-    Timer              timer;
-    const unsigned int n         = u_states.size() - 1;
-    const bool         is_static = p.problem == "static";
-    const double       step      = is_static ? 0. : p.end_time / n;
+    Timer      timer;
+    const bool is_static = p.problem == "static";
     physical.clear_sensitivities();
 
     // dJ/dI of every integral at step i, scaled by the step weight.
     double value           = 0;
     auto   weights_at_step = [&](const unsigned int i) {
-      const double sw = is_static ? 1. : J.step_weight(i, n, step);
+      const double sw = is_static ? 1. : J.step_weight(i, time_grid);
       std::vector<std::vector<double>> w;
       const auto                       I = sw != 0 ? objective_integrals(J, i) :
                                                        std::vector<std::vector<double>>();
@@ -507,7 +505,7 @@ namespace forma
     Vector_t dJ_du(owned, comm), rhs(owned, comm);
     // The contact force terms' partials at step i.
     auto contact_partials = [&](const unsigned int i) {
-      const double sw = is_static ? 1. : J.step_weight(i, n, step);
+      const double sw = is_static ? 1. : J.step_weight(i, time_grid);
       for (const double v : contact_force_terms(J, i, sw, &dJ_du))
         value += v;
     };
@@ -552,15 +550,14 @@ namespace forma
     // velocities are eliminated through v^i = (u^i + sum_j a_j u^{i-j}) /
     // (beta dt)). lambda_i is the adjoint of the step residual R_i, y_i =
     // mu_i / M the adjoint of the velocity update.
-    const unsigned int    n    = u_states.size() - 1;
-    const double          step = p.end_time / n;
-    const unsigned int    m    = p.bdf_order;
+    const unsigned int    n = u_states.size() - 1;
+    const unsigned int    m = p.bdf_order;
     std::vector<Vector_t> lambda(n + 2), y(n + 2);
     auto                  beta_dt = [&](const unsigned int k) {
-      return bdf_coefficients_at_step(m, k).beta * step;
+      return time_grid.bdf(k, m).beta * time_grid.step(k);
     };
     auto alpha = [&](const unsigned int k, const unsigned int j) {
-      const auto c = bdf_coefficients_at_step(m, k);
+      const auto c = time_grid.bdf(k, m);
       return j <= c.alpha.size() ? c.alpha[j - 1] : 0.;
     };
     Vector_t z(owned, comm), products(owned, comm), rhs(owned, comm);
@@ -782,6 +779,8 @@ namespace forma
       impl->ipc_contact->set_friction_values(impl->problem_friction);
     impl->solve_forward(true);
     impl->reference_states = impl->u_states;
+    // Adaptive steps: the design runs step on the target's levels.
+    impl->time_grid_frozen = true;
     if (J->parameters.target_noise > 0)
       {
         // Noise by (step, support point, component): the same for every
@@ -825,6 +824,14 @@ namespace forma
   ElasticitySimulator<dim>::solve_design()
   {
     impl->solve_forward(true);
+  }
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::freeze_time_steps(const bool freeze)
+  {
+    // A target trajectory's levels stay frozen.
+    impl->time_grid_frozen = freeze || !impl->reference_states.empty();
   }
 
   template <int dim>
@@ -879,6 +886,10 @@ namespace forma
   template void
   ElasticitySimulator<3>::set_objective(
     const std::shared_ptr<const Objective<3>> &);
+  template void
+  ElasticitySimulator<2>::freeze_time_steps(const bool);
+  template void
+  ElasticitySimulator<3>::freeze_time_steps(const bool);
   template double
   ElasticitySimulator<2>::objective() const;
   template double

@@ -149,23 +149,37 @@ namespace forma
   nlohmann::json
   ElasticitySimulator<dim>::adjoint_statistics() const
   {
-    const auto &m = *impl;
-    return {{"n_dofs", m.dof_handler.n_dofs()},
-            {"forward_solves", m.forward_solves},
-            {"gradients", m.gradients},
-            {"forward_seconds", m.forward_seconds},
-            {"adjoint_seconds", m.adjoint_seconds},
-            // The gradient's time split: the adjoint linear solves (with the
-            // transposed assembly where needed), and the rest: objective
-            // partials and the shape/parameter derivative products.
-            {"adjoint_solve_seconds", m.adjoint_solve_seconds},
-            {"derivative_products_seconds",
-             m.adjoint_seconds - m.adjoint_solve_seconds},
-            {"seconds_per_forward_solve",
-             m.forward_seconds / std::max(1u, m.forward_solves)},
-            {"seconds_per_gradient",
-             m.adjoint_seconds / std::max(1u, m.gradients)},
-            {"stored_state_bytes", m.memory_of_states}};
+    const auto    &m = *impl;
+    nlohmann::json s = {
+      {"n_dofs", m.dof_handler.n_dofs()},
+      {"forward_solves", m.forward_solves},
+      {"gradients", m.gradients},
+      {"forward_seconds", m.forward_seconds},
+      {"adjoint_seconds", m.adjoint_seconds},
+      // The gradient's time split: the adjoint linear solves (with the
+      // transposed assembly where needed), and the rest: objective
+      // partials and the shape/parameter derivative products.
+      {"adjoint_solve_seconds", m.adjoint_solve_seconds},
+      {"derivative_products_seconds",
+       m.adjoint_seconds - m.adjoint_solve_seconds},
+      {"seconds_per_forward_solve",
+       m.forward_seconds / std::max(1u, m.forward_solves)},
+      {"seconds_per_gradient", m.adjoint_seconds / std::max(1u, m.gradients)},
+      {"stored_state_bytes", m.memory_of_states}};
+    if (m.p.problem == "transient" && !m.time_grid.empty())
+      {
+        // The levels the gradients are the discrete ones of.
+        double smallest = m.p.end_time, largest = 0;
+        for (unsigned int i = 1; i <= m.time_grid.n_steps(); ++i)
+          {
+            smallest = std::min(smallest, m.time_grid.step(i));
+            largest  = std::max(largest, m.time_grid.step(i));
+          }
+        s["time_steps"]         = m.time_grid.n_steps();
+        s["smallest_time_step"] = smallest;
+        s["largest_time_step"]  = largest;
+      }
+    return s;
   }
 
   template nlohmann::json

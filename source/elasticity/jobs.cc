@@ -114,6 +114,15 @@ namespace
     context.summary["gradient_check"]           = result.to_json();
     context.summary["gradient_check"]["passed"] = pass;
     context.summary["adjoint"] = simulator.adjoint_statistics();
+    if (parameters.time_integrator == "adaptive")
+      {
+        const auto &a = context.summary["adjoint"];
+        context.print(
+          "on adaptive time steps: " +
+          std::to_string(a["time_steps"].get<unsigned int>()) + " steps from " +
+          significant(a["smallest_time_step"].get<double>(), 3) + " to " +
+          significant(a["largest_time_step"].get<double>(), 3));
+      }
     AssertThrow(pass,
                 dealii::ExcMessage("the Taylor test failed: min rate " +
                                    fixed(result.min_rate, 2) +

@@ -94,6 +94,16 @@ namespace forma
 
   template <int dim>
   void
+  LoadCases<dim>::freeze_time_steps(const bool freeze)
+  {
+    for (auto &c : cases)
+      c->freeze_time_steps(freeze);
+  }
+
+
+
+  template <int dim>
+  void
   LoadCases<dim>::solve_design()
   {
     for (unsigned int k = 0; k < cases.size(); ++k)

@@ -142,10 +142,7 @@ namespace forma
     if (has_reference)
       {
         reference_ghost.reinit(sim.owned, sim.relevant, sim.comm);
-        const unsigned int i = sim.p.problem == "static" ?
-                                 0 :
-                                 static_cast<unsigned int>(std::round(
-                                   sim.time / std::max(sim.dt, 1e-300)));
+        const unsigned int i = sim.p.problem == "static" ? 0 : sim.step_index;
         reference_ghost      = sim.reference_states[std::min<std::size_t>(
           i, sim.reference_states.size() - 1)];
       }

@@ -133,7 +133,37 @@ namespace forma
     prm.declare_entry("Time step",
                       "0.1",
                       Patterns::Double(0),
-                      "Transient step size.");
+                      "Transient step size (adaptive: the first step).");
+    prm.declare_entry(
+      "Integrator",
+      "fixed",
+      Patterns::Selection("fixed|adaptive"),
+      "fixed: BDF with the constant Time step. adaptive: "
+      "variable-step BDF1/BDF2 whose steps are accepted when "
+      "the estimated local displacement error (Milne's "
+      "device, max norm) is below Absolute tolerance + "
+      "Tolerance * (largest |u|_max so far); gradients are those of the "
+      "accepted steps. With IPC, the CCD bound of the free "
+      "flight caps each step.");
+    prm.declare_entry("Tolerance",
+                      "1e-4",
+                      Patterns::Double(0),
+                      "adaptive: relative local error tolerance.");
+    prm.declare_entry("Absolute tolerance",
+                      "0",
+                      Patterns::Double(0),
+                      "adaptive: absolute local error tolerance (length). "
+                      "0: Tolerance * 1% of the mesh's bounding-box "
+                      "diagonal.");
+    prm.declare_entry("Minimum time step",
+                      "0",
+                      Patterns::Double(0),
+                      "adaptive: smallest step; a step this short is "
+                      "accepted whatever its error. 0: 1e-10 End time.");
+    prm.declare_entry("Maximum time step",
+                      "0",
+                      Patterns::Double(0),
+                      "adaptive: largest step. 0: End time.");
     prm.declare_entry("BDF order",
                       "2",
                       Patterns::Integer(1, 6),
@@ -247,11 +277,16 @@ namespace forma
     prm.leave_subsection();
 
     prm.enter_subsection("Time");
-    problem    = prm.get("Problem");
-    end_time   = prm.get_double("End time");
-    time_step  = prm.get_double("Time step");
-    bdf_order  = prm.get_integer("BDF order");
-    load_steps = prm.get_integer("Load steps");
+    problem                 = prm.get("Problem");
+    end_time                = prm.get_double("End time");
+    time_step               = prm.get_double("Time step");
+    bdf_order               = prm.get_integer("BDF order");
+    load_steps              = prm.get_integer("Load steps");
+    time_integrator         = prm.get("Integrator");
+    time_tolerance          = prm.get_double("Tolerance");
+    absolute_time_tolerance = prm.get_double("Absolute tolerance");
+    minimum_time_step       = prm.get_double("Minimum time step");
+    maximum_time_step       = prm.get_double("Maximum time step");
     prm.leave_subsection();
 
     prm.enter_subsection("Initial conditions");
@@ -279,6 +314,20 @@ namespace forma
     AssertThrow(problem == "static" || time_step > 0,
                 ExcMessage(
                   "Time/Time step must be positive for transient runs."));
+    AssertThrow(time_integrator == "fixed" || problem == "transient",
+                ExcMessage("Time/Integrator = adaptive is for transient "
+                           "problems (Time/Problem = transient)."));
+    AssertThrow(time_integrator == "fixed" || bdf_order <= 2,
+                ExcMessage("Time/Integrator = adaptive steps with BDF1 or "
+                           "BDF2; set Time/BDF order to 1 or 2 (got " +
+                           std::to_string(bdf_order) + ")."));
+    AssertThrow(time_integrator == "fixed" || time_tolerance > 0,
+                ExcMessage("Time/Integrator = adaptive needs a positive "
+                           "Time/Tolerance."));
+    AssertThrow(maximum_time_step == 0 ||
+                  minimum_time_step <= maximum_time_step,
+                ExcMessage("Time/Minimum time step exceeds Time/Maximum time "
+                           "step."));
     AssertThrow(problem == "static" || end_time > 0,
                 ExcMessage(
                   "Time/End time must be positive for transient runs."));

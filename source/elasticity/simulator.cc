@@ -633,7 +633,11 @@ namespace forma
           j["contact"] = r.contact;
         steps.push_back(j);
       }
-    s["steps"]            = steps;
+    s["steps"] = steps;
+    if (impl->p.time_integrator == "adaptive")
+      s["time_integration"] = {{"integrator", "adaptive"},
+                               {"accepted_steps", impl->time_grid.n_steps()},
+                               {"rejected_steps", impl->rejected_steps}};
     nlohmann::json cycles = nlohmann::json::array();
     for (const auto &c : impl->cycles)
       cycles.push_back(

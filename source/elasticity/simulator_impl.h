@@ -36,6 +36,7 @@
 #include <forma/physics/damping.h>
 #include <forma/physics/elastic_form.h>
 #include <forma/physics/material.h>
+#include <forma/physics/time_grid.h>
 #include <forma/solvers/linear_solver.h>
 #include <forma/solvers/matrix_free_elasticity.h>
 
@@ -283,6 +284,27 @@ namespace forma
     solve_static();
     void
     solve_transient();
+    /// Zero or given initial state, step 0's record and output; `n`: the
+    /// step count for the progress line (empty: not known in advance).
+    void
+    set_initial_state(const std::string &n);
+    /// Step i of `time_grid` from the history: Newton on the BDF residual,
+    /// then v^i. Returns the Newton and linear iterations.
+    std::pair<unsigned int, unsigned int>
+    take_step(const unsigned int i);
+    /// Step i accepted: history, stored states, record, output.
+    void
+    accept_step(const unsigned int                           i,
+                const std::pair<unsigned int, unsigned int> &its);
+    /// Time/Integrator = adaptive: error-controlled steps to End time.
+    void
+    solve_adaptive();
+    /// Estimated local error of step i in units of the tolerance.
+    double
+    local_error(const unsigned int i) const;
+    /// IPC: h capped by the CCD bound of the free flight from the last step.
+    double
+    cap_step_by_contact(const double h, const double h_min);
     void
     refine_mesh();
 
@@ -592,7 +614,16 @@ namespace forma
     double time           = 0;
     double dt             = 0;
     double inertia_factor = 0; ///< 1 / (beta dt)^2
-    double force_scale    = 0; ///< largest initial residual seen (tolerance)
+    /// The levels of the last transient run (the adjoint's and the
+    /// objective's too); frozen: later runs reuse it (Taylor tests,
+    /// target trajectories) instead of choosing adaptive steps again.
+    TimeGrid     time_grid;
+    bool         time_grid_frozen   = false;
+    unsigned int rejected_steps     = 0; ///< adaptive steps redone
+    double       u_scale            = 0; ///< adaptive: largest |u|_max so far
+    double       absolute_tolerance = 0; ///< adaptive, in length units
+    unsigned int step_index         = 0; ///< level of set_step_state()
+    double       force_scale = 0; ///< largest initial residual seen (tolerance)
 
     std::vector<typename ElasticitySimulator<dim>::StepRecord>  steps;
     std::vector<typename ElasticitySimulator<dim>::CycleRecord> cycles;

@@ -17,6 +17,8 @@ namespace forma
       random_direction(simulator.design_layout(),
                        simulator.design_scales(q),
                        parameters);
+    // Adaptive time steps: every evaluation on the same levels.
+    simulator.freeze_time_steps(true);
     auto result = taylor_test(
       [&](const std::vector<double> &x) {
         simulator.set_design(x);
@@ -39,6 +41,7 @@ namespace forma
       q,
       theta,
       parameters);
+    simulator.freeze_time_steps(false);
     simulator.set_design(q);
     return result;
   }

@@ -22,14 +22,17 @@
 #include <forma/elasticity/simulator.h>
 #include <forma/physics/bdf.h>
 #include <forma/physics/material.h>
+#include <forma/physics/time_grid.h>
 #include <forma/solvers/linear_solver.h>
 
 #include "simulator_impl.h"
 
+#include <algorithm>
 #include <cmath>
 #include <deque>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <numeric>
 #include <optional>
 #include <sstream>
@@ -89,13 +92,31 @@ namespace forma
   void
   ElasticitySimulator<dim>::Impl::solve_transient()
   {
-    transient = true;
-    const unsigned int n =
-      std::max(1, static_cast<int>(std::round(p.end_time / p.time_step)));
-    dt = p.end_time / n;
-    const std::vector<bool> all(dim, true);
+    transient            = true;
+    const bool keep_grid = time_grid_frozen && !time_grid.empty() &&
+                           time_grid.time(time_grid.n_steps()) == p.end_time;
+    const bool adaptive = p.time_integrator == "adaptive" && !keep_grid;
+    if (!adaptive && !keep_grid)
+      time_grid = TimeGrid::uniform(
+        p.end_time,
+        std::max(1, static_cast<int>(std::round(p.end_time / p.time_step))));
+    set_initial_state(adaptive ? "" : std::to_string(time_grid.n_steps()));
 
-    // Initial state.
+    rejected_steps = 0;
+    if (adaptive)
+      solve_adaptive();
+    else
+      for (unsigned int i = 1; i <= time_grid.n_steps(); ++i)
+        accept_step(i, take_step(i));
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::set_initial_state(const std::string &n)
+  {
+    const std::vector<bool> all(dim, true);
     u = 0;
     v = 0;
     if (!p.initial_displacement.empty())
@@ -133,89 +154,258 @@ namespace forma
       {
         record_step(0, 0., 0, 0);
         write_output(0, 0.);
-        print_progress("[step 0/" + std::to_string(n) + "] t = 0");
+        print_progress("[step 0" + (n.empty() ? "" : "/" + n) + "] t = 0");
       }
-
     u_history.clear();
     v_history.clear();
     u_history.push_front(u);
     v_history.push_front(v);
-    const Vector_t u0 = u;
     step_timer.restart();
-    for (unsigned int i = 1; i <= n; ++i)
-      {
-        const double t   = i * dt;
-        const auto   bdf = bdf_coefficients_at_step(p.bdf_order, i);
-        const double bdt = bdf.beta * dt;
-        Vector_t     w(owned, comm);
-        for (unsigned int j = 0; j < bdf.alpha.size(); ++j)
-          {
-            w.add(bdf.alpha[j], u_history[j]);
-            w.add(bdf.alpha[j] * bdt, v_history[j]);
-          }
-        w_ghost        = w;
-        u_old_ghost    = u_history[0];
-        inertia_factor = 1. / (bdt * bdt);
+  }
 
-        // Predictor: the previous displacement advanced by its velocity;
-        // with IPC the previous state (the predictor may cross a contact;
-        // Newton's CCD-filtered steps then move from a contact-free state).
-        u = u_history[0];
+
+
+  template <int dim>
+  std::pair<unsigned int, unsigned int>
+  ElasticitySimulator<dim>::Impl::take_step(const unsigned int i)
+  {
+    const double t   = time_grid.time(i);
+    dt               = time_grid.step(i);
+    const auto   bdf = time_grid.bdf(i, p.bdf_order);
+    const double bdt = bdf.beta * dt;
+    Vector_t     w(owned, comm);
+    for (unsigned int j = 0; j < bdf.alpha.size(); ++j)
+      {
+        w.add(bdf.alpha[j], u_history[j]);
+        w.add(bdf.alpha[j] * bdt, v_history[j]);
+      }
+    w_ghost        = w;
+    u_old_ghost    = u_history[0];
+    inertia_factor = 1. / (bdt * bdt);
+
+    // Predictor: the previous displacement advanced by its velocity;
+    // with IPC the previous state (the predictor may cross a contact;
+    // Newton's CCD-filtered steps then move from a contact-free state).
+    u = u_history[0];
+    if (ipc_contact)
+      {
+        prepare_ipc_stiffness();
+        if (ipc_friction())
+          ipc_contact->update_friction(u_history[0],
+                                       u_history[0],
+                                       ipc_friction_eta());
+      }
+    else
+      u.add(dt, v_history[0]);
+    const std::string where = "time step " + std::to_string(i);
+    std::pair<unsigned int, unsigned int> its;
+    try
+      {
+        its = newton(t, where);
+      }
+    catch (...)
+      {
+        // The predictor may invert elements; restart from u^{i-1}
+        // (IPC steps start there already).
         if (ipc_contact)
+          throw;
+        u   = u_history[0];
+        its = newton(t, where);
+      }
+
+    // v^i = (u^i + sum_j alpha_j u^{i-j}) / (beta dt)
+    v = u;
+    for (unsigned int j = 0; j < bdf.alpha.size(); ++j)
+      v.add(bdf.alpha[j], u_history[j]);
+    v *= 1. / bdt;
+    return its;
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::accept_step(
+    const unsigned int                           i,
+    const std::pair<unsigned int, unsigned int> &its)
+  {
+    u_history.push_front(u);
+    v_history.push_front(v);
+    // Adaptive steps keep one more level for the error estimate.
+    const unsigned int keep =
+      p.bdf_order + (p.time_integrator == "adaptive" ? 1 : 0);
+    while (u_history.size() > keep)
+      {
+        u_history.pop_back();
+        v_history.pop_back();
+      }
+    if (store_states)
+      {
+        u_states.push_back(u);
+        v_states.push_back(v);
+      }
+    if (quiet)
+      return;
+    const double t = time_grid.time(i);
+    const bool   last =
+      i == time_grid.n_steps() && (time_grid.is_uniform() || t == p.end_time);
+    const std::string contacts = ipc_progress();
+    record_step(i, t, its.first, its.second);
+    if (i % p.output_every == 0 || last)
+      write_output(i, t);
+    const std::string count =
+      time_grid.is_uniform() ? "/" + std::to_string(time_grid.n_steps()) : "";
+    print_progress("[step " + std::to_string(i) + count + "] t = " + fmt(t) +
+                   (time_grid.is_uniform() ? "" : ", dt = " + fmt(dt)) +
+                   ", Newton iterations: " + std::to_string(its.first) +
+                   contacts);
+  }
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::solve_adaptive()
+  {
+    // Error-controlled variable-step BDF (thesis eq. 3.12 with the
+    // variable-step coefficients of TimeGrid): a step is accepted when its
+    // estimated local error is within the tolerance; the next step size
+    // follows from the error as h (0.9 / err)^(1/(q+1)), limited to
+    // [h/5, 2h] after an acceptance and [h/10, h/2] after a rejection.
+    const double end = p.end_time;
+    const double h_min =
+      p.minimum_time_step > 0 ? p.minimum_time_step : 1e-10 * end;
+    const double h_max = p.maximum_time_step > 0 ? p.maximum_time_step : end;
+    double       h     = std::min(p.time_step, h_max);
+    time_grid          = TimeGrid::variable();
+    u_scale            = u.linfty_norm();
+    absolute_tolerance = p.absolute_time_tolerance;
+    if (absolute_tolerance == 0)
+      {
+        // Tolerance times 1% of the body's size: a run from rest has no
+        // displacement to be relative to.
+        Point<dim> lo, hi;
+        for (unsigned int d = 0; d < dim; ++d)
           {
-            prepare_ipc_stiffness();
-            if (ipc_friction())
-              ipc_contact->update_friction(u_history[0],
-                                           u_history[0],
-                                           ipc_friction_eta());
+            lo[d] = std::numeric_limits<double>::max();
+            hi[d] = -lo[d];
+          }
+        for (const auto &cell : tria->active_cell_iterators())
+          if (cell->is_locally_owned())
+            for (const auto v : cell->vertex_indices())
+              for (unsigned int d = 0; d < dim; ++d)
+                {
+                  lo[d] = std::min(lo[d], cell->vertex(v)[d]);
+                  hi[d] = std::max(hi[d], cell->vertex(v)[d]);
+                }
+        double diagonal = 0;
+        for (unsigned int d = 0; d < dim; ++d)
+          diagonal += std::pow(Utilities::MPI::max(hi[d], comm) +
+                                 Utilities::MPI::max(-lo[d], comm),
+                               2);
+        absolute_tolerance = 1e-2 * p.time_tolerance * std::sqrt(diagonal);
+      }
+    for (unsigned int i = 1; time_grid.time(i - 1) < end; ++i)
+      {
+        const double t0 = time_grid.time(i - 1);
+        h               = cap_step_by_contact(h, h_min);
+        while (true)
+          {
+            // Land on the end time instead of leaving a sliver.
+            const bool last = t0 + 1.1 * h >= end;
+            time_grid.push(last ? end : t0 + h);
+            std::pair<unsigned int, unsigned int> its;
+            double                                err = 0;
+            try
+              {
+                its = take_step(i);
+                err = local_error(i);
+              }
+            catch (const std::exception &)
+              {
+                if (h <= h_min)
+                  throw;
+                err = std::numeric_limits<double>::infinity();
+              }
+            const unsigned int q      = std::min(i, p.bdf_order);
+            const double       factor = 0.9 * std::pow(err, -1. / (q + 1));
+            if (err <= 1 || h <= h_min)
+              {
+                u_scale = std::max(u_scale, u.linfty_norm());
+                accept_step(i, its);
+                h = std::clamp(h * std::clamp(factor, 0.2, 2.), h_min, h_max);
+                break;
+              }
+            time_grid.pop();
+            ++rejected_steps;
+            h = std::max(h_min, h * std::clamp(factor, 0.1, 0.5));
+          }
+      }
+  }
+
+
+
+  template <int dim>
+  double
+  ElasticitySimulator<dim>::Impl::local_error(const unsigned int i) const
+  {
+    // Milne's device: the BDF local error is E = beta h_i h_i (h_i +
+    // h_{i-1}) u'''/6 and a quadratic extrapolation P of earlier levels
+    // misses by u - P = h_i (h_i + h_{i-1}) H u'''/6 (H: t_i minus the
+    // oldest level P uses), so E = beta h_i / (beta h_i + H) (u^i - P).
+    // BDF1 from a linear predictor: E = (u^i - P) / 2.
+    const double h = time_grid.step(i);
+    Vector_t     e(u);
+    double       c = 0.5;
+    if (i == 1 || p.bdf_order == 1)
+      e.add(-1., u_history[0], -h, v_history[0]);
+    else
+      {
+        const double t = time_grid.time(i), t1 = time_grid.time(i - 1),
+                     t2 = time_grid.time(i - 2);
+        double oldest   = t2;
+        if (i == 2)
+          {
+            // Hermite: u^0 and v^0 at t2 = 0, u^1 at t1.
+            const double s = t - t2, s1 = t1 - t2, a = (s / s1) * (s / s1);
+            e.add(-(1 - a), u_history[1], -a, u_history[0]);
+            e.add(-(s - a * s1), v_history[1]);
           }
         else
-          u.add(dt, v_history[0]);
-        const std::string where = "time step " + std::to_string(i);
-        std::pair<unsigned int, unsigned int> its;
-        try
           {
-            its = newton(t, where);
+            const double t3 = time_grid.time(i - 3);
+            oldest          = t3;
+            e.add(-(t - t2) * (t - t3) / ((t1 - t2) * (t1 - t3)),
+                  u_history[0],
+                  -(t - t1) * (t - t3) / ((t2 - t1) * (t2 - t3)),
+                  u_history[1]);
+            e.add(-(t - t1) * (t - t2) / ((t3 - t1) * (t3 - t2)), u_history[2]);
           }
-        catch (...)
-          {
-            // The predictor may invert elements; restart from u^{i-1}
-            // (IPC steps start there already).
-            if (ipc_contact)
-              throw;
-            u   = u_history[0];
-            its = newton(t, where);
-          }
-
-        // v^i = (u^i + sum_j alpha_j u^{i-j}) / (beta dt)
-        v = u;
-        for (unsigned int j = 0; j < bdf.alpha.size(); ++j)
-          v.add(bdf.alpha[j], u_history[j]);
-        v *= 1. / bdt;
-
-        u_history.push_front(u);
-        v_history.push_front(v);
-        if (u_history.size() > p.bdf_order)
-          {
-            u_history.pop_back();
-            v_history.pop_back();
-          }
-
-        if (store_states)
-          {
-            u_states.push_back(u);
-            v_states.push_back(v);
-          }
-        if (quiet)
-          continue;
-        const std::string contacts = ipc_progress();
-        record_step(i, t, its.first, its.second);
-        if (i % p.output_every == 0 || i == n)
-          write_output(i, t);
-        print_progress("[step " + std::to_string(i) + "/" + std::to_string(n) +
-                       "] t = " + fmt(t) + ", Newton iterations: " +
-                       std::to_string(its.first) + contacts);
+        const double bh = time_grid.bdf(i, p.bdf_order).beta * h;
+        c               = bh / (bh + t - oldest);
       }
+    // Relative to the largest displacement so far, not the present one:
+    // an oscillation's zero crossings would otherwise ask for tiny steps.
+    const double scale = absolute_tolerance +
+                         p.time_tolerance * std::max(u_scale, u.linfty_norm());
+    return c * e.linfty_norm() / scale;
+  }
+
+
+
+  template <int dim>
+  double
+  ElasticitySimulator<dim>::Impl::cap_step_by_contact(const double h,
+                                                      const double h_min)
+  {
+    // IPC: no longer than the free flight from the last state takes to the
+    // first contact (the CCD bound), so that a step cannot jump through an
+    // impact its error estimate would not see.
+    if (!ipc_contact)
+      return h;
+    Vector_t du(v_history[0]);
+    du *= h;
+    const double f = ipc_contact->max_step(u_history[0], du);
+    return f < 1 ? std::max(h_min, f * h) : h;
   }
 
 

@@ -169,6 +169,14 @@ main()
                  base + "subsection Loads\n set Additional forms = magnetic "
                         "field : B=1\nend\n",
                  good);
+  // Adaptive time steps where they do not apply: static problems, BDF3.
+  expect_failure("adaptive_static",
+                 base + "subsection Time\n set Integrator = adaptive\nend\n",
+                 good);
+  expect_failure("adaptive_bdf3",
+                 base + "subsection Time\n set Problem = transient\n"
+                        " set Integrator = adaptive\n set BDF order = 3\nend\n",
+                 good);
   // The matrix-free solver where it does not apply: Q1, simplices, IPC.
   const std::string mg = "subsection Solver\n set Linear solver = cg-mg\nend\n";
   expect_failure("matrix_free_degree_1", base + mg, good);

@@ -8,6 +8,7 @@
 
 #include <forma/adjoint/registry.h>
 #include <forma/physics/material.h>
+#include <forma/physics/time_grid.h>
 
 #include <limits>
 #include <map>
@@ -217,11 +218,9 @@ namespace forma
       return term_list;
     }
 
-    /// Time-step weight of step i of n (dt: step size).
+    /// Time-quadrature weight of level i of `grid`.
     double
-    step_weight(const unsigned int i,
-                const unsigned int n,
-                const double       dt) const;
+    step_weight(const unsigned int i, const TimeGrid &grid) const;
 
     bool
     needs_reference_run() const;

@@ -59,6 +59,9 @@ namespace forma
     set_design(const std::vector<double> &q);
     void
     solve_design();
+    /// See ElasticitySimulator::freeze_time_steps().
+    void
+    freeze_time_steps(const bool freeze);
     double
     objective() const;
     /// Weighted terms summed over the cases, by name.

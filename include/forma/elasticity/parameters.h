@@ -50,11 +50,16 @@ namespace forma
     std::string constants;
 
     // Time
-    std::string  problem    = "static"; ///< static | transient
-    double       end_time   = 1;
-    double       time_step  = 0.1;
-    unsigned int bdf_order  = 2;
-    unsigned int load_steps = 1;
+    std::string  problem                 = "static"; ///< static | transient
+    double       end_time                = 1;
+    double       time_step               = 0.1;
+    unsigned int bdf_order               = 2;
+    unsigned int load_steps              = 1;
+    std::string  time_integrator         = "fixed"; ///< fixed | adaptive
+    double       time_tolerance          = 1e-4;    ///< adaptive: relative
+    double       absolute_time_tolerance = 0;       ///< 0: from the mesh
+    double       minimum_time_step       = 0;       ///< 0: 1e-10 End time
+    double       maximum_time_step       = 0;       ///< 0: End time
     std::string  initial_displacement;
     std::string  initial_velocity;
 

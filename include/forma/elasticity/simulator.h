@@ -169,6 +169,13 @@ namespace forma
     void
     solve_design();
 
+    /// Time/Integrator = adaptive: later solve_design() calls reuse the
+    /// time levels of the last transient run (or choose them once and then
+    /// keep them), so that J is one smooth function of the design for a
+    /// Taylor test. No effect on fixed steps.
+    void
+    freeze_time_steps(const bool freeze);
+
     /// J at the last solved design.
     double
     objective() const;
