@@ -12,6 +12,7 @@
 #   bash contrib/benchmarks/ipc_scaling.sh [sizes...]
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+source "$root/contrib/benchmarks/stack_scene.sh"
 app=$root/build/bin/forma-transient-ipc
 sizes=${*:-4 8 12 16}
 work=$(mktemp -d)
@@ -20,39 +21,7 @@ mkdir -p "$(dirname "$out")"
 echo "N,tets,dofs,steps,active_pairs,newton_its,step_s,assembly_s,contact_s,broad_s,ccd_s,solver_s,contact_us_per_pair,min_distance,inverted" > "$out"
 for n in $sizes; do
   python3 "$root/contrib/meshes/make_ipc_meshes.py" --stack "$n" "$work/stack$n.msh"
-  cat > "$work/run$n.prm" <<PRM
-set Dimension        = 3
-set Output directory = $work/out$n
-subsection Mesh
-  set Source               = file
-  set File                 = $work/stack$n.msh
-  set Convert to simplices = true
-end
-subsection Material
-  set Model  = neo-hookean
-  set Bodies = * : E = 1e5, nu = 0.3, density = 1000
-end
-subsection Loads
-  set Gravity = 0, 0, -9.81
-end
-subsection Time
-  set Problem   = transient
-  set End time  = 0.05
-  set Time step = 0.01
-end
-subsection Solver
-  set Linear solver         = cg-amg
-  set Max Newton iterations = 100
-end
-subsection IPC
-  set Enabled          = true
-  set Barrier distance = 2e-3
-  set Obstacles        = plane : 0, 0, 0 : 0, 0, 1
-end
-subsection Output
-  set Write vtu = false
-end
-PRM
+  stack_scene_prm "$work/stack$n.msh" "$work/out$n" 0.05 "cg-amg" > "$work/run$n.prm"
   "$app" "$work/run$n.prm" > "$work/run$n.log"
   python3 - "$work/out$n/summary.json" "$n" >> "$out" <<'PY'
 import json, sys

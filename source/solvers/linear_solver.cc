@@ -20,9 +20,14 @@ namespace forma
   {
     prm.declare_entry("Linear solver",
                       "direct",
-                      Patterns::Selection("direct|cg-amg|gmres-amg|cg-mg"),
-                      "direct: sparse LU (Amesos KLU), robust for small and "
-                      "stiff problems. cg-amg: conjugate gradients with "
+                      Patterns::Selection(
+                        "direct|direct-mumps|cg-amg|gmres-amg|cg-mg"),
+                      "direct: sparse LU (Amesos KLU, on one rank: the "
+                      "matrix is gathered there), robust for small and "
+                      "stiff problems. direct-mumps: distributed sparse LU "
+                      "(MUMPS through Amesos), the factorization spread over "
+                      "the MPI ranks: contact and IPC Jacobians on several "
+                      "ranks. cg-amg: conjugate gradients with "
                       "algebraic multigrid (symmetric problems, large meshes). "
                       "gmres-amg: GMRES with AMG (non-symmetric tangents, e.g. "
                       "with damping). cg-mg: conjugate gradients on the "
@@ -54,7 +59,11 @@ namespace forma
 
   struct LinearSolver::State
   {
-    SolverControl                                   control{1, 0, false, false};
+    SolverControl control{1, 0, false, false};
+    /// MUMPS: its own copy of the factored matrix, which the caller may
+    /// reinit (a new IPC pattern) while the factors live on; declared
+    /// before `direct` so that the factors are destroyed first.
+    std::unique_ptr<TrilinosWrappers::SparseMatrix> factored;
     std::unique_ptr<TrilinosWrappers::SolverDirect> direct;
     TrilinosWrappers::PreconditionAMG               amg;
     bool                                            has_amg = false;
@@ -146,19 +155,41 @@ namespace forma
 
 
 
+  void
+  LinearSolver::factorize(const TrilinosWrappers::SparseMatrix &A) const
+  {
+    // Old factors go before their matrix (MUMPS frees its distributed
+    // data through the matrix's communicator).
+    state->direct.reset();
+    state->factored.reset();
+    if (parameters.type == "direct")
+      {
+        state->direct =
+          std::make_unique<TrilinosWrappers::SolverDirect>(state->control);
+        state->direct->initialize(A);
+        return;
+      }
+    state->factored = std::make_unique<TrilinosWrappers::SparseMatrix>();
+    state->factored->copy_from(A);
+    state->direct = std::make_unique<TrilinosWrappers::SolverDirect>(
+      state->control,
+      TrilinosWrappers::SolverDirect::AdditionalData(false, "Amesos_Mumps"));
+    state->direct->initialize(*state->factored);
+  }
+
+
+
   unsigned int
   LinearSolver::solve(const TrilinosWrappers::SparseMatrix &A,
                       TrilinosWrappers::MPI::Vector        &x,
                       const TrilinosWrappers::MPI::Vector  &b,
                       const bool                            higher_order) const
   {
-    if (parameters.type == "direct")
+    if (parameters.type == "direct" || parameters.type == "direct-mumps")
       {
         try
           {
-            state->direct =
-              std::make_unique<TrilinosWrappers::SolverDirect>(state->control);
-            state->direct->initialize(A);
+            factorize(A);
             state->direct->solve(x, b);
           }
         catch (const std::exception &exc)
@@ -218,7 +249,7 @@ namespace forma
   {
     const double tolerance =
       std::max(parameters.relative_tolerance, 1e-12) * b.l2_norm();
-    if (parameters.type == "direct")
+    if (parameters.type == "direct" || parameters.type == "direct-mumps")
       {
         if (!state->direct)
           return solve(A, x, b, false);

@@ -14,16 +14,18 @@ namespace forma
 {
   /**
    * The linear solvers every forma app offers, chosen in the `Linear solver`
-   * section: a sparse direct solver (Amesos KLU, any number of ranks) for
-   * small or stiff problems, and CG or GMRES preconditioned by ML algebraic
-   * multigrid with the rigid-body null space for large ones.
+   * section: sparse direct solvers for small or stiff problems (Amesos KLU
+   * on one rank, or MUMPS distributed over the ranks), and CG or GMRES
+   * preconditioned by ML algebraic multigrid with the rigid-body null
+   * space for large ones.
    */
   class LinearSolver
   {
   public:
     struct Parameters
     {
-      std::string  type = "direct"; ///< direct | cg-amg | gmres-amg
+      /// direct | direct-mumps | cg-amg | gmres-amg | cg-mg
+      std::string  type = "direct";
       double       relative_tolerance = 1e-10;
       unsigned int max_iterations     = 2000;
 
@@ -62,6 +64,10 @@ namespace forma
                   const dealii::TrilinosWrappers::MPI::Vector  &b) const;
 
   private:
+    /// Replaces the direct solver's factorization by that of A.
+    void
+    factorize(const dealii::TrilinosWrappers::SparseMatrix &A) const;
+
     struct State;
     std::shared_ptr<State> state; ///< last factorization / preconditioner
     Parameters             parameters;
