@@ -35,9 +35,17 @@ PROBLEMS = [
      os.path.join(HERE, "damped_oscillator.prm"),
      [],
      [0.2, 0.1, 0.05], [1e-3, 3e-4, 1e-4, 3e-5, 1e-5], 0.01, 2.5e-3, 1),
+    ("damped oscillator, BDF damping rate",
+     os.path.join(HERE, "damped_oscillator.prm"),
+     ["Material/Damping rate=bdf"],
+     [0.2, 0.1, 0.05], [1e-3, 3e-4, 1e-4, 3e-5, 1e-5], 0.01, 2.5e-3, 1),
     ("struck cantilever (pulse, then free vibration)",
      os.path.join(HERE, "struck_cantilever.prm"),
      [],
+     [0.04, 0.02, 0.01], [1e-3, 3e-4, 1e-4, 3e-5, 1e-5], 0.001, 5e-4, 1),
+    ("struck cantilever, BDF damping rate",
+     os.path.join(HERE, "struck_cantilever.prm"),
+     ["Material/Damping rate=bdf"],
      [0.04, 0.02, 0.01], [1e-3, 3e-4, 1e-4, 3e-5, 1e-5], 0.001, 5e-4, 1),
 ]
 

@@ -60,6 +60,7 @@ namespace forma
     if (i == 0)
       {
         inertia_factor = 0;
+        rate_dt        = time_grid.step(1); // any: u_old = u, no rate
         w_ghost        = 0;
         u_old_ghost    = u;
         return;
@@ -72,9 +73,48 @@ namespace forma
         w.add(bdf.alpha[j], u_states[i - 1 - j]);
         w.add(bdf.alpha[j] * bdt, v_states[i - 1 - j]);
       }
-    w_ghost        = w;
-    u_old_ghost    = u_states[i - 1];
-    inertia_factor = 1. / (bdt * bdt);
+    w_ghost          = w;
+    inertia_factor   = 1. / (bdt * bdt);
+    const auto level = [&](const unsigned int j) -> const Vector_t & {
+      return u_states[i - j];
+    };
+    rate_dt     = damping_rate_history(i, level, w);
+    u_old_ghost = w;
+  }
+
+
+
+  template <int dim>
+  double
+  ElasticitySimulator<dim>::Impl::damping_rate_history(
+    const unsigned int                                   k,
+    const std::function<const Vector_t &(unsigned int)> &level,
+    Vector_t                                            &u_old) const
+  {
+    const auto bdf = time_grid.bdf(k, p.bdf_order);
+    if (!p.bdf_damping_rate)
+      {
+        u_old = level(1);
+        return time_grid.step(k);
+      }
+    u_old = 0;
+    for (unsigned int j = 1; j <= bdf.alpha.size(); ++j)
+      u_old.add(-bdf.alpha[j - 1], level(j));
+    return bdf.beta * time_grid.step(k);
+  }
+
+
+
+  template <int dim>
+  double
+  ElasticitySimulator<dim>::Impl::damping_rate_weight(
+    const unsigned int k,
+    const unsigned int j) const
+  {
+    if (!p.bdf_damping_rate)
+      return j == 1 ? 1. : 0.;
+    const auto bdf = time_grid.bdf(k, p.bdf_order);
+    return j <= bdf.alpha.size() ? -bdf.alpha[j - 1] : 0.;
   }
 
 
@@ -346,25 +386,43 @@ namespace forma
   void
   ElasticitySimulator<dim>::Impl::history_products(
     const Vector_t                  &z,
-    const Vector_t                  *adjoint_next,
-    const unsigned int               next,
+    const std::vector<Vector_t>     *lambda,
+    const unsigned int               i,
     const AffineConstraints<double> &constraints,
     Vector_t                        &result)
   {
     result = 0;
-    Vector_t z_ghost(owned, relevant, comm), a_ghost, u_next, u_prev;
+    Vector_t z_ghost(owned, relevant, comm);
     z_ghost = z;
-    const bool coupled =
-      adjoint_next && (form_needs() & Form<dim>::old_gradients);
-    if (coupled)
-      {
-        a_ghost.reinit(owned, relevant, comm);
-        a_ghost = *adjoint_next;
-        u_next.reinit(owned, relevant, comm);
-        u_next = u_states[next];
-        u_prev.reinit(owned, relevant, comm);
-        u_prev = u_states[next - 1];
-      }
+    // The later steps whose damping rate reads u^i: their adjoint, state,
+    // rate history and rate step, and the weight of u^i in the rate.
+    struct Coupling
+    {
+      Vector_t lambda, u, u_old;
+      double   dt, weight;
+    };
+    std::vector<Coupling> couplings;
+    const unsigned int    n = u_states.size() - 1;
+    if (lambda && (form_needs() & Form<dim>::old_gradients))
+      for (unsigned int k = i + 1; k <= std::min(n, i + p.bdf_order); ++k)
+        {
+          const double weight = damping_rate_weight(k, k - i);
+          if (weight == 0)
+            continue;
+          const auto level = [&](const unsigned int j) -> const Vector_t & {
+            return u_states[k - j];
+          };
+          Vector_t u_old(owned, comm);
+          Coupling c;
+          c.dt     = damping_rate_history(k, level, u_old);
+          c.weight = weight;
+          for (auto *v : {&c.lambda, &c.u, &c.u_old})
+            v->reinit(owned, relevant, comm);
+          c.lambda = (*lambda)[k];
+          c.u      = u_states[k];
+          c.u_old  = u_old;
+          couplings.push_back(std::move(c));
+        }
     const FEValuesExtractors::Vector     disp(0);
     hp::FEValues<dim>                    hp_fv(mapping,
                             fe,
@@ -375,7 +433,6 @@ namespace forma
     PointTerms<dim>                      t;
     std::vector<types::global_dof_index> dofs;
     Vector<double>                       local;
-    hs.dt = time_grid.step(next); // damping couples through step `next`
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
@@ -394,18 +451,26 @@ namespace forma
           for (unsigned int q = 0; q < nq; ++q)
             hs.JxW[q] = fv.JxW(q);
           hs.G_next.clear();
-          if (coupled)
+          reset_terms(t, nq, false, false, false);
+          for (const auto &f : forms)
+            f->history_terms(hs, t); // M z
+          // One pass per coupled step, z zero: the forms' terms are linear
+          // in G_next, which carries the weight.
+          for (const auto &c : couplings)
             {
+              std::fill(hs.z.begin(), hs.z.end(), Tensor<1, dim>());
+              hs.dt = c.dt;
               hs.grad_u_next.resize(nq);
               hs.grad_u_prev.resize(nq);
               hs.G_next.resize(nq);
-              fv[disp].get_function_gradients(u_next, hs.grad_u_next);
-              fv[disp].get_function_gradients(u_prev, hs.grad_u_prev);
-              fv[disp].get_function_gradients(a_ghost, hs.G_next);
+              fv[disp].get_function_gradients(c.u, hs.grad_u_next);
+              fv[disp].get_function_gradients(c.u_old, hs.grad_u_prev);
+              fv[disp].get_function_gradients(c.lambda, hs.G_next);
+              for (auto &G : hs.G_next)
+                G *= c.weight;
+              for (const auto &f : forms)
+                f->history_terms(hs, t);
             }
-          reset_terms(t, nq, false, false, false);
-          for (const auto &f : forms)
-            f->history_terms(hs, t);
           for (unsigned int q = 0; q < nq; ++q)
             for (unsigned int i = 0; i < n; ++i)
               {
@@ -579,11 +644,7 @@ namespace forma
         dJ_du        = 0;
         accumulate(J, &w, nullptr, &dJ_du);
         contact_partials(i);
-        history_products(z,
-                         i < n ? &lambda[i + 1] : nullptr,
-                         i + 1,
-                         constraints_zero,
-                         products);
+        history_products(z, &lambda, i, constraints_zero, products);
         rhs = dJ_du;
         rhs += products;
         if (i < n)
@@ -626,7 +687,7 @@ namespace forma
         z.add(alpha(k, k), y[k]);
         zv.add(alpha(k, k) / beta_dt(k), lambda[k]);
       }
-    history_products(z, &lambda[1], 1, constraints_zero, products);
+    history_products(z, &lambda, 0, constraints_zero, products);
     dJ_du += products;
     if (n > 0)
       dJ_du += lagged;
@@ -767,6 +828,7 @@ namespace forma
         }
     impl->objective = J;
     impl->reference_states.clear();
+    impl->time_grid_frozen = false; // a new objective chooses its levels
     if (!J->needs_reference_run())
       return;
     // The reference run: the mesh as read, with the reference materials.
@@ -835,6 +897,14 @@ namespace forma
   }
 
   template <int dim>
+  bool
+  ElasticitySimulator<dim>::adaptive_time_steps() const
+  {
+    return impl->p.problem == "transient" &&
+           impl->p.time_integrator == "adaptive";
+  }
+
+  template <int dim>
   double
   ElasticitySimulator<dim>::objective() const
   {
@@ -890,6 +960,10 @@ namespace forma
   ElasticitySimulator<2>::freeze_time_steps(const bool);
   template void
   ElasticitySimulator<3>::freeze_time_steps(const bool);
+  template bool
+  ElasticitySimulator<2>::adaptive_time_steps() const;
+  template bool
+  ElasticitySimulator<3>::adaptive_time_steps() const;
   template double
   ElasticitySimulator<2>::objective() const;
   template double

@@ -98,7 +98,7 @@ namespace forma
     PointStates<dim>                &ps    = s.states;
     ps.cell           = {cell->active_cell_index(), cell->material_id(), 0};
     ps.time           = time;
-    ps.dt             = transient ? dt : 0.;
+    ps.dt             = transient ? rate_dt : 0.;
     ps.inertia_factor = transient ? inertia_factor : 0.;
     ps.grad_u.resize(nq);
     fv[disp].get_function_gradients(u_ghost, ps.grad_u);

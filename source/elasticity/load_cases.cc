@@ -103,6 +103,15 @@ namespace forma
 
 
   template <int dim>
+  bool
+  LoadCases<dim>::adaptive_time_steps() const
+  {
+    return cases[0]->adaptive_time_steps();
+  }
+
+
+
+  template <int dim>
   void
   LoadCases<dim>::solve_design()
   {

@@ -56,6 +56,15 @@ namespace forma
                       "2D assumption. Plane stress is available for linear "
                       "elasticity.");
     prm.declare_entry(
+      "Damping rate",
+      "backward difference",
+      Patterns::Selection("backward difference|bdf"),
+      "The strain rate of the damping stress: backward difference: (F^i - "
+      "F^{i-1}) / dt, as the thesis, first order in time whatever the BDF "
+      "order. bdf: the BDF derivative of F (the scheme's own velocity), so "
+      "that damped runs keep the BDF order (second order with BDF2, also "
+      "on adaptive steps).");
+    prm.declare_entry(
       "Bodies",
       "0 : E = 1, nu = 0.3",
       Patterns::Anything(),
@@ -257,9 +266,10 @@ namespace forma
     prm.leave_subsection();
 
     prm.enter_subsection("Material");
-    model        = constitutive_model_from_string(prm.get("Model"));
-    plane_stress = prm.get("Plane") == "stress";
-    bodies       = prm.get("Bodies");
+    model            = constitutive_model_from_string(prm.get("Model"));
+    plane_stress     = prm.get("Plane") == "stress";
+    bdf_damping_rate = prm.get("Damping rate") == "bdf";
+    bodies           = prm.get("Bodies");
     prm.leave_subsection();
 
     prm.enter_subsection("Boundary conditions");
@@ -324,6 +334,9 @@ namespace forma
     AssertThrow(time_integrator == "fixed" || time_tolerance > 0,
                 ExcMessage("Time/Integrator = adaptive needs a positive "
                            "Time/Tolerance."));
+    AssertThrow(time_integrator == "fixed" || minimum_time_step < end_time,
+                ExcMessage("Time/Minimum time step must be below Time/End "
+                           "time."));
     AssertThrow(maximum_time_step == 0 ||
                   minimum_time_step <= maximum_time_step,
                 ExcMessage("Time/Minimum time step exceeds Time/Maximum time "

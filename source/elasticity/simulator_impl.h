@@ -365,14 +365,27 @@ namespace forma
     /// terms go to `lagged` (transient) when given.
     void
     global_products(const Vector_t &lambda, Vector_t *lagged);
-    /// The forms' history terms: M z + (d h_next / d u^{next-1})^T
-    /// adjoint_next, condensed with `constraints`.
+    /// The forms' history terms of level i: M z + sum over the later steps
+    /// k whose damping rate reads u^i of (d h_k / d u^i)^T lambda_k (none
+    /// if `lambda` is null), condensed with `constraints`.
     void
     history_products(const Vector_t                  &z,
-                     const Vector_t                  *adjoint_next,
-                     const unsigned int               next_step,
+                     const std::vector<Vector_t>     *lambda,
+                     const unsigned int               i,
                      const AffineConstraints<double> &constraints,
                      Vector_t                        &result);
+    /// The damping's strain-rate history of step k >= 1, `level(j)` being
+    /// u^{k-j}: u_old = u^{k-1} and the step h_k (backward difference, as
+    /// the thesis), or u_old = -sum_j alpha_j u^{k-j} and beta h_k
+    /// (Material/Damping rate = bdf). Returns the rate's step.
+    double
+    damping_rate_history(
+      const unsigned int                                   k,
+      const std::function<const Vector_t &(unsigned int)> &level,
+      Vector_t                                            &u_old) const;
+    /// How much step k's damping rate weighs u^{k-j} (0 if it does not).
+    double
+    damping_rate_weight(const unsigned int k, const unsigned int j) const;
     /// Solve for the static adjoint: the stored Newton Jacobian where every
     /// form's is exact and symmetric, else one assembled for it.
     void
@@ -614,6 +627,7 @@ namespace forma
     double time           = 0;
     double dt             = 0;
     double inertia_factor = 0; ///< 1 / (beta dt)^2
+    double rate_dt        = 0; ///< the damping rate's step (PointStates::dt)
     /// The levels of the last transient run (the adjoint's and the
     /// objective's too); frozen: later runs reuse it (Taylor tests,
     /// target trajectories) instead of choosing adaptive steps again.

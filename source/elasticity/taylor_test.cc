@@ -2,6 +2,7 @@
 #include <forma/elasticity/simulator.h>
 #include <forma/elasticity/taylor_test.h>
 
+#include <memory>
 #include <sstream>
 
 namespace forma
@@ -17,9 +18,20 @@ namespace forma
       random_direction(simulator.design_layout(),
                        simulator.design_scales(q),
                        parameters);
-    // Adaptive time steps: every evaluation on the same levels.
+    // Adaptive time steps: every evaluation, the one at q too, replays the
+    // levels chosen at q (an adaptive solve's path, e.g. its rejected
+    // attempts, may differ from a replay's within the solver tolerances);
+    // unfrozen also if an evaluation throws.
+    if (simulator.adaptive_time_steps())
+      {
+        simulator.set_design(q);
+        simulator.solve_design();
+      }
     simulator.freeze_time_steps(true);
-    auto result = taylor_test(
+    const auto unfreeze = [](Model *m) { m->freeze_time_steps(false); };
+    const std::unique_ptr<Model, decltype(unfreeze)> frozen(&simulator,
+                                                            unfreeze);
+    auto                                             result = taylor_test(
       [&](const std::vector<double> &x) {
         simulator.set_design(x);
         simulator.solve_design();
@@ -41,7 +53,6 @@ namespace forma
       q,
       theta,
       parameters);
-    simulator.freeze_time_steps(false);
     simulator.set_design(q);
     return result;
   }

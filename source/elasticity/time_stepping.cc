@@ -179,9 +179,13 @@ namespace forma
         w.add(bdf.alpha[j], u_history[j]);
         w.add(bdf.alpha[j] * bdt, v_history[j]);
       }
-    w_ghost        = w;
-    u_old_ghost    = u_history[0];
-    inertia_factor = 1. / (bdt * bdt);
+    w_ghost          = w;
+    inertia_factor   = 1. / (bdt * bdt);
+    const auto level = [&](const unsigned int j) -> const Vector_t & {
+      return u_history[j - 1]; // u^{i-j}
+    };
+    rate_dt     = damping_rate_history(i, level, w);
+    u_old_ghost = w;
 
     // Predictor: the previous displacement advanced by its velocity;
     // with IPC the previous state (the predictor may cross a contact;
@@ -274,8 +278,9 @@ namespace forma
     const double end = p.end_time;
     const double h_min =
       p.minimum_time_step > 0 ? p.minimum_time_step : 1e-10 * end;
-    const double h_max = p.maximum_time_step > 0 ? p.maximum_time_step : end;
-    double       h     = std::min(p.time_step, h_max);
+    const double h_max =
+      std::max(h_min, p.maximum_time_step > 0 ? p.maximum_time_step : end);
+    double h           = std::clamp(p.time_step, h_min, h_max);
     time_grid          = TimeGrid::variable();
     u_scale            = u.linfty_norm();
     absolute_tolerance = p.absolute_time_tolerance;
@@ -307,12 +312,16 @@ namespace forma
     for (unsigned int i = 1; time_grid.time(i - 1) < end; ++i)
       {
         const double t0 = time_grid.time(i - 1);
-        h               = cap_step_by_contact(h, h_min);
         while (true)
           {
+            h = cap_step_by_contact(h, h_min);
             // Land on the end time instead of leaving a sliver.
-            const bool last = t0 + 1.1 * h >= end;
-            time_grid.push(last ? end : t0 + h);
+            const double step =
+              t0 + 1.1 * h >= end && end - t0 <= h_max ? end - t0 : h;
+            time_grid.push(step == end - t0 ? end : t0 + step);
+            // A rejected attempt's residual must not loosen later Newton
+            // tolerances (force_scale is the largest one seen).
+            const double                          scale = force_scale;
             std::pair<unsigned int, unsigned int> its;
             double                                err = 0;
             try
@@ -322,22 +331,27 @@ namespace forma
               }
             catch (const std::exception &)
               {
-                if (h <= h_min)
-                  throw;
+                if (step <= h_min)
+                  {
+                    time_grid.pop();
+                    throw;
+                  }
                 err = std::numeric_limits<double>::infinity();
               }
             const unsigned int q      = std::min(i, p.bdf_order);
             const double       factor = 0.9 * std::pow(err, -1. / (q + 1));
-            if (err <= 1 || h <= h_min)
+            if (err <= 1 || step <= h_min)
               {
                 u_scale = std::max(u_scale, u.linfty_norm());
                 accept_step(i, its);
-                h = std::clamp(h * std::clamp(factor, 0.2, 2.), h_min, h_max);
+                h =
+                  std::clamp(step * std::clamp(factor, 0.2, 2.), h_min, h_max);
                 break;
               }
             time_grid.pop();
+            force_scale = scale;
             ++rejected_steps;
-            h = std::max(h_min, h * std::clamp(factor, 0.1, 0.5));
+            h = std::max(h_min, step * std::clamp(factor, 0.1, 0.5));
           }
       }
   }
@@ -352,10 +366,12 @@ namespace forma
     // h_{i-1}) u'''/6 and a quadratic extrapolation P of earlier levels
     // misses by u - P = h_i (h_i + h_{i-1}) H u'''/6 (H: t_i minus the
     // oldest level P uses), so E = beta h_i / (beta h_i + H) (u^i - P).
-    // BDF1 from a linear predictor: E = (u^i - P) / 2.
+    // BDF1 from the linear predictor P = u^{i-1} + h v^{i-1}: E = (u^i -
+    // P) / 2 with the exact v^0, h / (2 h + h_{i-1}) (u^i - P) after (v^{i-1}
+    // is the backward difference, so P extrapolates u^{i-2}, u^{i-1}).
     const double h = time_grid.step(i);
     Vector_t     e(u);
-    double       c = 0.5;
+    double       c = i == 1 ? 0.5 : h / (2 * h + time_grid.step(i - 1));
     if (i == 1 || p.bdf_order == 1)
       e.add(-1., u_history[0], -h, v_history[0]);
     else
@@ -387,6 +403,9 @@ namespace forma
     // an oscillation's zero crossings would otherwise ask for tiny steps.
     const double scale = absolute_tolerance +
                          p.time_tolerance * std::max(u_scale, u.linfty_norm());
+    // Prescribed values are exact: kinks in a prescribed motion must not
+    // drive the step down.
+    constraints_zero.set_zero(e);
     return c * e.linfty_norm() / scale;
   }
 
@@ -404,6 +423,9 @@ namespace forma
       return h;
     Vector_t du(v_history[0]);
     du *= h;
+    // The candidate pairs along the whole flight, not just the last step's.
+    if (ipc_contact->update_candidates(u_history[0], &du))
+      build_jacobian_pattern();
     const double f = ipc_contact->max_step(u_history[0], du);
     return f < 1 ? std::max(h_min, f * h) : h;
   }

@@ -62,6 +62,8 @@ namespace forma
     /// See ElasticitySimulator::freeze_time_steps().
     void
     freeze_time_steps(const bool freeze);
+    bool
+    adaptive_time_steps() const;
     double
     objective() const;
     /// Weighted terms summed over the cases, by name.

@@ -37,7 +37,10 @@ namespace forma
     // Material
     ConstitutiveModel model        = ConstitutiveModel::linear_elastic;
     bool              plane_stress = false;
-    std::string       bodies;
+    /// Damping's strain rate from the BDF velocity (Material/Damping rate
+    /// = bdf) instead of the thesis's backward difference.
+    bool        bdf_damping_rate = false;
+    std::string bodies;
 
     // Boundary conditions and loads
     std::string dirichlet;

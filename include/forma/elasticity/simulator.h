@@ -176,6 +176,10 @@ namespace forma
     void
     freeze_time_steps(const bool freeze);
 
+    /// Time/Integrator = adaptive (and a transient problem).
+    bool
+    adaptive_time_steps() const;
+
     /// J at the last solved design.
     double
     objective() const;

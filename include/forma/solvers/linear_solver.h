@@ -25,7 +25,7 @@ namespace forma
     struct Parameters
     {
       /// direct | direct-mumps | cg-amg | gmres-amg | cg-mg
-      std::string  type = "direct";
+      std::string  type               = "direct";
       double       relative_tolerance = 1e-10;
       unsigned int max_iterations     = 2000;
 
