@@ -6,6 +6,7 @@
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/fe_values.h>
+#include <deal.II/grid/grid_tools.h>
 #include <deal.II/hp/fe_collection.h>
 #include <deal.II/hp/fe_values.h>
 #include <deal.II/hp/mapping_collection.h>
@@ -288,24 +289,13 @@ namespace forma
       {
         // Tolerance times 1% of the body's size: a run from rest has no
         // displacement to be relative to.
-        Point<dim> lo, hi;
+        // The vertices of every rank's triangulation (the coarse mesh
+        // included) span the body; the max keeps ranks bit-identical.
+        const auto box      = GridTools::compute_bounding_box(*tria);
+        double     diagonal = 0;
         for (unsigned int d = 0; d < dim; ++d)
-          {
-            lo[d] = std::numeric_limits<double>::max();
-            hi[d] = -lo[d];
-          }
-        for (const auto &cell : tria->active_cell_iterators())
-          if (cell->is_locally_owned())
-            for (const auto v : cell->vertex_indices())
-              for (unsigned int d = 0; d < dim; ++d)
-                {
-                  lo[d] = std::min(lo[d], cell->vertex(v)[d]);
-                  hi[d] = std::max(hi[d], cell->vertex(v)[d]);
-                }
-        double diagonal = 0;
-        for (unsigned int d = 0; d < dim; ++d)
-          diagonal += std::pow(Utilities::MPI::max(hi[d], comm) +
-                                 Utilities::MPI::max(-lo[d], comm),
+          diagonal += std::pow(Utilities::MPI::max(box.upper_bound(d), comm) -
+                                 Utilities::MPI::min(box.lower_bound(d), comm),
                                2);
         absolute_tolerance = 1e-2 * p.time_tolerance * std::sqrt(diagonal);
       }
