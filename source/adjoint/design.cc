@@ -82,6 +82,29 @@ namespace forma
         "(Material/Bodies or Objective/Reference bodies, IPC friction, "
         "initial conditions): a recovery starts here and seeks those. Empty: "
         "start at the problem's values.");
+      prm.declare_entry(
+        "Remesh boundary",
+        "keep",
+        Patterns::Selection("keep|resample"),
+        "What a remesh does with the boundary and the interfaces. keep: every "
+        "facet stays (only the interior is meshed anew). resample (2D): the "
+        "free boundary curves and interfaces are resampled along their "
+        "current shape (Remesh boundary size, Remesh feature angle), as the "
+        "thesis's Algorithm 1 remeshes the whole domain; corners, the ends "
+        "of every boundary id and interface, fixed boundaries and fixed "
+        "bodies stay, every part keeps its area, and a resampling whose "
+        "curves would cross is refused (the design stays on its mesh).");
+      prm.declare_entry("Remesh boundary size",
+                        "0",
+                        Patterns::Double(0),
+                        "Segment length of a resampled boundary; 0: the "
+                        "current local length, evened out along each curve.");
+      prm.declare_entry("Remesh feature angle",
+                        "30",
+                        Patterns::Double(0, 180),
+                        "A boundary vertex where the curve turns by more "
+                        "than this (degrees) is a corner that resampling "
+                        "keeps.");
       prm.declare_entry("Shape bound",
                         "0",
                         Patterns::Double(0),
@@ -107,16 +130,22 @@ namespace forma
                       ExcMessage("Design/Parameters lists '" + b + "' twice."));
           blocks.push_back(b);
         }
-      young_poisson       = prm.get("Material parameterization") == "E-nu";
-      fixed_boundaries    = prm.get("Fixed boundaries");
-      fixed_bodies        = prm.get("Fixed bodies");
-      symmetry_planes     = prm.get("Symmetry planes");
-      shape_perturbation  = prm.get("Shape perturbation");
-      min_scaled_jacobian = prm.get_double("Min scaled Jacobian");
-      shape_bound         = prm.get_double("Shape bound");
-      start               = prm.get("Start");
-      bodies              = prm.get("Bodies");
-      boundary_shape      = prm.get("Shape parameterization") == "boundary";
+      young_poisson        = prm.get("Material parameterization") == "E-nu";
+      fixed_boundaries     = prm.get("Fixed boundaries");
+      fixed_bodies         = prm.get("Fixed bodies");
+      symmetry_planes      = prm.get("Symmetry planes");
+      shape_perturbation   = prm.get("Shape perturbation");
+      min_scaled_jacobian  = prm.get_double("Min scaled Jacobian");
+      shape_bound          = prm.get_double("Shape bound");
+      start                = prm.get("Start");
+      bodies               = prm.get("Bodies");
+      boundary_shape       = prm.get("Shape parameterization") == "boundary";
+      resample_boundary    = prm.get("Remesh boundary") == "resample";
+      remesh_boundary_size = prm.get_double("Remesh boundary size");
+      remesh_feature_angle = prm.get_double("Remesh feature angle");
+      AssertThrow(remesh_feature_angle > 0,
+                  ExcMessage("Design/Remesh feature angle must be > 0 "
+                             "degrees."));
     }
     prm.leave_subsection();
   }

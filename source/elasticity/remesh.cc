@@ -12,6 +12,7 @@
 #include <forma/base/application.h>
 #include <forma/base/records.h>
 #include <forma/base/run_context.h>
+#include <forma/mesh/boundary_resampling.h>
 #include <forma/mesh/remesh.h>
 
 #include "simulator_impl.h"
@@ -183,6 +184,24 @@ namespace forma
 
 
   template <int dim>
+  BoundaryResampling
+  ElasticitySimulator<dim>::Impl::boundary_resampling() const
+  {
+    BoundaryResampling o;
+    o.size          = p.design.remesh_boundary_size;
+    o.feature_angle = p.design.remesh_feature_angle * numbers::PI / 180;
+    for (const auto &id :
+         Utilities::split_string_list(p.design.fixed_boundaries, ','))
+      o.kept_boundaries.insert(Utilities::string_to_int(id));
+    for (const auto &id :
+         Utilities::split_string_list(p.design.fixed_bodies, ','))
+      o.kept_materials.insert(Utilities::string_to_int(id));
+    return o;
+  }
+
+
+
+  template <int dim>
   std::vector<Point<dim>>
   ElasticitySimulator<dim>::Impl::material_points(
     const std::vector<Point<dim>> &x) const
@@ -190,12 +209,25 @@ namespace forma
     Utilities::MPI::RemotePointEvaluation<dim> cache(1e-8);
     const auto values = VectorTools::point_values<dim>(
       mapping[0], shape_dof_handler, material_positions, x, cache);
-    AssertThrow(cache.all_points_found(),
+    std::vector<Point<dim>>   X(x.size());
+    std::vector<Point<dim>>   outside;
+    std::vector<unsigned int> where;
+    for (unsigned int i = 0; i < x.size(); ++i)
+      if (cache.point_found(i))
+        X[i] = Point<dim>(values[i]);
+      else
+        outside.push_back(x[i]), where.push_back(i);
+    // A resampled boundary vertex may lie a fraction of a sagitta outside
+    // the old mesh (resample_boundaries() keeps the areas): extrapolate
+    // from the nearest boundary cell.
+    Utilities::MPI::RemotePointEvaluation<dim> near(0.25, true);
+    const auto extrapolated = VectorTools::point_values<dim>(
+      mapping[0], shape_dof_handler, material_positions, outside, near);
+    AssertThrow(near.all_points_found(),
                 ExcMessage("remeshing: a vertex of the new mesh lies outside "
                            "the old one."));
-    std::vector<Point<dim>> X(x.size());
-    for (unsigned int i = 0; i < x.size(); ++i)
-      X[i] = Point<dim>(values[i]);
+    for (unsigned int k = 0; k < where.size(); ++k)
+      X[where[k]] = Point<dim>(extrapolated[k]);
     return X;
   }
 
@@ -292,11 +324,14 @@ namespace forma
                            "remeshing."));
     const double before   = Utilities::MPI::min(min_scaled_jacobian(), comm);
     const bool   root     = Utilities::MPI::this_mpi_process(comm) == 0;
-    const auto   boundary = region_boundaries(removed, open_id);
+    auto         boundary = region_boundaries(removed, open_id);
     std::string  msh, error;
     if (root)
       try
         {
+          if constexpr (dim == 2)
+            if (p.design.resample_boundary)
+              boundary = resample_boundaries(boundary, boundary_resampling());
           msh = mesh_regions(boundary, !simplex);
         }
       catch (const std::exception &e)

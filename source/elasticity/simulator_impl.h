@@ -31,6 +31,7 @@
 #include <forma/elasticity/simulator.h>
 #include <forma/ipc/ipc_contact.h>
 #include <forma/ipc/ipc_contact_form.h>
+#include <forma/mesh/boundary_resampling.h>
 #include <forma/mesh/harmonic_extension.h>
 #include <forma/mesh/remesh.h>
 #include <forma/physics/damping.h>
@@ -491,6 +492,10 @@ namespace forma
     RegionBoundaries<dim>
     region_boundaries(const std::vector<bool> *removed = nullptr,
                       types::boundary_id       open_id = 0) const;
+    /// Design/Remesh boundary size and feature angle, with the fixed
+    /// boundaries and bodies kept.
+    BoundaryResampling
+    boundary_resampling() const;
     /// Material coordinates at points of the current shape.
     std::vector<Point<dim>>
     material_points(const std::vector<Point<dim>> &x) const;

@@ -51,6 +51,11 @@ namespace forma
     std::string              start;  ///< starting block values (records)
     std::string              bodies; ///< material ids of per-body blocks
     bool                     boundary_shape = false; ///< see below
+    /// Remeshing resamples the free boundary curves (2D), see
+    /// resample_boundaries(); else it keeps every boundary facet.
+    bool   resample_boundary    = false;
+    double remesh_boundary_size = 0;  ///< 0: the current local size
+    double remesh_feature_angle = 30; ///< degrees
 
     static void
     declare(dealii::ParameterHandler &prm);

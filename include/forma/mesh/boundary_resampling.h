@@ -1,0 +1,57 @@
+#ifndef forma_mesh_boundary_resampling_h
+#define forma_mesh_boundary_resampling_h
+
+#include <forma/mesh/remesh.h>
+
+#include <set>
+
+namespace forma
+{
+  /**
+   * How resample_boundaries() places the new boundary vertices.
+   */
+  struct BoundaryResampling
+  {
+    /// Target segment length; 0: the current local length, smoothed along
+    /// each piece (so the count stays about the same and the spacing
+    /// becomes even).
+    double size = 0;
+    /// A vertex where the boundary turns by more than this (radians) is a
+    /// corner and stays.
+    double feature_angle = 0.5;
+    /// Largest turn (radians) of the resampled curve over one segment: a
+    /// bend keeps as many vertices as it needs.
+    double max_turn = 0.2;
+    /// Largest relative change of any region's area before the result is
+    /// refused.
+    double max_area_change = 1e-3;
+    /// Boundary ids and material ids whose facets stay as they are (fixed
+    /// boundaries and fixed parts keep their vertices).
+    std::set<dealii::types::boundary_id> kept_boundaries;
+    std::set<dealii::types::material_id> kept_materials;
+  };
+
+  /**
+   * The region boundaries of a 2D mesh with every free piece resampled:
+   * the facets of one key (inside, outside material, boundary id) form
+   * chains; corners (where keys meet, where the curve turns by more than
+   * the feature angle, and every vertex of a kept facet) stay, and the
+   * vertices between two corners are placed anew along the polyline
+   * through the old ones, evenly in the size function, then moved off it
+   * (by a fraction of the sagitta) so that each piece encloses the area it
+   * did: the regions keep their areas to round-off and second order. The two
+   * sides of a cut interface (two keys, coincident vertices) are
+   * resampled identically, so the new mesh keeps them coincident.
+   *
+   * Throws if a region's area changes by more than max_area_change.
+   */
+  RegionBoundaries<2>
+  resample_boundaries(const RegionBoundaries<2> &boundaries,
+                      const BoundaryResampling  &options);
+
+  /// The area of every region (material id) enclosed by `boundaries`.
+  std::map<dealii::types::material_id, double>
+  region_areas(const RegionBoundaries<2> &boundaries);
+} // namespace forma
+
+#endif
