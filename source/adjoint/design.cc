@@ -83,6 +83,20 @@ namespace forma
         "initial conditions): a recovery starts here and seeks those. Empty: "
         "start at the problem's values.");
       prm.declare_entry(
+        "Shape filter radius",
+        "0",
+        Patterns::Double(0),
+        "Filter the shape design (vertex morphing): each vertex moves by the "
+        "mean of the design entries within this distance on the mesh (hat "
+        "weights, vertices of the same part), so L-BFGS works on a control "
+        "field whose gradient is the filtered shape gradient: steps are "
+        "smooth at this scale and do not depend on the mesh size, and the "
+        "optimized boundary has no kinks for the mesh-quality guard to stop "
+        "at. With Shape parameterization = boundary only boundary vertices "
+        "are filtered. 0: none (each entry is its vertex's offset). "
+        "Hold blocked vertices holds entries of the control field, which "
+        "their neighbours still move.");
+      prm.declare_entry(
         "Remesh boundary",
         "keep",
         Patterns::Selection("keep|resample"),
@@ -143,6 +157,7 @@ namespace forma
       resample_boundary    = prm.get("Remesh boundary") == "resample";
       remesh_boundary_size = prm.get_double("Remesh boundary size");
       remesh_feature_angle = prm.get_double("Remesh feature angle");
+      shape_filter_radius  = prm.get_double("Shape filter radius");
       AssertThrow(remesh_feature_angle > 0,
                   ExcMessage("Design/Remesh feature angle must be > 0 "
                              "degrees."));

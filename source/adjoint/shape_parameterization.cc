@@ -4,7 +4,10 @@
 
 #include <forma/adjoint/parameterization.h>
 #include <forma/adjoint/shape_field.h>
+#include <forma/adjoint/shape_filter.h>
 #include <forma/mesh/harmonic_extension.h>
+
+#include <memory>
 
 namespace forma
 {
@@ -13,7 +16,9 @@ namespace forma
     using namespace dealii;
 
     /// One entry per shape DoF: its offset from the mesh; with a harmonic
-    /// extension only the boundary entries count.
+    /// extension only the boundary entries count. With Design/Shape filter
+    /// radius the entries are a control field whose filtered values
+    /// (ShapeFilter) are the offsets.
     template <int dim>
     class ShapeParameterization : public Parameterization<dim>
     {
@@ -24,6 +29,19 @@ namespace forma
         , start(c.shape_start())
       {
         shape.wanted = true;
+        if (const double r = c.parameters.shape_filter_radius; r > 0)
+          filter = std::make_unique<ShapeFilter<dim>>(
+            shape.dof_handler,
+            r,
+            [this](const types::global_dof_index i) {
+              return !extension || extension->is_boundary(i);
+            },
+            [this](const types::global_dof_index i) {
+              const auto *e = shape.constraints.get_constraint_entries(i);
+              return e && e->empty() &&
+                     shape.constraints.get_inhomogeneity(i) == 0;
+            },
+            c.comm);
       }
 
       unsigned int
@@ -62,7 +80,7 @@ namespace forma
       apply(const double *q) override
       {
         for (const auto i : shape.offset.locally_owned_elements())
-          shape.offset(i) = q[i];
+          shape.offset(i) = filter ? filter->value(q, i) : q[i];
         shape.offset.compress(VectorOperation::insert);
         if (extension)
           extension->extend(shape.offset); // the interior follows
@@ -75,7 +93,10 @@ namespace forma
         if (extension)
           extension->extend_transpose(g);
         for (const auto i : g.locally_owned_elements())
-          dJ[i] = g(i);
+          if (filter)
+            filter->add_transpose(i, g(i), dJ);
+          else
+            dJ[i] = g(i);
       }
 
       bool
@@ -97,9 +118,10 @@ namespace forma
       }
 
     private:
-      ShapeField<dim>          &shape;
-      HarmonicExtension<dim>   *extension;
-      const std::vector<double> start;
+      ShapeField<dim>                  &shape;
+      HarmonicExtension<dim>           *extension;
+      const std::vector<double>         start;
+      std::unique_ptr<ShapeFilter<dim>> filter;
     };
   } // namespace
 } // namespace forma

@@ -56,6 +56,8 @@ namespace forma
     bool   resample_boundary    = false;
     double remesh_boundary_size = 0;  ///< 0: the current local size
     double remesh_feature_angle = 30; ///< degrees
+    /// Radius of the shape filter (ShapeFilter); 0: none.
+    double shape_filter_radius = 0;
 
     static void
     declare(dealii::ParameterHandler &prm);

@@ -1,0 +1,136 @@
+// Design/Shape filter radius (adjoint/shape_filter.h, vertex morphing): the
+// shape design is a control field whose filtered values move the vertices.
+// - A uniform control moves the vertices by at most its value (the weights
+//   sum to one; far from the clamped side exactly by it);
+// - one entry moves its vertex by less than the entry, and its
+//   neighbours within the radius too (the move is spread);
+// - the chained gradient A^T dJ/dx passes the Taylor test, with every
+//   vertex a design variable and with boundary shape parameters (harmonic
+//   interior), 2D quads with two materials and 3D tetrahedra.
+
+#include <deal.II/grid/grid_generator.h>
+#include <deal.II/grid/grid_out.h>
+#include <deal.II/grid/tria.h>
+
+#include <forma/elasticity/taylor_test.h>
+
+#include "../tests.h"
+
+#include <filesystem>
+
+using namespace dealii;
+
+namespace
+{
+  std::string
+  strip(const std::string &parameterization, const double radius)
+  {
+    return "set Dimension = 2\n"
+           "subsection Mesh\n set Generator = subdivided_hyper_rectangle\n"
+           " set Generator arguments = 24, 8 : 0, 0 : 3, 1 : true\nend\n"
+           "subsection Finite element\n set Degree = 2\nend\n"
+           "subsection Material\n set Bodies = * : E = 1e4, nu = 0.3\nend\n"
+           "subsection Boundary conditions\n set Dirichlet = 0 : xy : 0, 0\n"
+           " set Traction = 1 : 0, -50\nend\n"
+           "subsection Solver\n set Newton relative tolerance = 1e-12\n"
+           " set Newton absolute tolerance = 1e-14\nend\n"
+           "subsection Design\n set Parameters = shape\n"
+           " set Fixed boundaries = 0\n set Shape parameterization = " +
+           parameterization +
+           "\n set Shape filter radius = " + std::to_string(radius) +
+           "\n set Shape perturbation = 0.05 * sin(pi * x / 3) * y, 0.03 * x * "
+           "y\nend\n"
+           "subsection Objective\n set Terms = stress : p=4 ; volume\nend\n";
+  }
+
+  template <int dim>
+  std::string
+  taylor(forma::ElasticitySimulator<dim> &s)
+  {
+    forma::GradientCheckParameters gc;
+    gc.n_steps   = 4;
+    const auto r = forma::taylor_test(s, gc);
+    if (r.min_rate >= 1.9)
+      return "rate >= 1.9";
+    std::string verdict = "FAILED, rates";
+    for (const double x : r.rates)
+      verdict += " " + std::to_string(x);
+    return verdict;
+  }
+
+  void
+  moves()
+  {
+    const auto p = parameters_from_string<forma::ElasticityParameters>(
+      strip("vertices", 0.3));
+    forma::ElasticitySimulator<2> s(p, MPI_COMM_WORLD);
+    s.prepare();
+    s.set_objective(std::make_shared<const forma::Objective<2>>(p.objective));
+    const unsigned int n = s.design().size();
+
+    s.set_design(std::vector<double>(n, 0.01));
+    deallog << "2D: uniform control 0.01: largest vertex move "
+            << rounded(s.max_shape_offset(), 6) << std::endl;
+
+    // An entry of a free vertex (a clamped one's moves nothing itself).
+    double one = 0;
+    for (unsigned int i = n / 2; i < n && one == 0; ++i)
+      {
+        std::vector<double> spike(n, 0.);
+        spike[i] = 0.01;
+        s.set_design(spike);
+        one = s.max_shape_offset();
+      }
+    check("one entry of 0.01 moves its vertex by less (spread)",
+          one > 0 && one < 0.01);
+  }
+
+  void
+  gradients_2d(const std::string &parameterization)
+  {
+    const auto p = parameters_from_string<forma::ElasticityParameters>(
+      strip(parameterization, 0.3));
+    forma::ElasticitySimulator<2> s(p, MPI_COMM_WORLD);
+    s.prepare();
+    s.set_objective(std::make_shared<const forma::Objective<2>>(p.objective));
+    deallog << "2D, " << parameterization << ", radius 0.3: " << taylor(s)
+            << std::endl;
+  }
+
+  void
+  gradients_3d()
+  {
+    const auto p = parameters_from_string<forma::ElasticityParameters>(
+      "set Dimension = 3\n"
+      "subsection Mesh\n set Generator = subdivided_hyper_rectangle\n"
+      " set Generator arguments = 6, 3, 3 : 0, 0, 0 : 2, 1, 1 : true\n"
+      " set Convert to simplices = true\nend\n"
+      "subsection Finite element\n set Degree = 1\nend\n"
+      "subsection Material\n set Bodies = * : E = 1e4, nu = 0.3\nend\n"
+      "subsection Boundary conditions\n set Dirichlet = 0 : xyz : 0, 0, 0\n"
+      " set Traction = 1 : 0, 0, -20\nend\n"
+      "subsection Solver\n set Newton relative tolerance = 1e-12\n"
+      " set Newton absolute tolerance = 1e-14\nend\n"
+      "subsection Design\n set Parameters = shape\n"
+      " set Fixed boundaries = 0\n set Shape parameterization = boundary\n"
+      " set Shape filter radius = 0.5\nend\n"
+      "subsection Objective\n set Terms = compliance; volume\nend\n");
+    forma::ElasticitySimulator<3> s(p, MPI_COMM_WORLD);
+    s.prepare();
+    s.set_objective(std::make_shared<const forma::Objective<3>>(p.objective));
+    deallog << "3D tetrahedra, boundary, radius 0.5: " << taylor(s)
+            << std::endl;
+  }
+} // namespace
+
+int
+main(int argc, char **argv)
+{
+  Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  if (Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
+    initlog();
+  moves();
+  gradients_2d("vertices");
+  gradients_2d("boundary");
+  gradients_3d();
+}
