@@ -445,11 +445,15 @@ namespace forma
         impl->new_mesh();
         const auto [before, after] = impl->pending_quality;
         AssertThrow(after > before,
-                    ExcMessage("remeshing: the new mesh would not be better "
-                               "(min scaled Jacobian " +
-                               fmt(before, 3) + " -> " + fmt(after, 3) +
-                               "); the boundary, which remeshing keeps, "
-                               "limits the quality."));
+                    ExcMessage(
+                      "remeshing: the new mesh would not be better "
+                      "(min scaled Jacobian " +
+                      fmt(before, 3) + " -> " + fmt(after, 3) + "); " +
+                      (impl->p.design.resample_boundary ?
+                         "the boundary's corners and fixed pieces, which "
+                         "resampling keeps, limit the quality." :
+                         "the boundary, which remeshing keeps, limits the "
+                         "quality.")));
         return true;
       }
     catch (const std::exception &e)
