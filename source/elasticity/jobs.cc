@@ -370,7 +370,7 @@ namespace
     forma::OptimizationResult result;
     std::vector<double>       history_so_far;
     nlohmann::json            remeshes = nlohmann::json::array();
-        nlohmann::json            holds    = nlohmann::json::array();
+    nlohmann::json            holds    = nlohmann::json::array();
     // Thesis Table 2.2's columns: the first and last gradient norms, and
     // where the last outer iteration (the run since the last remesh)
     // started.
@@ -395,7 +395,7 @@ namespace
                                 model.upper);
           }
         model.mesh = mesh;
-                result =
+        result =
           forma::optimize(model, stage_settings, context, history_so_far);
         if (!result.gradient_norms.empty())
           {
@@ -500,7 +500,7 @@ namespace
                                 {"description", line},
                                 {"element_removal", true},
                                 {"volume", volume}});
-                        history_so_far                       = result.history;
+            history_so_far                       = result.history;
             stage_settings.resume                = false;
             stage_settings.decrease_window_start = result.history.size() - 1;
             outer_start = result.history.size() - 1, ++n_outer;
@@ -526,7 +526,7 @@ namespace
             mesh             = next;
             remeshed_quality = simulator.mesh_quality();
             held.clear(), blocked.clear(), n_holds = 0;
-                        // J jumps where the new mesh resolves the stress peaks
+            // J jumps where the new mesh resolves the stress peaks
             // differently: the decrease window restarts on the new mesh.
             stage_settings.decrease_window_start = result.history.size() - 1;
             outer_start = result.history.size() - 1, ++n_outer;
@@ -557,7 +557,7 @@ namespace
         restart_kind          = "remeshed";
       }
 
-        const double J0 = result.history.front(), J1 = result.history.back();
+    const double J0 = result.history.front(), J1 = result.history.back();
     context.print("stopped after " + std::to_string(result.history.size() - 1) +
                   " iterations: " + result.stop_reason);
     const double relative_gradient_norm =
@@ -567,10 +567,10 @@ namespace
         100 * (result.history[outer_start] - J1) / std::abs(J0) :
         0;
     context.log("outer iterations (meshes) " + std::to_string(n_outer) +
-                  ", relative gradient norm " +
-                  significant(relative_gradient_norm, 3) +
-                  ", the last one's reduction of J " +
-                  significant(last_outer_reduction, 3) + "% of J0");
+                ", relative gradient norm " +
+                significant(relative_gradient_norm, 3) +
+                ", the last one's reduction of J " +
+                significant(last_outer_reduction, 3) + "% of J0");
     context.print("objective " + significant(J0, 6) + " -> " +
                   significant(J1, 6) + " (ratio " + significant(J1 / J0, 4) +
                   ")");
@@ -593,23 +593,21 @@ namespace
                                       final_values);
     if (!text.empty())
       context.print("final design: " + text);
-    context.summary["optimization"] = {{"initial_objective", J0},
-                                       {"final_objective", J1},
-                                       {"ratio", J1 / J0},
-                                       {"iterations",
-                                        result.history.size() - 1},
-                                       {"stop_reason", result.stop_reason},
-                                       {"initial_state", state0},
-                                       {"final_state", state1},
-                                                                              {"remeshes", remeshes},
-                                       {"holds", holds},
-                                       {"outer_iterations", n_outer},
-                                       {"relative_gradient_norm",
-                                        relative_gradient_norm},
-                                       {"last_outer_reduction_percent",
-                                        last_outer_reduction},
-                                       {"final_design", final_values}};
-    context.summary["adjoint"]      = simulator.adjoint_statistics();
+    context.summary["optimization"] = {
+      {"initial_objective", J0},
+      {"final_objective", J1},
+      {"ratio", J1 / J0},
+      {"iterations", result.history.size() - 1},
+      {"stop_reason", result.stop_reason},
+      {"initial_state", state0},
+      {"final_state", state1},
+      {"remeshes", remeshes},
+      {"holds", holds},
+      {"outer_iterations", n_outer},
+      {"relative_gradient_norm", relative_gradient_norm},
+      {"last_outer_reduction_percent", last_outer_reduction},
+      {"final_design", final_values}};
+    context.summary["adjoint"] = simulator.adjoint_statistics();
     {
       // Where the run's time went (thesis Algorithm 1's parts); 'other' is
       // the optimizer, the line search's quality checks and the output.

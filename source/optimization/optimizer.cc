@@ -181,7 +181,7 @@ namespace forma
       const OptimizationParameters &parameters;
       RunContext                   &context;
       std::vector<double>           z_accepted;
-            std::vector<double>           history;
+      std::vector<double>           history;
       std::vector<double>           gradient_norms;
       double                        gnorm0 = 0;
       std::string                   stop_reason;
@@ -326,7 +326,7 @@ namespace forma
       {
         const auto        &h = run.history;
         const unsigned int k = h.empty() ? 0 : h.size() - 1;
-                if (run.gnorm0 == 0)
+        if (run.gnorm0 == 0)
           run.gnorm0 = state.gnorm;
         run.gradient_norms.push_back(state.gnorm);
         if (!run.stop_reason.empty())
@@ -420,7 +420,7 @@ namespace forma
     AssertThrow(model.scale.size() == n && model.lower.size() == n &&
                   model.upper.size() == n,
                 ExcInternalError());
-        Run run{model, parameters, context, {}, {}, {}, 0, {}, {}};
+    Run run{model, parameters, context, {}, {}, {}, 0, {}, {}};
     run.checkpoint   = checkpoint_file(context);
     run.window_start = parameters.decrease_window_start;
     // The previous run's last design is this run's first: its value on
@@ -499,8 +499,8 @@ namespace forma
     context.log(rol_output.str());
 
     OptimizationResult result;
-    result.design  = run.design(run.z_accepted);
-        result.history        = run.history;
+    result.design         = run.design(run.z_accepted);
+    result.history        = run.history;
     result.gradient_norms = run.gradient_norms;
     result.stop_reason =
       run.stop_reason.empty() ? rol_stopped : run.stop_reason;

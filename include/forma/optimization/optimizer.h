@@ -85,7 +85,7 @@ namespace forma
   struct OptimizationResult
   {
     std::vector<double> design;
-        std::vector<double> history; ///< J of the accepted iterates, first J0
+    std::vector<double> history; ///< J of the accepted iterates, first J0
     /// The gradient norm (in the optimizer's scaled variables) at each
     /// status check, the first at the start.
     std::vector<double> gradient_norms;
