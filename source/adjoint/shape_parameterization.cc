@@ -7,6 +7,7 @@
 #include <forma/adjoint/shape_filter.h>
 #include <forma/mesh/harmonic_extension.h>
 
+#include <map>
 #include <memory>
 
 namespace forma
@@ -42,6 +43,11 @@ namespace forma
                      shape.constraints.get_inhomogeneity(i) == 0;
             },
             c.comm);
+        // The start (Design/Shape perturbation) is the shape it says: the
+        // filter moves the vertices by A (q - start) from there.
+        if (filter)
+          for (const auto i : shape.offset.locally_owned_elements())
+            shift[i] = start[i] - filter->value(start.data(), i);
       }
 
       unsigned int
@@ -80,7 +86,7 @@ namespace forma
       apply(const double *q) override
       {
         for (const auto i : shape.offset.locally_owned_elements())
-          shape.offset(i) = filter ? filter->value(q, i) : q[i];
+          shape.offset(i) = filter ? filter->value(q, i) + shift[i] : q[i];
         shape.offset.compress(VectorOperation::insert);
         if (extension)
           extension->extend(shape.offset); // the interior follows
@@ -122,6 +128,8 @@ namespace forma
       HarmonicExtension<dim>           *extension;
       const std::vector<double>         start;
       std::unique_ptr<ShapeFilter<dim>> filter;
+      /// start - A start: the filtered start is the start.
+      std::map<types::global_dof_index, double> shift;
     };
   } // namespace
 } // namespace forma

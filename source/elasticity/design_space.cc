@@ -84,7 +84,8 @@ namespace forma
   ElasticitySimulator<dim>::Impl::shape_start() const
   {
     std::vector<double> start(shape_dof_handler.n_dofs(), 0.);
-    if (p.design.shape_perturbation.empty())
+    // A remeshed mesh is the current shape: nothing to perturb.
+    if (p.design.shape_perturbation.empty() || remeshed)
       return start;
     Vector_t delta(shape_owned, comm);
     VectorTools::interpolate(

@@ -244,6 +244,7 @@ namespace forma
                            std::to_string(X.size()) + " for " +
                            std::to_string(serial.n_vertices()) +
                            " vertices)."));
+    remeshed = true;
     material_of_vertex.clear();
     for (unsigned int v = 0; v < X.size(); ++v)
       material_of_vertex.emplace_back(serial.get_vertices()[v], X[v]);

@@ -474,6 +474,8 @@ namespace forma
     /// After a remesh: material coordinates by vertex position, sorted.
     std::vector<std::pair<Point<dim>, Point<dim>>> material_of_vertex;
     unsigned int                                   n_remeshes = 0;
+    /// The mesh is a remeshed design (no Shape perturbation applies).
+    bool remeshed = false;
 
     // Remeshing (remesh.cc).
     /// Smallest scaled Jacobian det J / prod |J e_k| over the quadrature

@@ -264,38 +264,104 @@ namespace forma
 
 
 
+  namespace
+  {
+    // Where the boundary cannot be resampled: corners (where keys meet or
+    // chains end, where a chain turns by more than the feature angle) and
+    // pinned vertices (of kept facets). The copies of a vertex on the two
+    // sides of a cut interface share their flags, so both sides are cut
+    // into the same pieces and a side whose twin is kept stays too.
+    struct Corners
+    {
+      std::vector<bool> corner, pinned;
+    };
+
+    Corners
+    find_corners(
+      const RegionBoundaries<2>                                 &b,
+      const std::map<Key, std::map<unsigned int, unsigned int>> &next,
+      const BoundaryResampling                                  &o)
+    {
+      const unsigned int         n = b.vertices.size();
+      Corners                    c{std::vector<bool>(n), std::vector<bool>(n)};
+      std::vector<std::set<Key>> keys(n);
+      std::vector<unsigned int>  degree(n);
+      for (const auto &f : b.facets)
+        for (const auto v : f.vertices)
+          {
+            keys[v].insert(key_of(f));
+            ++degree[v];
+            if (kept(key_of(f), o))
+              c.pinned[v] = true;
+          }
+      for (unsigned int v = 0; v < n; ++v)
+        c.corner[v] = c.pinned[v] || keys[v].size() != 1 || degree[v] != 2;
+      for (const auto &[key, links] : next)
+        for (const auto &chain : chains(links))
+          {
+            const unsigned int m = chain.size() - 1;
+            const auto         x = [&](const unsigned int i) {
+              return b.vertices[chain[i]];
+            };
+            for (unsigned int i = 1; i < m; ++i)
+              if (turn(x(i - 1), x(i), x(i + 1)) > o.feature_angle)
+                c.corner[chain[i]] = true;
+            if (chain.front() == chain.back() &&
+                turn(x(m - 1), x(0), x(1)) > o.feature_angle)
+              c.corner[chain[0]] = true;
+          }
+      std::map<std::pair<double, double>, std::vector<unsigned int>> copies;
+      for (unsigned int v = 0; v < n; ++v)
+        copies[{b.vertices[v][0], b.vertices[v][1]}].push_back(v);
+      for (const auto &[x, group] : copies)
+        {
+          bool corner = false, pinned = false;
+          for (const auto v : group)
+            corner = corner || c.corner[v], pinned = pinned || c.pinned[v];
+          for (const auto v : group)
+            c.corner[v] = corner, c.pinned[v] = pinned;
+        }
+      return c;
+    }
+
+    // A closed chain starts at a corner; without one, at its
+    // lexicographically smallest vertex (the same on both sides of a cut).
+    void
+    start_at_a_corner(std::vector<unsigned int> &chain,
+                      const RegionBoundaries<2> &b,
+                      std::vector<bool>         &corner)
+    {
+      const unsigned int m     = chain.size() - 1;
+      unsigned int       first = 0;
+      for (unsigned int i = 0; i < m; ++i)
+        if (corner[chain[i]] ||
+            (!corner[chain[first]] &&
+             lexicographically_less(b.vertices[chain[i]],
+                                    b.vertices[chain[first]])))
+          first = i;
+      std::rotate(chain.begin(), chain.begin() + first, chain.end() - 1);
+      chain.back()          = chain.front();
+      corner[chain.front()] = true;
+    }
+  } // namespace
+
+
+
   RegionBoundaries<2>
   resample_boundaries(const RegionBoundaries<2> &b, const BoundaryResampling &o)
   {
     AssertThrow(o.size >= 0 && o.feature_angle > 0 && o.max_turn > 0,
                 ExcMessage("boundary resampling: the size must be >= 0 and "
                            "the feature angle and the largest turn > 0."));
-    // Corners: where keys meet or chains end, and every vertex of a kept
-    // facet; the turns are tested along the chains below.
     std::map<Key, std::map<unsigned int, unsigned int>> next;
-    std::vector<std::set<Key>>                          keys(b.vertices.size());
-    std::vector<unsigned int> degree(b.vertices.size());
-    std::vector<bool>         corner(b.vertices.size());
     for (const auto &f : b.facets)
-      {
-        const Key k = key_of(f);
-        AssertThrow(next[k].emplace(f.vertices[0], f.vertices[1]).second,
-                    ExcMessage(
-                      "boundary resampling: the boundary of material " +
-                      std::to_string(f.inside) + " touches itself at vertex (" +
-                      fmt(b.vertices[f.vertices[0]][0]) + ", " +
-                      fmt(b.vertices[f.vertices[0]][1]) + ")."));
-        for (const auto v : f.vertices)
-          {
-            keys[v].insert(k);
-            ++degree[v];
-            if (kept(k, o))
-              corner[v] = true;
-          }
-      }
-    for (unsigned int v = 0; v < b.vertices.size(); ++v)
-      if (keys[v].size() != 1 || degree[v] != 2)
-        corner[v] = true;
+      AssertThrow(next[key_of(f)].emplace(f.vertices[0], f.vertices[1]).second,
+                  ExcMessage("boundary resampling: the boundary of material " +
+                             std::to_string(f.inside) +
+                             " touches itself at vertex (" +
+                             fmt(b.vertices[f.vertices[0]][0]) + ", " +
+                             fmt(b.vertices[f.vertices[0]][1]) + ")."));
+    auto [corner, pinned] = find_corners(b, next, o);
 
     RegionBoundaries<2>       result;
     std::vector<unsigned int> index(b.vertices.size(),
@@ -311,49 +377,34 @@ namespace forma
     for (const auto &[key, n] : next)
       for (auto chain : chains(n))
         {
-          const bool closed = chain.front() == chain.back();
-          const auto m      = chain.size() - 1;
-          const auto x      = [&](const unsigned int i) {
-            return b.vertices[chain[i]];
-          };
-          unsigned int first = 0; // a corner to start from
-          for (unsigned int i = 1; i < m; ++i)
-            if (!corner[chain[i]] &&
-                turn(x(i - 1), x(i), x(i + 1)) > o.feature_angle)
-              corner[chain[i]] = true;
-          if (closed)
-            {
-              if (turn(x(m - 1), x(0), x(1)) > o.feature_angle)
-                corner[chain[0]] = true;
-              for (unsigned int i = 0; i < m; ++i)
-                if (corner[chain[i]] ||
-                    (!corner[chain[first]] &&
-                     lexicographically_less(x(i), x(first))))
-                  first = i;
-              std::rotate(chain.begin(),
-                          chain.begin() + first,
-                          chain.end() - 1);
-              chain.back()          = chain.front();
-              corner[chain.front()] = true;
-            }
-          // Pieces between corners.
+          if (chain.front() == chain.back())
+            start_at_a_corner(chain, b, corner);
+          const unsigned int m = chain.size() - 1;
+          AssertThrow(corner[chain[m]],
+                      ExcMessage("boundary resampling: a boundary chain of "
+                                 "material " +
+                                 std::to_string(key[0]) +
+                                 " is not oriented consistently."));
           const auto facet = [&](const unsigned int a, const unsigned int c) {
             result.facets.push_back({{{a, c}}, key[0], key[1], key[2]});
           };
+          // Pieces between corners; a piece of one facet between pinned
+          // vertices (a cut side whose twin is kept) stays as it is.
           for (unsigned int i = 0; i < m;)
             {
               unsigned int j = i + 1;
               while (!corner[chain[j]])
                 ++j;
               unsigned int a = kept_vertex(chain[i]);
-              if (kept(key, o))
+              if (kept(key, o) ||
+                  (j == i + 1 && pinned[chain[i]] && pinned[chain[j]]))
                 for (unsigned int k = i + 1; k <= j; ++k)
                   facet(kept_vertex(chain[k - 1]), kept_vertex(chain[k]));
               else
                 {
                   std::vector<Point<2>> piece;
                   for (unsigned int k = i; k <= j; ++k)
-                    piece.push_back(x(k));
+                    piece.push_back(b.vertices[chain[k]]);
                   for (const auto &y : resample_either_way(piece, o))
                     {
                       result.vertices.push_back(y);

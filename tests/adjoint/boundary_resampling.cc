@@ -5,7 +5,8 @@
 // id 10). The rectangle's bottom (id 1) is kept.
 // Checks: every key (materials, boundary id) keeps its pieces; new vertices
 // lie on the old polylines but for the area correction; corners and kept facets
-// stay; areas change by less than 1e-3; the cut sides stay coincident; the
+// stay; areas change by less than 1e-3; the cut sides stay coincident (also
+// when one side's part is fixed: its twin stays too); the
 // spacing evens out; a target size gives the expected count; Gmsh meshes the
 // result with its ids; a resampling whose curves would cross is refused.
 
@@ -205,6 +206,16 @@ main()
           << " segments, largest / smallest "
           << rounded(s_old.second / s_old.first, 3) << " -> below 1.5: "
           << (s_new.second / s_new.first < 1.5 ? "yes" : "NO") << std::endl;
+  {
+    // Material 1 fixed: its side of the cut stays, and so does material
+    // 2's side, which must stay coincident with it.
+    forma::BoundaryResampling fixed;
+    fixed.kept_materials = {1};
+    const Boundaries k   = forma::resample_boundaries(old, fixed);
+    check("a fixed part's cut side and its twin stay",
+          points_of(k, {{1, none, 10}}) == points_of(old, {{1, none, 10}}) &&
+            points_of(k, {{2, none, 10}}) == points_of(old, {{2, none, 10}}));
+  }
   o.size             = 0.1;
   const Boundaries c = forma::resample_boundaries(old, o);
   spacing(c, arc, n_new);

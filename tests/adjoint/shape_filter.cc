@@ -4,6 +4,7 @@
 //   sum to one; far from the clamped side exactly by it);
 // - one entry moves its vertex by less than the entry, and its
 //   neighbours within the radius too (the move is spread);
+// - the start is Design/Shape perturbation, filter or not;
 // - the chained gradient A^T dJ/dx passes the Taylor test, with every
 //   vertex a design variable and with boundary shape parameters (harmonic
 //   interior), 2D quads with two materials and 3D tetrahedra.
@@ -23,7 +24,9 @@ using namespace dealii;
 namespace
 {
   std::string
-  strip(const std::string &parameterization, const double radius)
+  strip(const std::string &parameterization,
+        const double       radius,
+        const bool         perturbed = true)
   {
     return "set Dimension = 2\n"
            "subsection Mesh\n set Generator = subdivided_hyper_rectangle\n"
@@ -38,8 +41,10 @@ namespace
            " set Fixed boundaries = 0\n set Shape parameterization = " +
            parameterization +
            "\n set Shape filter radius = " + std::to_string(radius) +
-           "\n set Shape perturbation = 0.05 * sin(pi * x / 3) * y, 0.03 * x * "
-           "y\nend\n"
+           (perturbed ? "\n set Shape perturbation = 0.05 * sin(pi * x / 3) * "
+                        "y, 0.03 * x * y" :
+                        "") +
+           "\nend\n"
            "subsection Objective\n set Terms = stress : p=4 ; volume\nend\n";
   }
 
@@ -62,7 +67,7 @@ namespace
   moves()
   {
     const auto p = parameters_from_string<forma::ElasticityParameters>(
-      strip("vertices", 0.3));
+      strip("vertices", 0.3, false));
     forma::ElasticitySimulator<2> s(p, MPI_COMM_WORLD);
     s.prepare();
     s.set_objective(std::make_shared<const forma::Objective<2>>(p.objective));
@@ -83,6 +88,25 @@ namespace
       }
     check("one entry of 0.01 moves its vertex by less (spread)",
           one > 0 && one < 0.01);
+  }
+
+  // The start is Design/Shape perturbation as given, with or without the
+  // filter.
+  void
+  start()
+  {
+    double offset[2];
+    for (const double r : {0., 0.3})
+      {
+        const auto p = parameters_from_string<forma::ElasticityParameters>(
+          strip("vertices", r));
+        forma::ElasticitySimulator<2> s(p, MPI_COMM_WORLD);
+        s.prepare();
+        s.set_design(s.design());
+        offset[r > 0] = s.max_shape_offset();
+      }
+    check("the filtered start is the perturbation",
+          std::abs(offset[1] - offset[0]) < 1e-12 && offset[0] > 0);
   }
 
   void
@@ -130,6 +154,7 @@ main(int argc, char **argv)
   if (Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
     initlog();
   moves();
+  start();
   gradients_2d("vertices");
   gradients_2d("boundary");
   gradients_3d();
