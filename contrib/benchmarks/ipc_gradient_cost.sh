@@ -16,6 +16,7 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 app=$root/build/bin/forma-transient-ipc
 work=$(mktemp -d)
 out=$root/contrib/benchmarks/results/ipc_gradient_cost.csv
+source "$root/contrib/benchmarks/stack_scene.sh"
 mkdir -p "$(dirname "$out")"
 echo "case,n_dofs,steps,seconds_per_forward_solve,seconds_per_gradient,ratio,stored_MB,stored_kB_per_step" > "$out"
 
@@ -46,51 +47,16 @@ done
 
 for n in 4 8; do
   python3 "$root/contrib/meshes/make_ipc_meshes.py" --stack "$n" "$work/stack$n.msh"
-  cat > "$work/stack$n.prm" <<PRM
-set Dimension        = 3
-set Output directory = $work/stack$n
-set Mode             = optimize
-subsection Mesh
-  set Source               = file
-  set File                 = $work/stack$n.msh
-  set Convert to simplices = true
-end
-subsection Material
-  set Model  = neo-hookean
-  set Bodies = * : E = 1e5, nu = 0.3, density = 1000
-end
-subsection Loads
-  set Gravity = 1, 0, -9.81
-end
-subsection Time
-  set Problem   = transient
-  set End time  = 0.05
-  set Time step = 0.01
-end
-subsection Solver
-  set Max Newton iterations = 100
-  set Newton relative tolerance = 1e-10
-end
-subsection IPC
-  set Enabled              = true
-  set Barrier distance     = 2e-3
-  set Obstacles            = plane : 0, 0, 0 : 0, 0, 1
-  set Friction coefficient = 0.3
-end
-subsection Design
-  set Parameters = material, friction
-end
-subsection Objective
-  set Terms = center of mass : x=0.5, y=0.5, z=0.3
-end
-subsection Optimization
-  set Max iterations = 0
-end
-subsection Output
-  set Write vtu = false
-end
-PRM
-  "$app" "$work/stack$n.prm" > "$work/stack$n.log"
+  # The scene of stack_scene.sh, pushed sideways, with friction; one
+  # forward solve and one gradient of a center-of-mass objective.
+  stack_scene_prm "$work/stack$n.msh" "$work/stack$n" 0.05 direct > "$work/stack$n.prm"
+  "$app" "$work/stack$n.prm" --set "Mode=optimize" \
+    --set "Loads/Gravity=1, 0, -9.81" \
+    --set "Solver/Newton relative tolerance=1e-10" \
+    --set "IPC/Friction coefficient=0.3" \
+    --set "Design/Parameters=material, friction" \
+    --set "Objective/Terms=center of mass : x=0.5, y=0.5, z=0.3" \
+    --set "Optimization/Max iterations=0" > "$work/stack$n.log"
   collect "stack3d-$n" "$work/stack$n/summary.json"
 done
 column -s, -t "$out"

@@ -1,5 +1,6 @@
-# The IPC scene of ipc_scaling.sh and direct_solvers.sh (sourced): two
-# stacked Neo-Hookean blocks of P1 tetrahedra dropped on a floor plane.
+# The IPC scene of ipc_scaling.sh, direct_solvers.sh and ipc_gradient_cost.sh
+# (sourced): two stacked Neo-Hookean blocks of P1 tetrahedra dropped on a
+# floor plane.
 #   stack_scene_prm MESH OUTPUT_DIR END_TIME LINEAR_SOLVER > FILE.prm
 stack_scene_prm() {
   cat <<PRM

@@ -7,8 +7,8 @@
 #include <forma/adjoint/shape_filter.h>
 #include <forma/mesh/harmonic_extension.h>
 
-#include <map>
 #include <memory>
+#include <vector>
 
 namespace forma
 {
@@ -46,8 +46,11 @@ namespace forma
         // The start (Design/Shape perturbation) is the shape it says: the
         // filter moves the vertices by A (q - start) from there.
         if (filter)
-          for (const auto i : shape.offset.locally_owned_elements())
-            shift[i] = start[i] - filter->value(start.data(), i);
+          {
+            shift.resize(start.size());
+            for (const auto i : shape.offset.locally_owned_elements())
+              shift[i] = start[i] - filter->value(start.data(), i);
+          }
       }
 
       unsigned int
@@ -129,7 +132,7 @@ namespace forma
       const std::vector<double>         start;
       std::unique_ptr<ShapeFilter<dim>> filter;
       /// start - A start: the filtered start is the start.
-      std::map<types::global_dof_index, double> shift;
+      std::vector<double> shift;
     };
   } // namespace
 } // namespace forma

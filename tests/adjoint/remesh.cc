@@ -14,9 +14,8 @@
 #include <deal.II/grid/grid_out.h>
 #include <deal.II/grid/tria.h>
 
-#include <forma/elasticity/taylor_test.h>
-
 #include "../tests.h"
+#include "shape_tests.h"
 
 #include <filesystem>
 
@@ -80,20 +79,6 @@ namespace
     return s.objective();
   }
 
-  template <int dim>
-  std::string
-  taylor(forma::ElasticitySimulator<dim> &s)
-  {
-    forma::GradientCheckParameters gc;
-    gc.n_steps          = 4;
-    const auto  r       = forma::taylor_test(s, gc);
-    std::string verdict = r.min_rate >= 1.9 ? "rate >= 1.9" : "FAILED, rates";
-    if (!(r.min_rate >= 1.9))
-      for (const double x : r.rates)
-        verdict += " " + std::to_string(x);
-    return verdict;
-  }
-
   void
   distorted_2d(const std::string &mesh)
   {
@@ -151,7 +136,7 @@ namespace
     }
     deallog << "  max offset from the mesh as read within 5%: "
             << yes(std::abs(off1 - off0) < 0.05 * off0) << std::endl;
-    deallog << "  Taylor test on the remeshed design: " << taylor(s)
+    deallog << "  Taylor test on the remeshed design: " << taylor_verdict(s)
             << std::endl;
 
     // A second simulator restores the remeshed design from the files.
@@ -191,21 +176,9 @@ namespace
   tetrahedra_3d()
   {
     const auto p = parameters_from_string<forma::ElasticityParameters>(
-      "set Dimension = 3\n"
-      "subsection Mesh\n set Generator = subdivided_hyper_rectangle\n"
-      " set Generator arguments = 6, 3, 3 : 0, 0, 0 : 2, 1, 1 : true\n"
-      " set Convert to simplices = true\nend\n"
-      "subsection Finite element\n set Degree = 1\nend\n"
-      "subsection Material\n set Bodies = * : E = 1e4, nu = 0.3\nend\n"
-      "subsection Boundary conditions\n set Dirichlet = 0 : xyz : 0, 0, 0\n"
-      " set Traction = 1 : 0, 0, -20\nend\n"
-      "subsection Solver\n set Newton relative tolerance = 1e-12\n"
-      " set Newton absolute tolerance = 1e-14\nend\n"
-      "subsection Design\n set Parameters = shape\n"
-      " set Fixed boundaries = 0\n"
-      " set Shape perturbation = 0.3 * sin(pi * y) * sin(pi * z) * x, "
-      "0.1 * sin(pi * x) * z, 0\nend\n"
-      "subsection Objective\n set Terms = compliance; volume\nend\n");
+      tetrahedral_bar(" set Shape perturbation = 0.3 * sin(pi * y) * "
+                      "sin(pi * z) * x, 0.1 * sin(pi * x) * z, 0\n",
+                      "compliance; volume"));
     forma::ElasticitySimulator<3> s(p, MPI_COMM_WORLD);
     s.prepare();
     s.set_objective(std::make_shared<const forma::Objective<3>>(p.objective));
@@ -225,7 +198,7 @@ namespace
             << yes(std::abs(terms1[0].second - terms0[0].second) <
                    0.1 * terms0[0].second)
             << std::endl;
-    deallog << "  Taylor test on the remeshed design: " << taylor(s)
+    deallog << "  Taylor test on the remeshed design: " << taylor_verdict(s)
             << std::endl;
   }
 

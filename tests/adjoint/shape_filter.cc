@@ -13,9 +13,8 @@
 #include <deal.II/grid/grid_out.h>
 #include <deal.II/grid/tria.h>
 
-#include <forma/elasticity/taylor_test.h>
-
 #include "../tests.h"
+#include "shape_tests.h"
 
 #include <filesystem>
 
@@ -46,21 +45,6 @@ namespace
                         "") +
            "\nend\n"
            "subsection Objective\n set Terms = stress : p=4 ; volume\nend\n";
-  }
-
-  template <int dim>
-  std::string
-  taylor(forma::ElasticitySimulator<dim> &s)
-  {
-    forma::GradientCheckParameters gc;
-    gc.n_steps   = 4;
-    const auto r = forma::taylor_test(s, gc);
-    if (r.min_rate >= 1.9)
-      return "rate >= 1.9";
-    std::string verdict = "FAILED, rates";
-    for (const double x : r.rates)
-      verdict += " " + std::to_string(x);
-    return verdict;
   }
 
   void
@@ -117,32 +101,21 @@ namespace
     forma::ElasticitySimulator<2> s(p, MPI_COMM_WORLD);
     s.prepare();
     s.set_objective(std::make_shared<const forma::Objective<2>>(p.objective));
-    deallog << "2D, " << parameterization << ", radius 0.3: " << taylor(s)
-            << std::endl;
+    deallog << "2D, " << parameterization
+            << ", radius 0.3: " << taylor_verdict(s) << std::endl;
   }
 
   void
   gradients_3d()
   {
     const auto p = parameters_from_string<forma::ElasticityParameters>(
-      "set Dimension = 3\n"
-      "subsection Mesh\n set Generator = subdivided_hyper_rectangle\n"
-      " set Generator arguments = 6, 3, 3 : 0, 0, 0 : 2, 1, 1 : true\n"
-      " set Convert to simplices = true\nend\n"
-      "subsection Finite element\n set Degree = 1\nend\n"
-      "subsection Material\n set Bodies = * : E = 1e4, nu = 0.3\nend\n"
-      "subsection Boundary conditions\n set Dirichlet = 0 : xyz : 0, 0, 0\n"
-      " set Traction = 1 : 0, 0, -20\nend\n"
-      "subsection Solver\n set Newton relative tolerance = 1e-12\n"
-      " set Newton absolute tolerance = 1e-14\nend\n"
-      "subsection Design\n set Parameters = shape\n"
-      " set Fixed boundaries = 0\n set Shape parameterization = boundary\n"
-      " set Shape filter radius = 0.5\nend\n"
-      "subsection Objective\n set Terms = compliance; volume\nend\n");
+      tetrahedral_bar(" set Shape parameterization = boundary\n"
+                      " set Shape filter radius = 0.5\n",
+                      "compliance; volume"));
     forma::ElasticitySimulator<3> s(p, MPI_COMM_WORLD);
     s.prepare();
     s.set_objective(std::make_shared<const forma::Objective<3>>(p.objective));
-    deallog << "3D tetrahedra, boundary, radius 0.5: " << taylor(s)
+    deallog << "3D tetrahedra, boundary, radius 0.5: " << taylor_verdict(s)
             << std::endl;
   }
 } // namespace
