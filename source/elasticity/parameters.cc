@@ -24,6 +24,22 @@ namespace forma
       "hanging nodes. hp: the same indicator, with smooth cells "
       "(Legendre coefficient decay) raised in degree instead of "
       "split. Static problems, quads/hexes only.");
+    prm.declare_entry(
+      "Error indicator",
+      "kelly",
+      Patterns::Selection("kelly|goal"),
+      "What Adaptivity = h or hp refines by. kelly: gradient jumps across "
+      "faces. goal: the dual-weighted residual of Objective/Terms (the "
+      "residual of u_h weighted by z - I_h z, z the objective's adjoint "
+      "one degree higher); each cycle reports J_h and the estimate of "
+      "J - J_h.");
+    prm.declare_entry("Goal estimate",
+                      "false",
+                      Patterns::Bool(),
+                      "Report J(u_h) and the dual-weighted residual "
+                      "estimate of J(u) - J(u_h) for Objective/Terms after "
+                      "every adaptive cycle, whatever the Error indicator "
+                      "(always on with Error indicator = goal).");
     prm.declare_entry("Max degree",
                       "4",
                       Patterns::Integer(1, 4),
@@ -257,9 +273,11 @@ namespace forma
       ipc.parse(prm, dim, prm_dir);
 
     prm.enter_subsection("Finite element");
-    degree           = prm.get_integer("Degree");
-    adaptivity       = prm.get("Adaptivity");
-    max_degree       = prm.get_integer("Max degree");
+    degree          = prm.get_integer("Degree");
+    adaptivity      = prm.get("Adaptivity");
+    error_indicator = prm.get("Error indicator");
+    goal_estimate = prm.get_bool("Goal estimate") || error_indicator == "goal";
+    max_degree    = prm.get_integer("Max degree");
     adaptive_cycles  = prm.get_integer("Adaptive cycles");
     refine_fraction  = prm.get_double("Refine fraction");
     coarsen_fraction = prm.get_double("Coarsen fraction");
@@ -391,6 +409,24 @@ namespace forma
     AssertThrow(!ipc.enabled || load_cases.empty(),
                 ExcMessage("IPC: several load cases are not available with "
                            "IPC contact."));
+    AssertThrow(!goal_estimate || adaptivity != "none",
+                ExcMessage("Finite element/Error indicator = goal and Goal "
+                           "estimate act on adaptive cycles: set Finite "
+                           "element/Adaptivity = h or hp."));
+    AssertThrow(!goal_estimate || !Utilities::trim(objective.terms).empty(),
+                ExcMessage("Finite element/Error indicator = goal (or Goal "
+                           "estimate) estimates the error of the objective: "
+                           "set Objective/Terms (e.g. 'stress : p=4')."));
+    AssertThrow(!goal_estimate || load_cases.empty(),
+                ExcMessage("Finite element/Error indicator = goal (or Goal "
+                           "estimate) is for one load case: clear Boundary "
+                           "conditions/Load cases."));
+    AssertThrow(!goal_estimate || linear_solver.type != "cg-mg",
+                ExcMessage(
+                  "Finite element/Error indicator = goal (or Goal "
+                  "estimate) solves the adjoint one degree higher, which cg-mg "
+                  "(one degree) does not: use direct, cg-amg or "
+                  "gmres-amg."));
     AssertThrow(max_degree >= degree || adaptivity != "hp",
                 ExcMessage("Finite element/Max degree is below Degree."));
   }

@@ -169,11 +169,39 @@ namespace forma
 
 
   template <int dim>
+  Vector_t
+  ElasticitySimulator<dim>::Impl::conforming_residual(const Vector_t &raw) const
+  {
+    // A support's force is the residual tested with the conforming basis
+    // functions at its DoFs: a hanging DoF's residual belongs to its
+    // masters (psi_j = phi_j + sum_h c_hj phi_h).
+    AffineConstraints<double> hanging;
+    hanging.reinit(relevant);
+    DoFTools::make_hanging_node_constraints(dof_handler, hanging);
+    hanging.close();
+    Vector_t moved;
+    moved.reinit(owned, relevant, comm, true); // writable ghosts
+    for (const auto &line : hanging.get_lines())
+      if (owned.is_element(line.index))
+        for (const auto &[j, c] : line.entries)
+          moved(j) += c * raw(line.index);
+    moved.compress(VectorOperation::add);
+    Vector_t result(owned, comm);
+    for (const auto i : owned)
+      result(i) = hanging.is_constrained(i) ? 0. : raw(i) + moved(i);
+    result.compress(VectorOperation::insert);
+    return result;
+  }
+
+
+
+  template <int dim>
   void
   ElasticitySimulator<dim>::Impl::compute_reactions()
   {
     Vector_t raw(owned, comm);
     assemble(u, false, &raw);
+    raw = conforming_residual(raw);
     reactions.clear();
     std::vector<IndexSet> component_dofs;
     for (unsigned int c = 0; c < dim; ++c)

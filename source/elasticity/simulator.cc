@@ -76,7 +76,10 @@ namespace forma
       }
     else
       {
-        const unsigned int top = p.adaptivity == "hp" ? p.max_degree : p.degree;
+        // The goal estimate raises every cell one degree for the adjoint.
+        const unsigned int top =
+          (p.adaptivity == "hp" ? p.max_degree : p.degree) +
+          (p.goal_estimate ? 1 : 0);
         for (unsigned int k = 1; k <= top; ++k)
           {
             fe.push_back(FESystem<dim>(FE_Q<dim>(k), dim));
@@ -98,6 +101,16 @@ namespace forma
 
     build_loads();
     setup_forms();
+    if (p.adaptivity != "none" && p.goal_estimate)
+      {
+        goal = std::make_shared<const Objective<dim>>(p.objective);
+        AssertThrow(!goal->needs_reference_run(),
+                    ExcMessage(
+                      "Finite element/Error indicator = goal (or "
+                      "Goal estimate): objectives that track a reference run "
+                      "(target terms) are not available; choose "
+                      "another Objective/Terms."));
+      }
   }
 
 
@@ -391,14 +404,22 @@ namespace forma
             std::to_string(dof_handler.n_dofs()) + " DoFs");
         steps.clear();
         max_von_mises = max_frobenius = 0;
+        typename ElasticitySimulator<dim>::CycleRecord c;
         if (p.problem == "static")
           {
             solve_static();
+            if (goal)
+              {
+                std::tie(c.objective, c.estimate) = estimate_goal_error();
+                if (context)
+                  context->print(
+                    "goal: J(u_h) = " + fmt(c.objective, 8) +
+                    ", estimated J(u) - J(u_h) = " + fmt(c.estimate, 3));
+              }
             write_output(cycle, p.end_time);
           }
         else
           solve_transient();
-        typename ElasticitySimulator<dim>::CycleRecord c;
         c.cycle   = cycle;
         c.n_cells = tria->n_global_active_cells();
         c.n_dofs  = dof_handler.n_dofs();
@@ -640,8 +661,17 @@ namespace forma
                                {"rejected_steps", impl->rejected_steps}};
     nlohmann::json cycles = nlohmann::json::array();
     for (const auto &c : impl->cycles)
-      cycles.push_back(
-        {{"cycle", c.cycle}, {"n_cells", c.n_cells}, {"n_dofs", c.n_dofs}});
+      {
+        nlohmann::json j = {{"cycle", c.cycle},
+                            {"n_cells", c.n_cells},
+                            {"n_dofs", c.n_dofs}};
+        if (impl->goal)
+          {
+            j["objective"] = c.objective;
+            j["estimate"]  = c.estimate;
+          }
+        cycles.push_back(j);
+      }
     s["cycles"] = cycles;
     nlohmann::json reactions;
     for (const auto &r : impl->reactions)

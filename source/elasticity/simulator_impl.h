@@ -308,6 +308,27 @@ namespace forma
     cap_step_by_contact(const double h, const double h_min);
     void
     refine_mesh();
+    /// Error indicator = goal: the dual-weighted residual indicators of the
+    /// goal objective into `estimated_error` (|eta_K|); returns J(u_h) and
+    /// the signed estimate of J(u) - J(u_h). The state is kept.
+    std::pair<double, double>
+    estimate_goal_error();
+    /// dPhi/dI (times the term weights) of J at the static state.
+    std::vector<std::vector<double>>
+    goal_weights(const Objective<dim> &J);
+    /// The adjoint lambda = -z of J at u on the current space, with dJ/du;
+    /// leaves the Jacobian and `residual` at u assembled.
+    Vector_t
+    goal_adjoint(const Objective<dim> &J, Vector_t &dJ_du);
+    /// The cells' shares of the primal and adjoint residual products into
+    /// `estimated_error`; returns their signed sum (see goal_estimate.cc).
+    double
+    share_products(const Vector_t                                   &h,
+                   const Vector_t                                   &lambda,
+                   const Vector_t                                   &dual,
+                   const Vector_t                                   &u_high,
+                   const std::map<unsigned int, FullMatrix<double>> &difference,
+                   const std::vector<unsigned int>                  &index);
 
     // postprocessing
     void
@@ -319,6 +340,10 @@ namespace forma
     write_output(const unsigned int step, const double time);
     void
     print_progress(const std::string &head) const;
+    /// `raw` (unconstrained cell residuals) tested with the conforming basis
+    /// functions: hanging DoFs' entries moved to their masters.
+    Vector_t
+    conforming_residual(const Vector_t &raw) const;
     void
     compute_reactions();
     Tensor<1, dim>
@@ -653,6 +678,8 @@ namespace forma
     std::vector<std::pair<double, std::string>> pvd_records;
     std::function<void(unsigned int)>           cycle_callback;
     Vector<float>                               estimated_error;
+    /// Error indicator = goal: the objective refinement aims at.
+    std::shared_ptr<const Objective<dim>> goal;
     double assembly_seconds = 0, solver_seconds = 0;
   };
 

@@ -3,6 +3,7 @@
 #include <deal.II/distributed/tria.h>
 #include <deal.II/grid/grid_generator.h>
 #include <deal.II/grid/grid_in.h>
+#include <deal.II/grid/manifold_lib.h>
 #include <deal.II/grid/tria.h>
 
 #include <forma/base/application.h>
@@ -238,6 +239,19 @@ namespace forma
       !params.separate_interfaces.empty(),
       comm);
     tria->copy_triangulation(coarse);
+    // A transfinite-interpolation manifold (plate_with_a_hole, say) refers
+    // to the triangulation it was initialized with, which is `coarse`:
+    // initialize a fresh one on the copy before anything is refined.
+    for (const auto id : tria->get_manifold_ids())
+      if (id != numbers::flat_manifold_id &&
+          dynamic_cast<const TransfiniteInterpolationManifold<dim> *>(
+            &tria->get_manifold(id)) != nullptr)
+        {
+          tria->reset_manifold(id); // not the stale copy while initializing
+          TransfiniteInterpolationManifold<dim> tfi;
+          tfi.initialize(*tria);
+          tria->set_manifold(id, tfi);
+        }
     if (!params.convert_to_simplices)
       tria->refine_global(params.initial_refinement);
     return tria;

@@ -28,7 +28,9 @@ namespace forma
 
     // Finite element
     unsigned int degree           = 1;
-    std::string  adaptivity       = "none"; ///< none | h | hp
+    std::string  adaptivity       = "none";  ///< none | h | hp
+    std::string  error_indicator  = "kelly"; ///< kelly | goal
+    bool         goal_estimate    = false;   ///< report J and its estimate
     unsigned int max_degree       = 4;
     unsigned int adaptive_cycles  = 0;
     double       refine_fraction  = 0.3;

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include <functional>
+#include <limits>
 #include <memory>
 #include <set>
 #include <string>
@@ -69,6 +70,10 @@ namespace forma
       unsigned int       cycle;
       unsigned int       n_cells;
       unsigned long long n_dofs;
+      /// Error indicator = goal: J(u_h) and the estimate of J(u) - J(u_h)
+      /// (signed sum of the indicators); NaN otherwise.
+      double objective = std::numeric_limits<double>::quiet_NaN();
+      double estimate  = std::numeric_limits<double>::quiet_NaN();
     };
 
     ElasticitySimulator(const ElasticityParameters &parameters,
