@@ -1,15 +1,16 @@
 // Goal-oriented error estimation (dual-weighted residual, Becker and
-// Rannacher 2001, eq. 3.13 there): for a goal J,
+// Rannacher 2001): for a goal J,
 //   J(u) - J(u_h) ~ 1/2 rho(u_h)(z - I_h z) + 1/2 rho*(z_h)(u - I_h u),
 // rho(u_h)(v) = F(v) - a(u_h, v) the primal residual, rho*(z_h)(v) =
 // J'(u_h) v - a'(u_h)(v, z_h) the adjoint residual, z the adjoint of J. The
 // adjoint half makes the estimate exact to third order for nonlinear goals
 // (a stress norm, whose error is mostly the quadratic term a linear
-// estimate misses). z - I_h z and u - I_h u vanish in the discrete space
-// (Galerkin orthogonality), so z and u are approximated one degree higher
-// on the same mesh, with the simulator's own forms, objective partials and
-// solvers. In that space the residuals are vectors and the products are sums
-// over DoFs; each cell takes the DoF's share among the cells at the DoF.
+// estimate misses). The residuals vanish on the discrete space (Galerkin
+// orthogonality), so z and u are approximated one degree higher on the same
+// mesh, z+ and u+, with the simulator's own forms, objective partials and
+// solvers, and the discrete z_h, u_h stand for I_h z, I_h u. In that space
+// the residuals are vectors and the products are sums over DoFs; each cell
+// takes the DoF's share among the cells at the DoF.
 
 #include <deal.II/fe/fe_tools.h>
 #include <deal.II/lac/full_matrix.h>
@@ -23,16 +24,22 @@ namespace forma
 {
   template <int dim>
   std::vector<std::vector<double>>
-  ElasticitySimulator<dim>::Impl::goal_weights(const Objective<dim> &J)
+  ElasticitySimulator<dim>::Impl::goal_weights(const Objective<dim> &J,
+                                               double               &value)
   {
+    // Regularization terms (functions of the design alone) cancel in
+    // J(u) - J(u_h): J here is the sum of the integral terms.
     const auto                       I = objective_integrals(J, 0);
     std::vector<std::vector<double>> w;
+    value = 0;
     for (unsigned int t = 0; t < J.terms().size(); ++t)
       {
-        std::vector<double> d(J.terms()[t]->integrals().size(), 0.);
-        J.terms()[t]->combine(I[t], &d);
+        const auto         &term = *J.terms()[t];
+        std::vector<double> d(term.integrals().size(), 0.);
+        if (!term.integrals().empty())
+          value += term.weight * term.combine(I[t], &d);
         for (auto &x : d)
-          x *= J.terms()[t]->weight;
+          x *= term.weight;
         w.push_back(d);
       }
     return w;
@@ -43,13 +50,15 @@ namespace forma
   template <int dim>
   Vector_t
   ElasticitySimulator<dim>::Impl::goal_adjoint(const Objective<dim> &J,
-                                               Vector_t             &dJ_du)
+                                               Vector_t             &dJ_du,
+                                               double               &value)
   {
-    // The Jacobian at u (setting up its pattern first) and the adjoint
-    // lambda = -z of K^T lambda = -dJ/du.
+    // The Jacobian at u (a fresh factorization: the space may be new) and
+    // the adjoint lambda = -z of K^T lambda = -dJ/du. Contact and IPC, whose
+    // adjoint Jacobians differ from Newton's, exclude adaptivity.
     u_states.assign(1, u);
-    assemble(u, true, nullptr);
-    const auto w = goal_weights(J);
+    assemble_or_throw(u, true);
+    const auto w = goal_weights(J, value);
     dJ_du.reinit(owned, comm);
     accumulate(J, &w, nullptr, &dJ_du);
     Vector_t rhs(dJ_du), lambda(owned, comm);
@@ -57,6 +66,21 @@ namespace forma
     solve_jacobian(lambda, rhs);
     constraints_zero.distribute(lambda);
     return lambda;
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::assemble_or_throw(const Vector_t &state,
+                                                    const bool      with_matrix)
+  {
+    AssertThrow(assemble(state, with_matrix, nullptr),
+                ExcMessage("Finite element/Error indicator = goal: the "
+                           "state one degree higher inverts an element, so "
+                           "the goal estimate is not available on this mesh; "
+                           "refine the starting mesh or use the Kelly "
+                           "indicator."));
   }
 
 
@@ -73,7 +97,8 @@ namespace forma
     // The discrete adjoint z_h = -lambda_h; u_h and lambda_h cell by cell.
     // (Copy-assigned: a moved-in vector would drop the ghost layout.)
     Vector_t       dJ_du;
-    const Vector_t lambda_h = goal_adjoint(J, dJ_du);
+    double         value    = 0;
+    const Vector_t lambda_h = goal_adjoint(J, dJ_du, value);
     Vector_t       lambda_ghost(owned, relevant, comm);
     lambda_ghost                                = lambda_h;
     u_ghost                                     = u;
@@ -96,8 +121,8 @@ namespace forma
           cell->set_active_fe_index(index[cell->active_cell_index()] + raise);
     };
 
-    // One degree higher: embedding (exact, the spaces are nested) and
-    // z - I_h z of every element in use.
+    // One degree higher, where the discrete solutions embed exactly (the
+    // spaces are nested).
     set_degrees(1);
     setup_system();
     std::map<unsigned int, FullMatrix<double>> embedding, difference;
@@ -132,40 +157,55 @@ namespace forma
       return high;
     };
 
-    // At u_h one degree higher: the primal residual h = -rho, J, dJ/du and
-    // one Newton step to the higher-degree primal u+ (exact for linear
-    // elasticity).
-    u = embed(u_low);
+    // At u_h: the primal residual h = -rho, J and dJ/du (the adjoint
+    // residual rho*(z_h)(v) = dJ/du v - a'(v, z_h) is the vector
+    // dJ/du + K^T lambda_h).
+    const Vector_t u_h = embed(u_low);
+    u                  = u_h;
     u_states.assign(1, u);
-    assemble(u, true, nullptr);
-    const Vector_t h     = residual;
-    const double   value = objective_value(J);
-    {
-      const auto w = goal_weights(J);
-      dJ_du.reinit(owned, comm);
-      accumulate(J, &w, nullptr, &dJ_du);
-    }
-    Vector_t du(owned, comm), minus_h(h);
+    assemble_or_throw(u, true);
+    const Vector_t h = residual;
+    const auto     w = goal_weights(J, value);
+    dJ_du.reinit(owned, comm);
+    accumulate(J, &w, nullptr, &dJ_du);
+    const Vector_t lambda_embedded = embed(lambda_low);
+    Vector_t       dual(owned, comm);
+    jacobian.Tvmult(dual, lambda_embedded);
+    dual += dJ_du;
+
+    // The primal one degree higher, u+: the Dirichlet data interpolated in
+    // the higher space, then one Newton step (exact for linear elasticity).
+    Vector_t u_high(u);
+    constraints_bc.distribute(u_high);
+    assemble_or_throw(u_high, false);
+    Vector_t du(owned, comm), minus_h(residual);
     minus_h *= -1.;
     solve_jacobian(du, minus_h);
     constraints_zero.distribute(du);
-    Vector_t u_high(u);
     u_high += du;
-
-    // The adjoint residual rho*(z_h)(v) = dJ/du v - a'(v, z_h): with
-    // lambda_h = -z_h, the vector dJ/du + K^T lambda_h.
-    Vector_t dual(owned, comm);
-    jacobian.Tvmult(dual, embed(lambda_low));
-    dual += dJ_du;
 
     // The adjoint one degree higher, of J linearized at u+ rather than u_h:
     // the difference is what carries a nonlinear goal's quadratic error.
-    u                          = u_high;
-    const Vector_t lambda_high = goal_adjoint(J, dJ_du);
+    u = u_high;
+    double         value_high;
+    Vector_t       dJ_du_high;
+    const Vector_t lambda_high = goal_adjoint(J, dJ_du_high, value_high);
 
-    estimated_error.reinit(n_cells);
+    // The estimate with weights z+ - z_h and u+ - u_h: any conforming
+    // discrete function may stand for I_h z (Galerkin orthogonality), and
+    // the discrete solutions are conforming across hanging nodes and degree
+    // changes. The indicators with the cell's own interpolant, which
+    // vanishes at the cell's lower-degree nodes and so keeps each product
+    // on the cells it comes from (they mark better).
+    Vector_t weight_z(lambda_high), weight_u(u_high);
+    weight_z -= lambda_embedded;
+    weight_u -= u_h;
     const double estimate =
-      share_products(h, lambda_high, dual, u_high, difference, index);
+      share_products(h, weight_z, dual, weight_u, nullptr);
+    estimated_error.reinit(n_cells);
+    share_products(h, lambda_high, dual, u_high, [&](const auto &cell) {
+      return &difference.at(index[cell->active_cell_index()]);
+    });
 
     // Back to the solved state on the solver's own degrees; the direct
     // factorization or AMG hierarchy kept for reuse belongs to the higher
@@ -184,17 +224,17 @@ namespace forma
   template <int dim>
   double
   ElasticitySimulator<dim>::Impl::share_products(
-    const Vector_t                                   &h,
-    const Vector_t                                   &lambda,
-    const Vector_t                                   &dual,
-    const Vector_t                                   &u_high,
-    const std::map<unsigned int, FullMatrix<double>> &difference,
-    const std::vector<unsigned int>                  &index)
+    const Vector_t           &h,
+    const Vector_t           &z,
+    const Vector_t           &dual,
+    const Vector_t           &v,
+    const LocalInterpolation &interpolation)
   {
-    // eta_K = 1/2 sum_j [h_j (lambda - I_h lambda)_j + dual_j (u - I_h u)_j]
-    // / (cells at j) over the DoFs j of K that are not constrained (the
-    // condensed vectors hold hanging DoFs' shares at their masters); with
-    // lambda = -z and rho = -h, the first product is rho(z - I_h z).
+    // eta_K = 1/2 sum_j [h_j w(z)_j + dual_j w(v)_j] / (cells at j) over the
+    // DoFs j of K that are not constrained (the condensed vectors hold
+    // hanging DoFs' shares at their masters); w is z itself, or z - I_h z
+    // on the cell with `interpolation`. With lambda = -z and rho = -h, the
+    // first product is rho(z - I_h z).
     Vector_t count;
     count.reinit(owned, relevant, comm, true); // writable ghosts
     std::vector<types::global_dof_index> dofs;
@@ -207,33 +247,39 @@ namespace forma
             count(j) += 1.;
         }
     count.compress(VectorOperation::add);
-    const auto ghosted = [&](const Vector_t &v) {
+    const auto ghosted = [&](const Vector_t &x) {
       Vector_t g(owned, relevant, comm);
-      g = v;
+      g = x;
       return g;
     };
-    const Vector_t n = ghosted(count), hg = ghosted(h), lg = ghosted(lambda),
-                   dg = ghosted(dual), ug = ghosted(u_high);
+    const Vector_t n = ghosted(count), hg = ghosted(h), zg = ghosted(z),
+                   dg = ghosted(dual), vg = ghosted(v);
 
     double estimate = 0;
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
-          const unsigned int     i = cell->active_cell_index();
           const unsigned int     m = cell->get_fe().n_dofs_per_cell();
-          dealii::Vector<double> z(m), wz(m), v(m), wu(m);
-          cell->get_dof_values(lg, z);
-          cell->get_dof_values(ug, v);
-          difference.at(index[i]).vmult(wz, z);
-          difference.at(index[i]).vmult(wu, v);
+          dealii::Vector<double> wz(m), wv(m);
+          cell->get_dof_values(zg, wz);
+          cell->get_dof_values(vg, wv);
+          if (interpolation)
+            {
+              const FullMatrix<double> &D = *interpolation(cell);
+              dealii::Vector<double>    a(wz), b(wv);
+              D.vmult(wz, a);
+              D.vmult(wv, b);
+            }
           dofs.resize(m);
           cell->get_dof_indices(dofs);
           double eta = 0;
           for (unsigned int k = 0; k < m; ++k)
             if (!constraints_zero.is_constrained(dofs[k]))
               eta +=
-                0.5 * (hg(dofs[k]) * wz(k) + dg(dofs[k]) * wu(k)) / n(dofs[k]);
-          estimated_error(i) = static_cast<float>(std::abs(eta));
+                0.5 * (hg(dofs[k]) * wz(k) + dg(dofs[k]) * wv(k)) / n(dofs[k]);
+          if (interpolation)
+            estimated_error(cell->active_cell_index()) =
+              static_cast<float>(std::abs(eta));
           estimate += eta;
         }
     return Utilities::MPI::sum(estimate, comm);

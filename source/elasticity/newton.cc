@@ -160,7 +160,7 @@ namespace forma
   {
     if (!matrix_free)
       return reuse ? linear_solver.solve_reusing(jacobian, x, b) :
-                     linear_solver.solve(jacobian, x, b, fe.max_degree() > 1);
+                     linear_solver.solve(jacobian, x, b, solve_degree() > 1);
     AssertThrow(!Utilities::MPI::logical_or(face_tangent_missed.load(), comm),
                 ExcMessage("Solver/Linear solver = cg-mg: a boundary load "
                            "depends on the displacement (its tangent lives on "

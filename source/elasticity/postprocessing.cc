@@ -295,7 +295,7 @@ namespace forma
     out.add_data_vector(material, "material_id");
     out.add_data_vector(partition, "partition");
     out.add_data_vector(degree, "fe_degree");
-    out.build_patches(mapping, simplex ? 1 : fe.max_degree());
+    out.build_patches(mapping, simplex ? 1 : solve_degree());
     const std::string name = out.write_vtu_with_pvtu_record(
       context->directory() + "/", "solution", step, comm, 4);
     pvd_records.emplace_back(t, name);

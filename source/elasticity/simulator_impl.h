@@ -313,22 +313,37 @@ namespace forma
     /// the signed estimate of J(u) - J(u_h). The state is kept.
     std::pair<double, double>
     estimate_goal_error();
-    /// dPhi/dI (times the term weights) of J at the static state.
+    /// dPhi/dI (times the term weights) of J at the static state, and
+    /// J's integral terms there.
     std::vector<std::vector<double>>
-    goal_weights(const Objective<dim> &J);
-    /// The adjoint lambda = -z of J at u on the current space, with dJ/du;
-    /// leaves the Jacobian and `residual` at u assembled.
+    goal_weights(const Objective<dim> &J, double &value);
+    /// The adjoint lambda = -z of J at u on the current space, with dJ/du
+    /// and J; leaves the Jacobian and `residual` at u assembled.
     Vector_t
-    goal_adjoint(const Objective<dim> &J, Vector_t &dJ_du);
-    /// The cells' shares of the primal and adjoint residual products into
-    /// `estimated_error`; returns their signed sum (see goal_estimate.cc).
+    goal_adjoint(const Objective<dim> &J, Vector_t &dJ_du, double &value);
+    /// assemble() for the goal estimate: an inverted element is an error.
+    void
+    assemble_or_throw(const Vector_t &state, const bool with_matrix);
+    /// z - I_h z on a cell, as a matrix on its DoF values (goal estimate).
+    using LocalInterpolation = std::function<const FullMatrix<double> *(
+      const typename DoFHandler<dim>::active_cell_iterator &)>;
+    /// The cells' shares of the primal and adjoint residual products with
+    /// weights z and v (or, with `interpolation`, their z - I_h z on each
+    /// cell, then into `estimated_error`); returns their signed sum (see
+    /// goal_estimate.cc).
     double
-    share_products(const Vector_t                                   &h,
-                   const Vector_t                                   &lambda,
-                   const Vector_t                                   &dual,
-                   const Vector_t                                   &u_high,
-                   const std::map<unsigned int, FullMatrix<double>> &difference,
-                   const std::vector<unsigned int>                  &index);
+    share_products(const Vector_t           &h,
+                   const Vector_t           &z,
+                   const Vector_t           &dual,
+                   const Vector_t           &v,
+                   const LocalInterpolation &interpolation);
+    /// The highest degree the solve uses (the goal estimate's extra element
+    /// aside).
+    unsigned int
+    solve_degree() const
+    {
+      return p.adaptivity == "hp" ? p.max_degree : p.degree;
+    }
 
     // postprocessing
     void

@@ -8,13 +8,9 @@
 #include <forma/elasticity/simulator.h>
 
 #include "../tests.h"
+#include "layer_problem.h"
 
 using namespace dealii;
-
-const std::string exact = "atan(50*(x + y - 1)), 0";
-const std::string force =
-  "250000*(lambda + 3*mu)*(x + y - 1)/(2500*(x + y - 1)^2 + 1)^2, "
-  "250000*(lambda + mu)*(x + y - 1)/(2500*(x + y - 1)^2 + 1)^2";
 
 // Error (H1 seminorm) and DoFs per cycle.
 std::vector<std::pair<double, double>>
@@ -22,22 +18,12 @@ study(const std::string &adaptivity,
       const unsigned int degree,
       const unsigned int cycles)
 {
-  std::string dirichlet;
-  for (unsigned int b = 0; b < 4; ++b)
-    dirichlet += std::to_string(b) + " : xy : " + exact + (b < 3 ? " ; " : "");
   const auto p = parameters_from_string<forma::ElasticityParameters>(
-    "subsection Mesh\n set Generator = hyper_cube\n set Generator arguments = 0 : 1 : true\n"
-    " set Initial refinement = 2\nend\n"
-    "subsection Finite element\n set Degree = " +
-    std::to_string(degree) + "\n set Adaptivity = " + adaptivity +
-    "\n set Adaptive cycles = " + std::to_string(cycles) +
-    "\nend\n"
-    "subsection Material\n set Bodies = * : lambda = 1.5, mu = 1\nend\n"
-    "subsection Boundary conditions\n set Dirichlet = " +
-    dirichlet +
-    "\n set Constants = lambda = 1.5, mu = 1\nend\n"
-    "subsection Loads\n set Body force = " +
-    force + "\nend\n");
+    layer_problem(2,
+                  " set Degree = " + std::to_string(degree) +
+                    "\n set Adaptivity = " + adaptivity +
+                    "\n set Adaptive cycles = " + std::to_string(cycles) +
+                    "\n"));
   forma::ElasticitySimulator<2>          sim(p, MPI_COMM_WORLD);
   std::vector<std::pair<double, double>> history;
   FunctionParser<2>                      u(2);
@@ -75,18 +61,7 @@ main(int argc, char **argv)
   for (unsigned int r = 2; r <= 6; ++r)
     {
       const auto p = parameters_from_string<forma::ElasticityParameters>(
-        "subsection Mesh\n set Generator = hyper_cube\n set Generator arguments = 0 : 1 : true\n"
-        " set Initial refinement = " +
-        std::to_string(r) +
-        "\nend\n"
-        "subsection Finite element\n set Degree = 2\nend\n"
-        "subsection Material\n set Bodies = * : lambda = 1.5, mu = 1\nend\n"
-        "subsection Boundary conditions\n set Dirichlet = 0 : xy : " +
-        exact + " ; 1 : xy : " + exact + " ; 2 : xy : " + exact +
-        " ; 3 : xy : " + exact +
-        "\n set Constants = lambda = 1.5, mu = 1\nend\n"
-        "subsection Loads\n set Body force = " +
-        force + "\nend\n");
+        layer_problem(r, " set Degree = 2\n"));
       forma::ElasticitySimulator<2> sim(p, MPI_COMM_WORLD);
       sim.run();
       FunctionParser<2> u(2);

@@ -9,8 +9,24 @@
 
 #include <Sacado.hpp>
 
+#include <limits>
+
 namespace forma
 {
+  /// The keys x, y[, z] of a record as a vector; `fallback` for a missing
+  /// key (NaN: the keys are required).
+  template <int dim>
+  dealii::Tensor<1, dim>
+  axis_keys(const KeyValueRecord &r,
+            const double fallback = std::numeric_limits<double>::quiet_NaN())
+  {
+    const char            *axes[3] = {"x", "y", "z"};
+    dealii::Tensor<1, dim> v;
+    for (unsigned int d = 0; d < dim; ++d)
+      v[d] = r.key(axes[d], fallback);
+    return v;
+  }
+
   /**
    * Terms state their integrand once, generic in the number type; the
    * partials come from forward-mode AD over (x, u, grad u, lambda, mu).

@@ -91,11 +91,10 @@ namespace forma
     std::unique_ptr<ObjectiveTerm<dim>>
     make_center_of_mass(const TermRecord<dim> &r)
     {
-      Tensor<1, dim> c;
-      const char    *axes[3] = {"x", "y", "z"};
-      for (unsigned int d = 0; d < dim; ++d)
-        c[d] = r.key(axes[d]);
-      return std::make_unique<CenterOfMass<dim>>(r.name, r.weight, false, c);
+      return std::make_unique<CenterOfMass<dim>>(r.name,
+                                                 r.weight,
+                                                 false,
+                                                 axis_keys<dim>(r));
     }
 
     template <int dim>

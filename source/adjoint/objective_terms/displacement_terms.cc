@@ -75,10 +75,7 @@ namespace forma
     std::unique_ptr<ObjectiveTerm<dim>>
     make_mean_displacement(const TermRecord<dim> &r)
     {
-      Tensor<1, dim> d;
-      const char    *axes[3] = {"x", "y", "z"};
-      for (unsigned int c = 0; c < dim; ++c)
-        d[c] = r.key(axes[c], 0.);
+      const Tensor<1, dim> d = axis_keys<dim>(r, 0.);
       AssertThrow(d.norm() > 0,
                   ExcMessage(r.where +
                              ": give the direction, e.g. y=-1 (x, y, z "
