@@ -204,6 +204,17 @@ main()
     "binary_mesh",
     base + "subsection Mesh\n set Source = file\n set File = binary.msh\nend\n",
     good);
+  // The goal estimate needs an objective and adaptive cycles.
+  expect_failure("goal_without_objective",
+                 base + "subsection Finite element\n set Adaptivity = h\n"
+                        " set Error indicator = goal\nend\n",
+                 good);
+  expect_failure("goal_without_adaptivity",
+                 base + "subsection Finite element\n"
+                        " set Error indicator = goal\nend\n"
+                        "subsection Objective\n set Terms = stress : p=2\n"
+                        "end\n",
+                 good);
   // A parameter value that is not UTF-8 (a Latin-1 file name): quoted
   // escaped, and the echoed parameters still make valid JSON.
   expect_failure("latin1_file_name",
