@@ -101,24 +101,29 @@ namespace forma
         "keep",
         Patterns::Selection("keep|resample"),
         "What a remesh does with the boundary and the interfaces. keep: every "
-        "facet stays (only the interior is meshed anew). resample (2D): the "
-        "free boundary curves and interfaces are resampled along their "
-        "current shape (Remesh boundary size, Remesh feature angle), as the "
-        "thesis's Algorithm 1 remeshes the whole domain; corners, the ends "
-        "of every boundary id and interface, fixed boundaries and fixed "
-        "bodies stay, every part keeps its area, and a resampling whose "
-        "curves would cross is refused (the design stays on its mesh).");
+        "facet stays (only the interior is meshed anew). resample: the free "
+        "boundary curves (2D) or surfaces (3D) and interfaces are resampled "
+        "along their current shape (Remesh boundary size, Remesh feature "
+        "angle), as the thesis's Algorithm 1 remeshes the whole domain; "
+        "corners (2D) or feature edges (3D: where boundary ids and "
+        "interfaces meet, and sharp edges), fixed boundaries, fixed bodies "
+        "and cut interfaces (3D) stay, every part keeps its area or volume, "
+        "and a resampling that fails is refused (the design stays on its "
+        "mesh). 3D surfaces are remeshed isotropically by CGAL.");
       prm.declare_entry("Remesh boundary size",
                         "0",
                         Patterns::Double(0),
-                        "Segment length of a resampled boundary; 0: the "
-                        "current local length, evened out along each curve.");
+                        "Segment (2D) or edge (3D) length of a resampled "
+                        "boundary; 0: the current local length, evened out "
+                        "along each curve (2D), or the mean edge length of "
+                        "the free surfaces (3D).");
       prm.declare_entry("Remesh feature angle",
                         "30",
                         Patterns::Double(0, 180),
                         "A boundary vertex where the curve turns by more "
                         "than this (degrees) is a corner that resampling "
-                        "keeps.");
+                        "keeps; in 3D, an edge where the surface bends by "
+                        "more is a feature edge that stays.");
       prm.declare_entry("Shape bound",
                         "0",
                         Patterns::Double(0),

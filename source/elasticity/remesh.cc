@@ -330,9 +330,8 @@ namespace forma
     if (root)
       try
         {
-          if constexpr (dim == 2)
-            if (p.design.resample_boundary)
-              boundary = resample_boundaries(boundary, boundary_resampling());
+          if (p.design.resample_boundary)
+            boundary = resample_boundaries(boundary, boundary_resampling());
           msh = mesh_regions(boundary, !simplex);
         }
       catch (const std::exception &e)

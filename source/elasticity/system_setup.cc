@@ -78,10 +78,6 @@ namespace forma
         shape_constraints,
         ComponentMask(mask));
     };
-    AssertThrow(dim == 2 || !p.design.resample_boundary,
-                ExcMessage("Design/Remesh boundary = resample is available in "
-                           "2D only (3D remeshing keeps the surface "
-                           "triangles); use 'keep'."));
     for (const auto &id :
          Utilities::split_string_list(p.design.fixed_boundaries, ','))
       constrain(Utilities::string_to_int(id),

@@ -31,11 +31,7 @@ namespace forma
     bool
     kept(const Key &key, const BoundaryResampling &o)
     {
-      return o.kept_materials.count(key[0]) ||
-             (key[1] != numbers::invalid_material_id &&
-              o.kept_materials.count(key[1])) ||
-             (key[1] == numbers::invalid_material_id &&
-              o.kept_boundaries.count(key[2]));
+      return o.keeps(key[0], key[1], key[2]);
     }
 
     // The turn of the polyline a-b-c at b, in [0, pi].

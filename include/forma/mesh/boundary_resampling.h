@@ -14,21 +14,27 @@ namespace forma
   {
     /// Target segment length; 0: the current local length, smoothed along
     /// each piece (so the count stays about the same and the spacing
-    /// becomes even).
+    /// becomes even); in 3D, the mean edge length of the free patches.
     double size = 0;
     /// A vertex where the boundary turns by more than this (radians) is a
-    /// corner and stays.
+    /// corner and stays; in 3D, an edge where the surface bends by more.
     double feature_angle = 0.5;
     /// Largest turn (radians) of the resampled curve over one segment: a
-    /// bend keeps as many vertices as it needs.
+    /// bend keeps as many vertices as it needs (2D).
     double max_turn = 0.2;
-    /// Largest relative change of any region's area before the result is
-    /// refused.
+    /// Largest relative change of any region's area (2D) or volume (3D)
+    /// before the result is refused.
     double max_area_change = 1e-3;
     /// Boundary ids and material ids whose facets stay as they are (fixed
     /// boundaries and fixed parts keep their vertices).
     std::set<dealii::types::boundary_id> kept_boundaries;
     std::set<dealii::types::material_id> kept_materials;
+
+    /// Whether a facet with these ids stays as it is.
+    bool
+    keeps(const dealii::types::material_id inside,
+          const dealii::types::material_id outside,
+          const dealii::types::boundary_id boundary) const;
   };
 
   /**
@@ -52,6 +58,31 @@ namespace forma
   /// The area of every region (material id) enclosed by `boundaries`.
   std::map<dealii::types::material_id, double>
   region_areas(const RegionBoundaries<2> &boundaries);
+
+  /**
+   * The region boundaries of a 3D mesh with every free surface patch (the
+   * facets of one key connected through edges) remeshed isotropically by
+   * CGAL (Polygon Mesh Processing) at the target size, on its current
+   * shape. Feature edges stay: patch borders (where keys meet, so ids and
+   * interfaces keep their extent), and edges where the surface bends by
+   * more than the feature angle; those longer than 4/3 of the size are
+   * split at their midpoints (on both sides, so patches stay conforming).
+   * The free vertices of each patch are then moved along the gradient of
+   * the volume it encloses, so that every region keeps its volume to
+   * round-off. Kept boundaries and materials, and both sides of a cut
+   * interface (patches whose every vertex has a copy at the same point),
+   * keep their facets.
+   *
+   * Throws if a patch is not a manifold surface, if CGAL fails, or if a
+   * region's volume changes by more than max_area_change.
+   */
+  RegionBoundaries<3>
+  resample_boundaries(const RegionBoundaries<3> &boundaries,
+                      const BoundaryResampling  &options);
+
+  /// The volume of every region (material id) enclosed by `boundaries`.
+  std::map<dealii::types::material_id, double>
+  region_volumes(const RegionBoundaries<3> &boundaries);
 } // namespace forma
 
 #endif
