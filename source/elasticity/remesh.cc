@@ -14,6 +14,7 @@
 #include <forma/base/run_context.h>
 #include <forma/mesh/boundary_resampling.h>
 #include <forma/mesh/remesh.h>
+#include <forma/mesh/separate_interfaces.h>
 
 #include "simulator_impl.h"
 
@@ -196,6 +197,13 @@ namespace forma
     for (const auto &id :
          Utilities::split_string_list(p.design.fixed_bodies, ','))
       o.kept_materials.insert(Utilities::string_to_int(id));
+    // 3D resampling remeshes each side of a cut interface on its own: they
+    // would no longer match, so both keep their facets (2D resamples the
+    // two sides identically).
+    if (dim == 3)
+      for (const auto &cut : parse_interface_cuts(p.mesh.separate_interfaces,
+                                                  "Mesh/Separate interfaces"))
+        o.kept_boundaries.insert(cut.boundary);
     return o;
   }
 

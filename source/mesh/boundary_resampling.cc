@@ -8,6 +8,8 @@
 
 #include <forma/mesh/boundary_resampling.h>
 
+#include "resampling_check.h"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -40,15 +42,6 @@ namespace forma
     {
       const Tensor<1, 2> d = b - a, e = c - b;
       return std::atan2(std::abs(d[0] * e[1] - d[1] * e[0]), d * e);
-    }
-
-    std::string
-    fmt(const double x)
-    {
-      std::ostringstream s;
-      s.precision(3);
-      s << x;
-      return s.str();
     }
 
     bool
@@ -204,9 +197,10 @@ namespace forma
                         ExcMessage(
                           "boundary resampling: the resampled boundaries cross "
                           "near (" +
-                          fmt(x[p[0]][0]) + ", " + fmt(x[p[0]][1]) +
-                          ") (materials " + std::to_string(b.facets[i].inside) +
-                          " and " + std::to_string(b.facets[j].inside) +
+                          internal::fmt3(x[p[0]][0]) + ", " +
+                          internal::fmt3(x[p[0]][1]) + ") (materials " +
+                          std::to_string(b.facets[i].inside) + " and " +
+                          std::to_string(b.facets[j].inside) +
                           "); lower Design/Remesh boundary size or Remesh "
                           "feature angle."));
           }
@@ -352,11 +346,11 @@ namespace forma
     std::map<Key, std::map<unsigned int, unsigned int>> next;
     for (const auto &f : b.facets)
       AssertThrow(next[key_of(f)].emplace(f.vertices[0], f.vertices[1]).second,
-                  ExcMessage("boundary resampling: the boundary of material " +
-                             std::to_string(f.inside) +
-                             " touches itself at vertex (" +
-                             fmt(b.vertices[f.vertices[0]][0]) + ", " +
-                             fmt(b.vertices[f.vertices[0]][1]) + ")."));
+                  ExcMessage(
+                    "boundary resampling: the boundary of material " +
+                    std::to_string(f.inside) + " touches itself at vertex (" +
+                    internal::fmt3(b.vertices[f.vertices[0]][0]) + ", " +
+                    internal::fmt3(b.vertices[f.vertices[0]][1]) + ")."));
     auto [corner, pinned] = find_corners(b, next, o);
 
     RegionBoundaries<2>       result;
@@ -414,18 +408,12 @@ namespace forma
         }
 
     check_no_crossings(result);
-    const auto before = region_areas(b), after = region_areas(result);
-    for (const auto &[m, area] : before)
-      {
-        const double change = std::abs(after.at(m) - area) / std::abs(area);
-        AssertThrow(change <= o.max_area_change,
-                    ExcMessage("boundary resampling: the area of material " +
-                               std::to_string(m) + " would change by " +
-                               fmt(100 * change) + "% (more than " +
-                               fmt(100 * o.max_area_change) +
-                               "%); lower the feature angle so that more "
-                               "bends stay as corners."));
-      }
+    internal::check_region_change(region_areas(b),
+                                  region_areas(result),
+                                  o.max_area_change,
+                                  "area",
+                                  "lower the feature angle so that more "
+                                  "bends stay as corners.");
     return result;
   }
 } // namespace forma

@@ -9,6 +9,7 @@
 
 #include <forma/mesh/boundary_resampling.h>
 
+#include "resampling_check.h"
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
 #include <CGAL/Surface_mesh.h>
@@ -17,7 +18,6 @@
 #include <cmath>
 #include <map>
 #include <numeric>
-#include <sstream>
 
 namespace forma
 {
@@ -43,15 +43,6 @@ namespace forma
     edge(const unsigned int a, const unsigned int b)
     {
       return a < b ? Edge{a, b} : Edge{b, a};
-    }
-
-    std::string
-    fmt(const double x)
-    {
-      std::ostringstream s;
-      s.precision(3);
-      s << x;
-      return s.str();
     }
 
     std::string
@@ -99,10 +90,11 @@ namespace forma
     {
       std::vector<unsigned int> parent(b.facets.size());
       std::iota(parent.begin(), parent.end(), 0u);
-      const std::function<unsigned int(unsigned int)> root =
-        [&](const unsigned int i) {
-          return parent[i] == i ? i : parent[i] = root(parent[i]);
-        };
+      const auto root = [&](unsigned int i) {
+        while (parent[i] != i)
+          i = parent[i] = parent[parent[i]]; // path halving
+        return i;
+      };
       for (const auto &[e, facets] : edge_facets(b))
         for (const auto i : facets)
           if (key_of(b.facets[i]) == key_of(b.facets[facets[0]]))
@@ -186,10 +178,10 @@ namespace forma
           p.kept[k] = true;
     }
 
-    // Splits every feature edge longer than `high` at its midpoint (the
-    // facets on both sides with it), until none is: CGAL keeps the
-    // feature edges and needs them no longer than 4/3 of its target. The
-    // geometry does not change.
+    // Splits every feature edge beside a free patch that is longer than
+    // `high` at its midpoint (the facets on all sides with it), until none
+    // is: CGAL keeps the feature edges and needs them no longer than 4/3
+    // of its target. The geometry does not change.
     void
     split_long_features(RegionBoundaries<3> &b, Patches &p, const double high)
     {
@@ -202,7 +194,15 @@ namespace forma
           for (const auto &e : features)
             {
               const auto &xa = b.vertices[e.first], &xb = b.vertices[e.second];
-              if ((xb - xa).norm() <= high)
+              const auto &around = facets_of[e];
+              // Only CGAL's (free) patches need short features: kept ones,
+              // the two sides of a cut among them, stay as they are.
+              if ((xb - xa).norm() <= high ||
+                  std::all_of(around.begin(),
+                              around.end(),
+                              [&](const unsigned int f) {
+                                return p.kept[p.of_facet[f]];
+                              }))
                 continue;
               again                = true;
               const unsigned int m = b.vertices.size();
@@ -373,38 +373,44 @@ namespace forma
     // Moves the free vertices of `mesh` along the gradient of the volume
     // it encloses until that is `target` again: a patch keeps the volume
     // between it and its old shape at zero (its border stays), so every
-    // region keeps its volume.
+    // region keeps its volume. Returns the largest move of a vertex.
     template <typename Fixed>
-    void
+    double
     restore_volume(Mesh &mesh, const Fixed &fixed, const double target)
     {
+      std::map<Mesh::Vertex_index, Tensor<1, 3>> moved;
       for (unsigned int step = 0; step < 3; ++step)
         {
           std::map<Mesh::Vertex_index, Tensor<1, 3>> gradient;
           for (const auto f : mesh.faces())
-            {
-              const auto h = mesh.halfedge(f);
-              for (const auto g : CGAL::halfedges_around_face(h, mesh))
-                {
-                  const auto v = mesh.target(g);
-                  if (fixed(v))
-                    continue;
-                  const auto a = point(mesh.point(mesh.target(mesh.next(g))));
-                  const auto c =
-                    point(mesh.point(mesh.target(mesh.next(mesh.next(g)))));
-                  gradient[v] += cross_product_3d(a, c) / 6;
-                }
-            }
+            for (const auto g :
+                 CGAL::halfedges_around_face(mesh.halfedge(f), mesh))
+              {
+                const auto v = mesh.target(g);
+                if (fixed(v))
+                  continue;
+                const auto a = point(mesh.point(mesh.target(mesh.next(g))));
+                const auto c =
+                  point(mesh.point(mesh.target(mesh.next(mesh.next(g)))));
+                gradient[v] += cross_product_3d(a, c) / 6;
+              }
           double norm2 = 0;
           for (const auto &[v, g] : gradient)
             norm2 += g * g;
           if (norm2 == 0)
-            return;
+            break;
           const double t = (target - enclosed(mesh)) / norm2;
           for (const auto &[v, g] : gradient)
-            mesh.point(v) =
-              mesh.point(v) + Kernel::Vector_3(t * g[0], t * g[1], t * g[2]);
+            {
+              mesh.point(v) =
+                mesh.point(v) + Kernel::Vector_3(t * g[0], t * g[1], t * g[2]);
+              moved[v] += t * g;
+            }
         }
+      double largest = 0;
+      for (const auto &[v, d] : moved)
+        largest = std::max(largest, d.norm());
+      return largest;
     }
 
     // Remeshes the facets of one patch (the border and the feature edges
@@ -442,13 +448,14 @@ namespace forma
                                         local[g] = mesh.add_vertex({x[0], x[1], x[2]});
               global[v[k]]          = g;
             }
-          AssertThrow(mesh.add_face(v[0], v[1], v[2]) != Mesh::null_face(),
-                      ExcMessage(
-                        "boundary resampling: the " + name(key) +
-                        " is not a manifold surface near (" +
-                        fmt(b.vertices[b.facets[i].vertices[0]][0]) + ", " +
-                        fmt(b.vertices[b.facets[i].vertices[0]][1]) + ", " +
-                        fmt(b.vertices[b.facets[i].vertices[0]][2]) + ")."));
+          AssertThrow(
+            mesh.add_face(v[0], v[1], v[2]) != Mesh::null_face(),
+            ExcMessage(
+              "boundary resampling: the " + name(key) +
+              " is not a manifold surface near (" +
+              internal::fmt3(b.vertices[b.facets[i].vertices[0]][0]) + ", " +
+              internal::fmt3(b.vertices[b.facets[i].vertices[0]][1]) + ", " +
+              internal::fmt3(b.vertices[b.facets[i].vertices[0]][2]) + ")."));
         }
       auto feature =
         mesh.add_property_map<Mesh::Edge_index, bool>("e:feature", false).first;
@@ -477,8 +484,18 @@ namespace forma
           fixed[mesh.target(h)] = fixed[mesh.source(h)] = true;
       for (const auto v : mesh.vertices())
         fixed[v] = fixed[v] || pinned[v];
-      restore_volume(
+      const double moved = restore_volume(
         mesh, [&](const auto v) { return fixed[v]; }, enclosed_before);
+      // A large correction would fold the surface: the patch lost or gained
+      // too much volume where it could not move (too few free vertices).
+      AssertThrow(moved <= size / 4,
+                  ExcMessage("boundary resampling: keeping the volume of the " +
+                             name(key) + " would move its vertices by " +
+                             internal::fmt3(moved) +
+                             " (more than a quarter of the size " +
+                             internal::fmt3(size) +
+                             "); lower the feature angle so that more edges "
+                             "stay."));
 
       std::vector<unsigned int> to_out(mesh.number_of_vertices());
       for (const auto v : mesh.vertices())
@@ -612,19 +629,12 @@ namespace forma
                                    name(p.key[k]) + " (" + e.message() + ")."));
           }
 
-    const auto before = region_volumes(boundaries),
-               after  = region_volumes(result);
-    for (const auto &[m, volume] : before)
-      {
-        const double change = std::abs(after.at(m) - volume) / std::abs(volume);
-        AssertThrow(change <= o.max_area_change,
-                    ExcMessage("boundary resampling: the volume of material " +
-                               std::to_string(m) + " would change by " +
-                               fmt(100 * change) + "% (more than " +
-                               fmt(100 * o.max_area_change) +
-                               "%); lower the feature angle so that more "
-                               "edges stay."));
-      }
+    internal::check_region_change(region_volumes(boundaries),
+                                  region_volumes(result),
+                                  o.max_area_change,
+                                  "volume",
+                                  "lower the feature angle so that more "
+                                  "edges stay.");
     return result;
   }
 } // namespace forma

@@ -11,7 +11,6 @@
 // 2D quads with two materials, 3D tetrahedra; a hexahedral mesh is refused.
 
 #include <deal.II/grid/grid_generator.h>
-#include <deal.II/grid/grid_out.h>
 #include <deal.II/grid/tria.h>
 
 #include "../tests.h"
@@ -33,13 +32,7 @@ namespace
       tria, {24, 8}, Point<2>(0, 0), Point<2>(3, 1), true);
     for (const auto &cell : tria.active_cell_iterators())
       cell->set_material_id(cell->center()[0] > 1.5 ? 1 : 0);
-    const std::string file =
-      (std::filesystem::current_path() / "two_materials.msh").string();
-    std::ofstream out(file);
-    GridOut       grid_out;
-    grid_out.set_flags(GridOutFlags::Msh(true));
-    grid_out.write_msh(tria, out);
-    return file;
+    return written_msh(tria, "two_materials.msh");
   }
 
   std::string

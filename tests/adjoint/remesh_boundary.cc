@@ -11,7 +11,6 @@
 // (mesh/boundary_resampling.h), the clamped side kept.
 
 #include <deal.II/grid/grid_generator.h>
-#include <deal.II/grid/grid_out.h>
 #include <deal.II/grid/tria.h>
 
 #include "../tests.h"
@@ -43,13 +42,7 @@ namespace
                                 c[1] < 1e-12     ? 2 :
                                                    3);
         }
-    const std::string file =
-      (std::filesystem::current_path() / "two_materials.msh").string();
-    std::ofstream out(file);
-    GridOut       grid_out;
-    grid_out.set_flags(GridOutFlags::Msh(true));
-    grid_out.write_msh(tria, out);
-    return file;
+    return written_msh(tria, "two_materials.msh");
   }
 
   std::string
@@ -189,13 +182,7 @@ namespace
               id = 2 * d + 1;
           face->set_boundary_id(id);
         }
-    const std::string file =
-      (std::filesystem::current_path() / "two_material_bar.msh").string();
-    std::ofstream out(file);
-    GridOut       grid_out;
-    grid_out.set_flags(GridOutFlags::Msh(true));
-    grid_out.write_msh(tria, out);
-    return file;
+    return written_msh(tria, "two_material_bar.msh");
   }
 
   // That bar at P2, its sides stretched and sheared unevenly.

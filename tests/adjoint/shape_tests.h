@@ -1,12 +1,31 @@
 // Shared by the shape-design tests of this directory (remesh,
-// remesh_boundary, shape_filter): the Taylor verdict they log and the 3D
-// tetrahedral cantilever they run.
+// remesh_boundary, shape_filter): the Taylor verdict they log, the 3D
+// tetrahedral cantilever they run and the meshes they write.
 #ifndef forma_tests_adjoint_shape_tests_h
 #define forma_tests_adjoint_shape_tests_h
 
+#include <deal.II/grid/grid_out.h>
+#include <deal.II/grid/tria.h>
+
 #include <forma/elasticity/taylor_test.h>
 
+#include <filesystem>
+#include <fstream>
 #include <string>
+
+/// `tria` written as Gmsh `name` in the working directory (with its
+/// boundary ids); returns the file's path.
+template <int dim>
+std::string
+written_msh(const dealii::Triangulation<dim> &tria, const std::string &name)
+{
+  const std::string file = (std::filesystem::current_path() / name).string();
+  std::ofstream     out(file);
+  dealii::GridOut   grid_out;
+  grid_out.set_flags(dealii::GridOutFlags::Msh(true));
+  grid_out.write_msh(tria, out);
+  return file;
+}
 
 /// "rate >= 1.9" or "FAILED, rates ..." of a 4-row Taylor test at the
 /// simulator's design.

@@ -63,18 +63,24 @@ namespace forma
    * The region boundaries of a 3D mesh with every free surface patch (the
    * facets of one key connected through edges) remeshed isotropically by
    * CGAL (Polygon Mesh Processing) at the target size, on its current
-   * shape. Feature edges stay: patch borders (where keys meet, so ids and
-   * interfaces keep their extent), and edges where the surface bends by
-   * more than the feature angle; those longer than 4/3 of the size are
-   * split at their midpoints (on both sides, so patches stay conforming).
-   * The free vertices of each patch are then moved along the gradient of
-   * the volume it encloses, so that every region keeps its volume to
-   * round-off. Kept boundaries and materials, and both sides of a cut
-   * interface (patches whose every vertex has a copy at the same point),
-   * keep their facets.
+   * shape. Patch borders (where keys meet, so ids and interfaces keep
+   * their extent) keep their vertices, and so do the sharp edges inside a
+   * patch (where the surface bends by more than the feature angle) but for
+   * a vertex between a segment shorter than 4/5 of the size and the next,
+   * which is collapsed into its nearer neighbour on that edge. Those
+   * edges longer than 4/3 of the size are split at their midpoints (on all
+   * sides, so patches stay conforming). The free vertices of each patch
+   * are then moved along the gradient of the volume it encloses, so that
+   * every region keeps its volume to round-off. Kept boundaries and
+   * materials keep their facets (their edges beside a free patch split at
+   * midpoints), and so do patches whose every vertex has a copy at the
+   * same point (a side of a cut interface; list cut interfaces' ids as
+   * kept, since a cut that meets a third part shares vertices there).
    *
-   * Throws if a patch is not a manifold surface, if CGAL fails, or if a
-   * region's volume changes by more than max_area_change.
+   * Throws if a patch is not a manifold surface, if CGAL fails, if
+   * keeping a patch's volume would move a vertex by more than a quarter of
+   * the size, or if a region's volume changes by more than
+   * max_area_change.
    */
   RegionBoundaries<3>
   resample_boundaries(const RegionBoundaries<3> &boundaries,
