@@ -149,14 +149,9 @@ namespace
     deallog << "  Taylor test on the resampled design: " << taylor_verdict(s)
             << std::endl;
 
-    forma::ElasticitySimulator<2> t(p, MPI_COMM_WORLD);
-    t.prepare();
-    t.set_objective(J);
-    t.load_remeshed(stem);
-    t.set_design(s.design());
-    t.solve_design();
     check("restored from files, same J",
-          std::abs(t.objective() - J1) < 1e-10 * J1);
+          std::abs(restored_objective(p, J, stem, s.design()) - J1) <
+            1e-10 * J1);
   }
 
   // The tetrahedral bar of shape_tests.h in two materials (x < 1: 0, else
@@ -270,14 +265,9 @@ namespace
     deallog << "  Taylor test on the resampled design: " << taylor_verdict(s)
             << std::endl;
 
-    forma::ElasticitySimulator<3> t(p, MPI_COMM_WORLD);
-    t.prepare();
-    t.set_objective(J);
-    t.load_remeshed(stem);
-    t.set_design(s.design());
-    t.solve_design();
     check("restored from files, same J",
-          std::abs(t.objective() - J1) < 1e-10 * J1);
+          std::abs(restored_objective(p, J, stem, s.design()) - J1) <
+            1e-10 * J1);
   }
 } // namespace
 

@@ -11,7 +11,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <string>
+#include <vector>
 
 /// `tria` written as Gmsh `name` in the working directory (with its
 /// boundary ids); returns the file's path.
@@ -41,6 +43,24 @@ taylor_verdict(forma::ElasticitySimulator<dim> &s)
     for (const double x : r.rates)
       result += " " + std::to_string(x);
   return result;
+}
+
+/// J of `design` on the remeshed design that a second simulator restores
+/// from the files of `stem` (what a resumed run does).
+template <int dim>
+double
+restored_objective(const forma::ElasticityParameters                  &p,
+                   const std::shared_ptr<const forma::Objective<dim>> &J,
+                   const std::string                                  &stem,
+                   const std::vector<double>                          &design)
+{
+  forma::ElasticitySimulator<dim> r(p, MPI_COMM_WORLD);
+  r.prepare();
+  r.set_objective(J);
+  r.load_remeshed(stem);
+  r.set_design(design);
+  r.solve_design();
+  return r.objective();
 }
 
 /// A 2 x 1 x 1 bar of P1 tetrahedra clamped at x = 0 (id 0), pulled down
