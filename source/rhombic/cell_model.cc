@@ -2,7 +2,7 @@
 #include <deal.II/base/timer.h>
 #include <deal.II/grid/tria.h>
 
-#include <forma/base/plot.h>
+#include <forma/base/outline.h>
 #include <forma/homogenization/parallelogram_cell.h>
 #include <forma/mesh/level_set_motion.h>
 #include <forma/mesh/mesh.h>
@@ -93,7 +93,8 @@ namespace forma
 
 
     void
-    CellModel::write_svg(const std::string &file_name, const double side) const
+    CellModel::write_outline(const std::string &file_name,
+                             const double       side) const
     {
       const Tensor<2, 2>                              F = design.cell_map();
       std::vector<std::vector<std::array<double, 2>>> loops;
@@ -111,7 +112,12 @@ namespace forma
           if ((signed_area(loop.vertices) < 0) != loop.hole)
             std::reverse(polygon.begin(), polygon.end());
         }
-      write_polygons_svg(file_name, loops, 1e-3 * side);
+      const bool dxf = file_name.size() > 4 &&
+                       file_name.compare(file_name.size() - 4, 4, ".dxf") == 0;
+      if (dxf)
+        write_polygons_dxf(file_name, loops);
+      else
+        write_polygons_svg(file_name, loops, 1e-3 * side);
     }
 
 

@@ -13,7 +13,9 @@ using std::isnan;
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <iomanip>
 #include <numeric>
+#include <sstream>
 
 namespace forma
 {
@@ -585,54 +587,39 @@ namespace forma
     MaterialMap::write_parameter_surfaces(const std::string &file_name,
                                           const double       angle) const
     {
-      // Parameter surfaces (Fig. 4.17) at the largest angle: p1..p4 in
-      // the top row, p5..p8 below; nu along x, E up; blue (low) to red
-      // (high) over each parameter's range on the panel, gray outside
-      // the coverage.
-      const int                  P = 120, gap = 10;
-      const int                  W = 4 * P + 5 * gap, H = 2 * P + 3 * gap;
-      std::vector<unsigned char> rgb(3 * W * H, 255);
-      for (unsigned int i = 0; i < RhombicStructure::n_parameters; ++i)
-        {
-          std::vector<double> v(P * P);
-          std::vector<bool>   in(P * P);
-          double              lo = 1e300, hi = -1e300;
-          for (int r = 0; r < P; ++r)
-            for (int c = 0; c < P; ++c)
+      // Parameter surfaces (Fig. 4.17): p1..p4 in the top row, p5..p8
+      // below; nu along x, E up; gray outside the coverage.
+      const unsigned int      P = 120;
+      std::vector<FieldPanel> panels(RhombicStructure::n_parameters);
+      for (unsigned int i = 0; i < panels.size(); ++i)
+        panels[i].title = "p_" + std::to_string(i + 1);
+      for (unsigned int r = 0; r < P; ++r)
+        for (unsigned int c = 0; c < P; ++c)
+          {
+            const double E_rc =
+              E.front() + (E.back() - E.front()) * (P - 1 - r) / (P - 1);
+            const double nu_rc =
+              nu.front() + (nu.back() - nu.front()) * c / (P - 1);
+            bool inside;
+            query(E_rc, nu_rc, angle, 0, inside);
+            for (unsigned int i = 0; i < panels.size(); ++i)
               {
-                const double E_rc =
-                  E.front() + (E.back() - E.front()) * (P - 1 - r) / (P - 1);
-                const double nu_rc =
-                  nu.front() + (nu.back() - nu.front()) * c / (P - 1);
-                bool inside;
-                query(E_rc, nu_rc, angle, 0, inside);
-                v[r * P + c]  = parameters[i].value({E_rc, nu_rc, angle});
-                in[r * P + c] = inside;
-                if (inside)
-                  lo = std::min(lo, v[r * P + c]),
-                  hi = std::max(hi, v[r * P + c]);
+                panels[i].values.push_back(
+                  parameters[i].value({E_rc, nu_rc, angle}));
+                panels[i].defined.push_back(inside);
               }
-          const int x0 = gap + (i % 4) * (P + gap),
-                    y0 = gap + (i / 4) * (P + gap);
-          for (int r = 0; r < P; ++r)
-            for (int c = 0; c < P; ++c)
-              {
-                const double t =
-                  hi > lo ? (v[r * P + c] - lo) / (hi - lo) : 0.5;
-                const std::array<unsigned char, 3> color =
-                  in[r * P + c] ?
-                    std::array<unsigned char, 3>{
-                      {static_cast<unsigned char>(255 * t),
-                       static_cast<unsigned char>(255 *
-                                                  (1 - std::abs(2 * t - 1))),
-                       static_cast<unsigned char>(255 * (1 - t))}} :
-                    std::array<unsigned char, 3>{{200, 200, 200}};
-                std::copy(color.begin(),
-                          color.end(),
-                          rgb.begin() + 3 * ((y0 + r) * W + x0 + c));
-              }
-        }
-      write_image_png(file_name, W, H, rgb);
+          }
+      std::ostringstream title;
+      title << "Map parameters at α = " << std::setprecision(3) << angle << "°";
+      write_field_panels(file_name,
+                         panels,
+                         P,
+                         P,
+                         {{nu.front(), nu.back()}},
+                         {{E.front(), E.back()}},
+                         title.str(),
+                         "Poisson's ratio ν",
+                         "E / E_b");
     }
   } // namespace rhombic
 } // namespace forma

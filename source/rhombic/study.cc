@@ -155,7 +155,7 @@ namespace forma
                       color.end(),
                       rgb.begin() + 3 * (y * W + x));
           }
-      write_image_png(file_name, W, H, rgb);
+      write_image(file_name, W, H, rgb);
     }
 
 

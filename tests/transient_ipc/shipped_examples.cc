@@ -262,7 +262,11 @@ main()
           volume_within(s, 0.08, 2e-3));
   }
   {
-    const auto s = run_example("transient_ipc", "hanger_stress_3d");
+    // 8 of the documented 14 iterations (the suite's time): L8 0.924x and
+    // max von Mises 0.861x there, against 0.922x and 0.860x after 14.
+    const auto s = run_example("transient_ipc",
+                               "hanger_stress_3d",
+                               " --set 'Optimization/Max iterations=8'");
     check_peak_stress_design(s, "hanger", 5, "volume", 1.6376, 0.2, 10);
   }
 }

@@ -10,11 +10,20 @@
 namespace forma
 {
   /**
-   * Write a PNG line plot of `values` against their index (iterations, time
-   * steps): a logarithmic y axis of values / values[0] when every value is
-   * positive, a linear one otherwise. Small and dependency-free apart from
-   * zlib, so every app can leave a picture of its convergence next to its
-   * numbers.
+   * @name Plots
+   *
+   * Drawn with Cairo: the file name's extension (.png, .svg or .pdf) picks
+   * the format, labels are UTF-8 (Greek letters and subscripts work), and
+   * every file is written whole or not at all. Each x-y and polygon plot
+   * leaves `<stem>.csv` beside it with exactly the plotted numbers, which
+   * `contrib/plot/redraw.py` turns back into the plot (e.g. for a paper).
+   */
+  /** @{ */
+
+  /**
+   * A line plot of `values` against their index (iterations, time steps):
+   * values / values[0] on a logarithmic axis when every value is positive,
+   * the values on a linear one otherwise.
    */
   void
   write_history_plot(const std::string         &file_name,
@@ -22,8 +31,8 @@ namespace forma
                      const std::string         &title,
                      const std::string         &x_label);
 
-  /// One data set of an x-y plot: points (dots of half-size `size`) or a
-  /// polyline; an empty label keeps it out of the legend.
+  /// One data set of an x-y plot: points (discs of radius `size` + 0.5) or
+  /// a polyline; an empty label keeps it out of the legend.
   struct PlotSeries
   {
     std::vector<std::array<double, 2>> points;
@@ -33,8 +42,9 @@ namespace forma
     std::string                        label;
   };
 
-  /// Write a PNG x-y plot (scatter and lines) over the given ranges, with a
-  /// legend; e.g. the (nu, E) coverage of a structure family against its
+  /// An x-y plot (points and lines, clipped to the ranges) with its legend
+  /// beside the axes; `logarithmic` per axis (the range then positive):
+  /// e.g. the (nu, E) coverage of a structure family against its
   /// Hashin-Shtrikman bounds.
   void
   write_xy_plot(const std::string             &file_name,
@@ -43,16 +53,17 @@ namespace forma
                 const std::string             &x_label,
                 const std::string             &y_label,
                 const std::array<double, 2>   &x_range,
-                const std::array<double, 2>   &y_range);
+                const std::array<double, 2>   &y_range,
+                const std::array<bool, 2>     &logarithmic = {{false, false}});
 
   /**
-   * A picture of polygons (mesh cells, in any units) filled by a value each
-   * (blue at `range[0]` through green and yellow to red at `range[1]`),
-   * outlined in gray, `width` pixels wide, with `title` on top and a color
-   * bar with the range at the right.
+   * Polygons (mesh cells, in any units) filled by a value each (blue at
+   * `range[0]` through green and yellow to red at `range[1]`), outlined in
+   * gray, `width` units wide, with `title` on top and a color bar at the
+   * right.
    */
   void
-  write_polygon_field_png(
+  write_polygon_field(
     const std::string                                     &file_name,
     const std::vector<std::vector<std::array<double, 2>>> &polygons,
     const std::vector<double>                             &values,
@@ -62,43 +73,60 @@ namespace forma
 
   /**
    * Filled polygons (gray) with outlined ones (red) over them, in the
-   * polygons' own units, `width` pixels wide: e.g. a deformed fine-scale
+   * polygons' own units, `width` units wide: e.g. a deformed fine-scale
    * mesh with the deformed cells of its homogenized model.
    */
   void
-  write_overlay_png(
-    const std::string                                     &file_name,
-    const std::vector<std::vector<std::array<double, 2>>> &filled,
-    const std::vector<std::vector<std::array<double, 2>>> &outlined,
-    const int                                              width = 1200);
-
-  /**
-   * Closed polygons (outer boundaries and holes alike, filled by the
-   * even-odd rule) as one SVG path, y up, one unit a millimetre, with a
-   * stroke of `stroke` units: e.g. a microstructured object's outline for
-   * a laser cutter.
-   */
-  void
-  write_polygons_svg(
-    const std::string                                     &file_name,
-    const std::vector<std::vector<std::array<double, 2>>> &polygons,
-    const double                                           stroke);
+  write_overlay(const std::string &file_name,
+                const std::vector<std::vector<std::array<double, 2>>> &filled,
+                const std::vector<std::vector<std::array<double, 2>>> &outlined,
+                const int width = 1200);
 
   /// The material {phi < 0} of a level set (dark) over the box [lo, hi],
-  /// `width` pixels wide.
+  /// sampled at `width` pixels across (a raster, also inside SVG or PDF).
   void
-  write_level_set_png(const std::string                           &file_name,
-                      const std::function<double(double, double)> &phi,
-                      const std::array<double, 2>                 &lo,
-                      const std::array<double, 2>                 &hi,
-                      const int width = 1200);
+  write_level_set(const std::string                           &file_name,
+                  const std::function<double(double, double)> &phi,
+                  const std::array<double, 2>                 &lo,
+                  const std::array<double, 2>                 &hi,
+                  const int                                    width = 1200);
 
-  /// Write an RGB image (rows from the top, 3 bytes per pixel) as PNG.
+  /// One panel of write_field_panels(): a field on a regular grid, row by
+  /// row from the top of the y range; `defined` (empty: everywhere) marks
+  /// where it has a value (gray elsewhere).
+  struct FieldPanel
+  {
+    std::string         title;
+    std::vector<double> values;
+    std::vector<bool>   defined;
+  };
+
+  /**
+   * Fields on a common grid of `n_rows` x `n_columns` points over
+   * [x_range] x [y_range], side by side in rows of `per_row` panels, each
+   * colored blue to red over its own range (written under it): e.g. the
+   * eight parameter surfaces of a material map (thesis Fig. 4.17).
+   */
   void
-  write_image_png(const std::string                &file_name,
-                  const int                         width,
-                  const int                         height,
-                  const std::vector<unsigned char> &rgb);
+  write_field_panels(const std::string             &file_name,
+                     const std::vector<FieldPanel> &panels,
+                     const unsigned int             n_rows,
+                     const unsigned int             n_columns,
+                     const std::array<double, 2>   &x_range,
+                     const std::array<double, 2>   &y_range,
+                     const std::string             &title,
+                     const std::string             &x_label,
+                     const std::string             &y_label,
+                     const unsigned int             per_row = 4);
+
+  /// An RGB image (rows from the top, 3 bytes per pixel).
+  void
+  write_image(const std::string                &file_name,
+              const int                         width,
+              const int                         height,
+              const std::vector<unsigned char> &rgb);
+
+  /** @} */
 } // namespace forma
 
 #endif

@@ -71,13 +71,13 @@ namespace forma
       write_vtu(const std::string &file_stem) const;
 
       /**
-       * The material of the cell as an SVG path (the mesh's boundary loops,
-       * the cell's sides included, so that copies tile), in the rhombus's
-       * coordinates scaled to a side of `side` millimetres: e.g. for a
-       * laser cutter.
+       * The material of the cell as closed outlines (the mesh's boundary
+       * loops, the cell's sides included, so that copies tile), in the
+       * rhombus's coordinates scaled to a side of `side` millimetres: an SVG
+       * path or a DXF, by the file name's extension, e.g. for a laser cutter.
        */
       void
-      write_svg(const std::string &file_name, const double side) const;
+      write_outline(const std::string &file_name, const double side) const;
 
     private:
       void

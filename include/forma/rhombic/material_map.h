@@ -173,10 +173,11 @@ namespace forma
       write(const std::string &file_name) const;
 
       /**
-       * Parameter surfaces (Fig. 4.17) at one angle as a PNG: p1..p4 in the
-       * top row, p5..p8 below; nu along x, E up over the map's grid; blue
-       * (low) to red (high) over each parameter's range, gray outside the
-       * coverage.
+       * Parameter surfaces (Fig. 4.17) at one angle (degrees), PNG, SVG or
+       * PDF by the file name, with their numbers in a CSV beside it: p1..p4
+       * in the top row, p5..p8 below; nu along x, E up over the map's grid;
+       * blue (low) to red (high) over each parameter's range (written under
+       * it), gray outside the coverage.
        */
       void
       write_parameter_surfaces(const std::string &file_name,

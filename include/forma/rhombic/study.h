@@ -120,16 +120,17 @@ namespace forma
                       const std::vector<double> &nus,
                       const std::string         &section);
 
-    /// A picture of a 2D mesh with one value per active cell (blue at
-    /// `range[0]` to red at `range[1]`) and the cell edges, `pixels` wide,
-    /// with a color bar labelled `label`.
+    /// A picture of a 2D mesh (PNG, SVG or PDF by the file name) with one
+    /// value per active cell (blue at `range[0]` to red at `range[1]`) and
+    /// the cell edges, `width` wide, with a color bar; its numbers go to
+    /// the CSV beside it (write_polygon_field()).
     void
-    write_cell_field_png(const std::string                 &file_name,
-                         const dealii::Triangulation<2, 2> &tria,
-                         const std::vector<double>         &values,
-                         const std::array<double, 2>       &range,
-                         const std::string                 &label,
-                         const unsigned int                 pixels = 800);
+    write_cell_field(const std::string                 &file_name,
+                     const dealii::Triangulation<2, 2> &tria,
+                     const std::vector<double>         &values,
+                     const std::array<double, 2>       &range,
+                     const std::string                 &label,
+                     const unsigned int                 width = 800);
 
   } // namespace rhombic
 } // namespace forma

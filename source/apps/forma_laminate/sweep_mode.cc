@@ -164,13 +164,13 @@ namespace forma
               for (const auto &p : right)
                 n_max = std::max(n_max, p[0]);
               write_xy_plot(context.path("coverage_by_beams.png"),
-                            {{right, {{200, 60, 40}}, true, 2, "Delta_R"},
-                             {left, {{31, 90, 180}}, true, 2, "Delta_L"},
+                            {{right, {{200, 60, 40}}, true, 2, "Δ_R"},
+                             {left, {{31, 90, 180}}, true, 2, "Δ_L"},
                              {right, {{200, 60, 40}}, false, 3, ""},
                              {left, {{31, 90, 180}}, false, 3, ""}},
                             "Coverage vs beams per joint",
                             "beams per joint n",
-                            "Delta",
+                            "coverage Δ",
                             {{0, n_max * 1.05}},
                             {{0, 1.05}});
             }
@@ -217,7 +217,7 @@ namespace forma
                                     (phi_max - phi_min) * (b + 1) / n_bands;
                   PlotSeries s;
                   s.color = colors[b];
-                  s.label = "phi " + sig(lo, 2) + "-" + sig(hi, 2);
+                  s.label = "φ " + sig(lo, 2) + "-" + sig(hi, 2);
                   for (unsigned int k = 0; k < structures.size(); ++k)
                     {
                       const double phi = table[k * n_fields + f_phi];
@@ -266,8 +266,8 @@ namespace forma
           write_xy_plot(context.path("coverage.png"),
                         series,
                         "Coverage of the HS bounds",
-                        "Poisson's ratio nu",
-                        "E / Eb",
+                        "Poisson's ratio ν",
+                        "E / E_b",
                         {{-1, 1}},
                         {{0, 1.05}});
         }

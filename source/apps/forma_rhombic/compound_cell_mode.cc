@@ -236,7 +236,7 @@ namespace forma
           PlotSeries f, q;
           f.points = family_points;
           f.line   = true;
-          f.label  = "family P(E, nu, alpha)";
+          f.label  = "family P(E, ν, α)";
           q.points = square_points;
           q.line   = true;
           q.color  = {{200, 60, 40}};
@@ -245,7 +245,7 @@ namespace forma
                         {f, q},
                         study == "twist" ? "twisted compound cell (Fig. 4.27)" :
                                            "non-rhombic cells (Fig. 4.30)",
-                        study == "twist" ? "turn of the cross (degrees)" :
+                        study == "twist" ? "turn of the cross (°)" :
                                            "center offset (quad sides)",
                         "relative error of C",
                         {{values.front(), values.back()}},

@@ -8,6 +8,7 @@
 
 #include <forma/adjoint/design.h>
 #include <forma/base/application.h>
+#include <forma/base/outline.h>
 #include <forma/base/parameter_override.h>
 #include <forma/base/plot.h>
 #include <forma/base/records.h>
@@ -49,17 +50,18 @@ namespace forma
 
       /// The material {phi < 0} of a level set on points, over [lo, hi].
       void
-      write_level_set_png(const std::string                             &file,
-                          const std::function<double(const Point<2> &)> &phi,
-                          const Point<2>                                &lo,
-                          const Point<2>                                &hi)
+      write_level_set_picture(
+        const std::string                             &file,
+        const std::function<double(const Point<2> &)> &phi,
+        const Point<2>                                &lo,
+        const Point<2>                                &hi)
       {
-        forma::write_level_set_png(file,
-                                   [&phi](const double x, const double y) {
-                                     return phi(Point<2>(x, y));
-                                   },
-                                   {{lo[0], lo[1]}},
-                                   {{hi[0], hi[1]}});
+        forma::write_level_set(file,
+                               [&phi](const double x, const double y) {
+                                 return phi(Point<2>(x, y));
+                               },
+                               {{lo[0], lo[1]}},
+                               {{hi[0], hi[1]}});
       }
 
 
@@ -119,7 +121,7 @@ namespace forma
             }
           return polygons;
         };
-        write_overlay_png(file_name, deformed(fine), deformed(homogenized));
+        write_overlay(file_name, deformed(fine), deformed(homogenized));
       }
 
       /**
@@ -749,6 +751,8 @@ namespace forma
             write_polygons_svg(context.path("geometry_" + name + ".svg"),
                                outline,
                                1e-3 * h);
+            write_polygons_dxf(context.path("geometry_" + name + ".dxf"),
+                               outline);
           });
           lap("fine mesh, " + name);
           context.summary["fine_scale"][name] = {
@@ -1036,10 +1040,10 @@ namespace forma
             context.summary["cut_grid"]["final_objective"] =
               cut_summary["final_objective"];
           on_root(context.communicator(), [&]() {
-            write_level_set_png(context.path("cut_grid_geometry.png"),
-                                cropped,
-                                domain.lo,
-                                domain.hi);
+            write_level_set_picture(context.path("cut_grid_geometry.png"),
+                                    cropped,
+                                    domain.lo,
+                                    domain.hi);
           });
         });
       context.summary["seconds"] = seconds;
@@ -1060,20 +1064,24 @@ namespace forma
                                       {"projected_cells", outside},
                                       {"largest_coverage_violation", worst}};
       on_root(context.communicator(), [&]() {
-        write_cell_field_png(context.path("material_E.png"),
+        // PNG previews, and SVG with real strokes for papers.
+        for (const std::string extension : {".png", ".svg"})
+          {
+            write_cell_field(context.path("material_E" + extension),
                              tria,
                              E,
                              {{map.E.front(), map.E.back()}},
-                             "E / E_base (cell materials)");
-        write_cell_field_png(context.path("material_nu.png"),
+                             "E / E_b (cell materials)");
+            write_cell_field(context.path("material_nu" + extension),
                              tria,
                              nu,
                              {{box[2], box[3]}},
-                             "Poisson ratio nu (cell materials)");
-        write_level_set_png(context.path("geometry.png"),
-                            tiled_phi,
-                            tiled.lo,
-                            tiled.hi);
+                             "Poisson's ratio ν (cell materials)");
+          }
+        write_level_set_picture(context.path("geometry.png"),
+                                tiled_phi,
+                                tiled.lo,
+                                tiled.hi);
         Vector<double> vE(E.begin(), E.end()), vnu(nu.begin(), nu.end()),
           va(alpha.begin(), alpha.end());
         DataOut<2> out;

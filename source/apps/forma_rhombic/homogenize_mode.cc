@@ -78,7 +78,10 @@ namespace forma
       if (context.is_root())
         {
           write_structure_png(context.path("structure.png"), s);
-          model.write_svg(context.path("structure.svg"), setup.svg_cell_side);
+          model.write_outline(context.path("structure.svg"),
+                              setup.svg_cell_side);
+          model.write_outline(context.path("structure.dxf"),
+                              setup.svg_cell_side);
         }
       if (setup.write_vtu)
         model.write_vtu(context.path("cell"));

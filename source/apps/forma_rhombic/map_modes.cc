@@ -743,7 +743,7 @@ namespace forma
                   }
               s.color = colors[a % colors.size()];
               s.size  = 5 - std::min<int>(a, 3);
-              s.label = "alpha = " + sig(angles[a]);
+              s.label = "α = " + sig(angles[a]) + "°";
               series.push_back(s);
               // D(alpha), the coverage polygon (Fig. 4.14).
               PlotSeries outline;
@@ -755,7 +755,7 @@ namespace forma
           write_xy_plot(context.path("map_coverage.png"),
                         series,
                         "Material map coverage",
-                        "Poisson's ratio",
+                        "Poisson's ratio ν",
                         "E / E_b",
                         {{-1, 1}},
                         {{0, 1.1 * std::max(top, 1e-3)}});
@@ -766,8 +766,8 @@ namespace forma
               std::vector<PlotSeries> segments(1);
               segments[0].label = "target";
               segments[0].size  = 3;
-              // The plot shows every segment whole (write_xy_plot drops
-              // those that leave it).
+              // The plot shows every segment whole (write_xy_plot clips at
+              // its ranges).
               std::array<double, 2> nu_range = {{nus.front(), nus.back()}};
               double                E_top    = Es.back();
               for (const auto &p : accuracy)
@@ -791,7 +791,7 @@ namespace forma
               write_xy_plot(context.path("map_accuracy.png"),
                             segments,
                             "Map accuracy off the samples",
-                            "Poisson's ratio",
+                            "Poisson's ratio ν",
                             "E / E_b",
                             {{nu_range[0] - margin, nu_range[1] + margin}},
                             {{0, 1.1 * E_top}});

@@ -207,11 +207,12 @@ namespace forma
           std::vector<double> alpha;
           for (const double a : r.after.alpha)
             alpha.push_back(a * degrees);
-          write_cell_field_png(context.path("rhombic_mesh.png"),
-                               tria,
-                               alpha,
-                               {{parameters.min_angle * degrees, 90}},
-                               "rhombus angle alpha (degrees)");
+          for (const std::string extension : {".png", ".svg"})
+            write_cell_field(context.path("rhombic_mesh" + extension),
+                             tria,
+                             alpha,
+                             {{parameters.min_angle * degrees, 90}},
+                             "rhombus angle α (°)");
         }
       return r.after;
     }

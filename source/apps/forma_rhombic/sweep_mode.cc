@@ -323,18 +323,18 @@ namespace forma
           PlotSeries all, near, iso;
           all.points  = anisotropic;
           all.color   = {{175, 175, 175}};
-          all.label   = "isotropic fit, a1 or a2 > " + sig(near_isotropy);
+          all.label   = "isotropic fit, a₁ or a₂ > " + sig(near_isotropy);
           near.points = near_isotropic;
           near.color  = {{235, 150, 40}};
-          near.label  = "a1, a2 <= " + sig(near_isotropy);
+          near.label  = "a₁, a₂ ≤ " + sig(near_isotropy);
           iso.points  = isotropic;
           iso.color   = {{200, 30, 30}};
           iso.size    = 4;
-          iso.label   = "a1, a2 <= " + sig(setup.isotropy_tolerance);
+          iso.label   = "a₁, a₂ ≤ " + sig(setup.isotropy_tolerance);
           write_xy_plot(context.path("coverage.png"),
                         {all, near, iso},
                         "Rhombic family coverage",
-                        "Poisson's ratio",
+                        "Poisson's ratio ν",
                         "E / E_b",
                         {{-1, 1}},
                         {{0, std::max(1e-3, 1.05 * top)}});
@@ -409,7 +409,7 @@ namespace forma
           write_xy_plot(context.path("redundancy.png"),
                         series,
                         "Coverage with fixed parameters",
-                        "Poisson's ratio",
+                        "Poisson's ratio ν",
                         "E / E_b",
                         {{nu_min - 0.05, nu_max + 0.05}},
                         {{0, 1.1 * E_max}});

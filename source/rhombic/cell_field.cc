@@ -8,12 +8,12 @@ namespace forma
   namespace rhombic
   {
     void
-    write_cell_field_png(const std::string                 &file_name,
-                         const dealii::Triangulation<2, 2> &tria,
-                         const std::vector<double>         &values,
-                         const std::array<double, 2>       &range,
-                         const std::string                 &label,
-                         const unsigned int                 pixels)
+    write_cell_field(const std::string                 &file_name,
+                     const dealii::Triangulation<2, 2> &tria,
+                     const std::vector<double>         &values,
+                     const std::array<double, 2>       &range,
+                     const std::string                 &label,
+                     const unsigned int                 width)
     {
       std::vector<std::vector<std::array<double, 2>>> polygons;
       for (const auto &cell : tria.active_cell_iterators())
@@ -27,8 +27,7 @@ namespace forma
             p.push_back({{cell->vertex(v)[0], cell->vertex(v)[1]}});
           polygons.push_back(p);
         }
-      write_polygon_field_png(
-        file_name, polygons, values, range, label, pixels);
+      write_polygon_field(file_name, polygons, values, range, label, width);
     }
   } // namespace rhombic
 } // namespace forma
