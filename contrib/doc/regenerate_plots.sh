@@ -1,11 +1,11 @@
 #!/bin/bash
 # Regenerate the plots in doc/ that the shipped examples draw, and their
-# data files (doc/data/<picture>.csv or .csv.gz, redrawn by
+# data files (doc/data/<picture>.plot.csv or .plot.csv.gz, redrawn by
 # contrib/plot/redraw.py):
 #   bash contrib/doc/regenerate_plots.sh            # about 25 minutes, 2 cores
-# The material-map plots (rhombic_map_*.png) come from `build map`, hours
-# of inverse solves: rebuild a map (doc/rhombic.md) and copy its
-# map_coverage.png and map_parameters.png by hand.
+#   WORK=<dir> REUSE=1 bash contrib/doc/regenerate_plots.sh   # continue in <dir>
+# The maps' coverage and parameter surfaces are redrawn from the committed
+# maps (contrib/rhombic/*.json), without their hours of inverse solves.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 bin=$root/build/bin
@@ -14,7 +14,12 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 mkdir -p "$root/doc/data"
 
 # run <app> <app directory> <prm> [mpirun ranks]: output into $work/<prm>/
+# (REUSE=1: keep a run that has finished before, e.g. after an interruption).
 run() {
+  if [ -n "${REUSE:-}" ] && [ -f "$work/$3/summary.json" ]; then
+    echo "== $3 (kept)"
+    return
+  fi
   local launcher=""
   [ "${4:-1}" -gt 1 ] && launcher="mpirun -np $4"
   echo "== $3"
@@ -23,16 +28,21 @@ run() {
 }
 
 # keep <run> <plot stem> <doc picture name>: the PNG and its CSV into doc/
-# (a CSV over 1 MB gzipped: fine-scale meshes have 10^5 triangles).
+# A CSV over 1 MB is gzipped; one still over 1 MB (fine-scale meshes of 10^5
+# triangles, 120 x 120 parameter grids) stays out of the repository: the run
+# that writes it is the command above it.
 keep() {
   cp "$work/$1/$2.png" "$root/doc/$3.png"
-  local csv=$work/$1/$2.csv
-  rm -f "$root/doc/data/$3.csv" "$root/doc/data/$3.csv.gz"
-  if [ -f "$csv" ]; then
-    if [ "$(stat -c %s "$csv")" -gt 1000000 ]; then
-      gzip -9 -n -c "$csv" > "$root/doc/data/$3.csv.gz"
-    else
-      cp "$csv" "$root/doc/data/$3.csv"
+  local csv=$work/$1/$2.plot.csv data=$root/doc/data/$3.plot.csv
+  rm -f "$data" "$data.gz"
+  [ -f "$csv" ] || return 0
+  if [ "$(stat -c %s "$csv")" -le 1000000 ]; then
+    cp "$csv" "$data"
+  else
+    gzip -9 -n -c "$csv" > "$data.gz"
+    if [ "$(stat -c %s "$data.gz")" -gt 1000000 ]; then
+      rm "$data.gz"
+      echo "   $3: data not kept ($(stat -c %s "$csv") bytes); rerun to get it"
     fi
   fi
 }
@@ -62,4 +72,12 @@ keep disk_design fine_scale_cut_grid rhombic_disk_cut_grid_fine_scale
 run forma-rhombic rhombic ghost_design 2
 keep ghost_design fine_scale_family rhombic_ghost_fine_scale
 keep ghost_design material_E rhombic_ghost_E
+make -C "$root/build" map_plots > /dev/null
+mkdir -p "$work/maps"
+"$bin/map_plots" "$root/contrib/rhombic/map.json" "$work/maps/shipped" 90 60
+"$bin/map_plots" "$root/contrib/rhombic/map_full.json" "$work/maps/full" 90
+keep maps shipped_coverage rhombic_map_coverage
+keep maps shipped_parameters_90 rhombic_map_parameters_90
+keep maps shipped_parameters_60 rhombic_map_parameters_60
+keep maps full_parameters_90 rhombic_map_full_parameters_90
 echo "plots in $root/doc, data in $root/doc/data (runs in $work)"

@@ -1,14 +1,14 @@
 #!/usr/bin/env python3
 """Redraw a forma plot from the CSV written beside it, with matplotlib.
 
-Every plot forma writes (convergence.png, coverage.png, material_E.png, ...)
-has `<stem>.csv` beside it with exactly the plotted numbers; its `# key:
+Every chart forma writes (convergence.png, coverage.png, material_E.png, ...)
+has `<stem>.plot.csv` beside it with exactly the plotted numbers; its `# key:
 value` lines say what kind of plot it is, its title, labels, ranges and
 scales. This script turns such a file back into a figure, for a paper or a
 different style:
 
-    python3 contrib/plot/redraw.py run/coverage.csv coverage.pdf
-    python3 contrib/plot/redraw.py run/convergence.csv   # -> run/convergence_redrawn.png
+    python3 contrib/plot/redraw.py run/coverage.plot.csv coverage.pdf
+    python3 contrib/plot/redraw.py run/convergence.plot.csv   # -> run/convergence_redrawn.png
     python3 contrib/plot/redraw.py doc/data/rhombic_disk_fine_scale.csv.gz
 
 Debian: python3-matplotlib.
@@ -42,8 +42,10 @@ def read(file_name):
 
 def tex(label):
     """forma's subscripts (E_b, Delta_{R}) as matplotlib mathtext."""
-    return re.sub(r"_\{([^}]*)\}|_(.)",
-                  lambda m: "$_{%s}$" % (m.group(1) or m.group(2)), label)
+    def subscript(m):
+        text = m.group(1) if m.group(1) is not None else m.group(2)
+        return "$_{%s}$" % text if text else ""
+    return re.sub(r"_\{([^{}]*)\}|_([^{])", subscript, label)
 
 
 def grouped(rows, key):
@@ -113,19 +115,18 @@ def field_panels(meta, rows, ax):
     per_row = int(meta["per row"])
     x0, x1 = map(float, meta["x range"].split())
     y0, y1 = map(float, meta["y range"].split())
-    groups = grouped(rows, "panel")
+    count = int(meta["panels"])
+    grids = [np.full((n_rows, n_columns), np.nan) for _ in range(count)]
+    for r in rows:
+        grids[int(r["panel"])][int(r["row"]), int(r["column"])] = float(r["value"])
     fig = ax.figure
     fig.clear()
-    count = len(groups)
     lines = (count + per_row - 1) // per_row
     axes = fig.subplots(lines, min(per_row, count), squeeze=False)
-    for k, (_, panel) in enumerate(groups.items()):
-        grid = np.full((n_rows, n_columns), np.nan)
-        for r in panel:
-            grid[int(r["row"]), int(r["column"])] = float(r["value"])
+    for k, grid in enumerate(grids):
         a = axes[k // per_row][k % per_row]
         a.imshow(grid, extent=(x0, x1, y0, y1), aspect="auto", cmap="jet")
-        a.set_title(tex(panel[0]["title"]))
+        a.set_title(tex(meta["panel %d" % k]))
     for a in axes[-1]:
         a.set_xlabel(tex(meta.get("x label", "")))
     for line in axes:
@@ -149,7 +150,11 @@ def main(argv):
     if kind != "field panels":
         ax.set_title(tex(meta.get("title", "")))
     stem = argv[1][:-3] if argv[1].endswith(".gz") else argv[1]
-    out = argv[2] if len(argv) == 3 else stem[:-4] + "_redrawn.png"
+    for suffix in (".plot.csv", ".csv"):
+        if stem.endswith(suffix):
+            stem = stem[:-len(suffix)]
+            break
+    out = argv[2] if len(argv) == 3 else stem + "_redrawn.png"
     fig.savefig(out, dpi=150)
     print(out)
     return 0

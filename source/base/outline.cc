@@ -79,8 +79,6 @@ namespace forma
       group(2, "HEADER");
       group(9, "$ACADVER");
       group(1, "AC1009");
-      group(9, "$INSUNITS"); // millimetres
-      group(70, 4);
       group(0, "ENDSEC");
       group(0, "SECTION");
       group(2, "ENTITIES");

@@ -151,6 +151,66 @@ namespace forma
 
 
 
+  namespace
+  {
+    // write_xy_plot() with `extra` lines for the data file's header.
+    void
+    xy_plot(const std::string                                      &file_name,
+            const std::vector<PlotSeries>                          &series,
+            const std::string                                      &title,
+            const std::string                                      &x_label,
+            const std::string                                      &y_label,
+            const std::array<double, 2>                            &x_range,
+            const std::array<double, 2>                            &y_range,
+            const std::array<bool, 2>                              &logarithmic,
+            const std::vector<std::pair<std::string, std::string>> &extra)
+    {
+      check_range(file_name, x_range, logarithmic[0]);
+      check_range(file_name, y_range, logarithmic[1]);
+      const double          width = 820 + legend_width(series), height = 640;
+      const internal::Frame frame{
+        100,
+        790,
+        50,
+        560,
+        {x_range[0], x_range[1], logarithmic[0], whole_x(series, x_range)},
+        {y_range[0], y_range[1], logarithmic[1], false}};
+      Canvas canvas(file_name, width, height);
+      internal::draw_frame(canvas, frame, width, title, x_label, y_label);
+      draw_series(canvas, frame, series);
+      canvas.save();
+
+      std::vector<std::pair<std::string, std::string>> meta = {
+        {"forma plot", "xy"},
+        {"title", title},
+        {"x label", x_label},
+        {"y label", y_label},
+        {"x range", number(x_range[0]) + " " + number(x_range[1])},
+        {"y range", number(y_range[0]) + " " + number(y_range[1])},
+        {"logarithmic",
+         std::string(logarithmic[0] ? "x" : "") + (logarithmic[1] ? "y" : "")}};
+      meta.insert(meta.end(), extra.begin(), extra.end());
+      internal::write_plot_data(file_name,
+                                meta,
+                                "series,label,style,color,size,x,y",
+                                [&](std::ostream &out) {
+                                  for (unsigned int i = 0; i < series.size();
+                                       ++i)
+                                    for (const auto &p : series[i].points)
+                                      out
+                                        << i << ','
+                                        << internal::csv_quote(series[i].label)
+                                        << ','
+                                        << (series[i].line ? "line" : "points")
+                                        << ',' << hex(series[i].color) << ','
+                                        << series[i].size << ',' << number(p[0])
+                                        << ',' << number(p[1]) << '\n';
+                                });
+    }
+  } // namespace
+
+
+
   void
   write_xy_plot(const std::string             &file_name,
                 const std::vector<PlotSeries> &series,
@@ -161,40 +221,15 @@ namespace forma
                 const std::array<double, 2>   &y_range,
                 const std::array<bool, 2>     &logarithmic)
   {
-    check_range(file_name, x_range, logarithmic[0]);
-    check_range(file_name, y_range, logarithmic[1]);
-    const double          width = 820 + legend_width(series), height = 640;
-    const internal::Frame frame{
-      100,
-      790,
-      50,
-      560,
-      {x_range[0], x_range[1], logarithmic[0], whole_x(series, x_range)},
-      {y_range[0], y_range[1], logarithmic[1], false}};
-    Canvas canvas(file_name, width, height);
-    internal::draw_frame(canvas, frame, width, title, x_label, y_label);
-    draw_series(canvas, frame, series);
-    canvas.save();
-
-    internal::write_plot_data(
-      file_name,
-      {{"forma plot", "xy"},
-       {"title", title},
-       {"x label", x_label},
-       {"y label", y_label},
-       {"x range", number(x_range[0]) + " " + number(x_range[1])},
-       {"y range", number(y_range[0]) + " " + number(y_range[1])},
-       {"logarithmic",
-        std::string(logarithmic[0] ? "x" : "") + (logarithmic[1] ? "y" : "")}},
-      "series,label,style,color,size,x,y",
-      [&](std::ostream &out) {
-        for (unsigned int i = 0; i < series.size(); ++i)
-          for (const auto &p : series[i].points)
-            out << i << ',' << internal::csv_quote(series[i].label) << ','
-                << (series[i].line ? "line" : "points") << ','
-                << hex(series[i].color) << ',' << series[i].size << ','
-                << number(p[0]) << ',' << number(p[1]) << '\n';
-      });
+    xy_plot(file_name,
+            series,
+            title,
+            x_label,
+            y_label,
+            x_range,
+            y_range,
+            logarithmic,
+            {});
   }
 
 
@@ -239,15 +274,17 @@ namespace forma
     line.points = dots.points = points;
     line.line                 = true;
     dots.size                 = 3;
-    write_xy_plot(file_name,
-                  values.size() <= 200 ? std::vector<PlotSeries>{line, dots} :
-                                         std::vector<PlotSeries>{line},
-                  title,
-                  x_label,
-                  logarithmic ? "J / J₀" : "J",
-                  {{0., std::max(1., values.size() - 1.)}},
-                  {{lo, hi}},
-                  {{false, logarithmic}});
+    // J0 in the data file: y holds J / J0 on a logarithmic axis.
+    xy_plot(file_name,
+            values.size() <= 200 ? std::vector<PlotSeries>{line, dots} :
+                                   std::vector<PlotSeries>{line},
+            title,
+            x_label,
+            logarithmic ? "J / J₀" : "J",
+            {{0., std::max(1., values.size() - 1.)}},
+            {{lo, hi}},
+            {{false, logarithmic}},
+            {{"J0", number(values[0])}});
   }
 
 
@@ -347,6 +384,7 @@ namespace forma
         for (const Point &v : p)
           q.push_back(at(v));
         canvas.fill({q});
+        canvas.stroke(q, 0.6, true); // no light seams between cells
       }
     canvas.set_color({{210, 30, 30}});
     for (const auto &p : outlined)
@@ -517,18 +555,21 @@ namespace forma
     canvas.text(y_label, {{20, height / 2}}, 14, Anchor::center, true);
     canvas.save();
 
+    // Each panel's title in the header: a panel without values has no rows.
+    std::vector<std::pair<std::string, std::string>> meta = {
+      {"forma plot", "field panels"},
+      {"title", title},
+      {"x label", x_label},
+      {"y label", y_label},
+      {"x range", number(x_range[0]) + " " + number(x_range[1])},
+      {"y range", number(y_range[0]) + " " + number(y_range[1])},
+      {"grid", std::to_string(n_rows) + " " + std::to_string(n_columns)},
+      {"per row", std::to_string(per_row)},
+      {"panels", std::to_string(panels.size())}};
+    for (unsigned int k = 0; k < panels.size(); ++k)
+      meta.emplace_back("panel " + std::to_string(k), panels[k].title);
     internal::write_plot_data(
-      file_name,
-      {{"forma plot", "field panels"},
-       {"title", title},
-       {"x label", x_label},
-       {"y label", y_label},
-       {"x range", number(x_range[0]) + " " + number(x_range[1])},
-       {"y range", number(y_range[0]) + " " + number(y_range[1])},
-       {"grid", std::to_string(n_rows) + " " + std::to_string(n_columns)},
-       {"per row", std::to_string(per_row)}},
-      "panel,title,row,column,value",
-      [&](std::ostream &out) {
+      file_name, meta, "panel,title,row,column,value", [&](std::ostream &out) {
         for (unsigned int k = 0; k < panels.size(); ++k)
           for (std::size_t i = 0; i < n; ++i)
             if (defined(panels[k], i))

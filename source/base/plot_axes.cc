@@ -1,5 +1,6 @@
 #include "plot_axes.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -58,15 +59,30 @@ namespace forma
           const int every = std::max(1, (k1 - k0 + 7) / 8);
           for (int k = k0; k <= k1; k += every)
             t.push_back(std::pow(10., k));
-          if (t.size() < 2) // within a decade: label the minor ticks
-            return minor_ticks();
-          return t;
+          if (t.size() >= 2)
+            return t;
+          // Within a decade or two: 1..9 (or 1, 2, 5) times the powers of
+          // ten, or else (a narrow range) the linear ticks.
+          t = minor_ticks();
+          if (t.size() > 10)
+            t.erase(std::remove_if(
+                      t.begin(),
+                      t.end(),
+                      [](const double v) {
+                        const double j = std::round(
+                          v / std::pow(10., std::floor(std::log10(v) + 1e-9)));
+                        return j != 1 && j != 2 && j != 5;
+                      }),
+                    t.end());
+          if (t.size() >= 2)
+            return t;
         }
       const double step = whole ? std::max(1., std::round(nice_step(hi - lo))) :
                                   nice_step(hi - lo);
       for (double v = step * std::ceil(lo / step - 1e-9); v <= hi + 1e-9 * step;
            v += step)
-        t.push_back(std::abs(v) < 1e-9 * step ? 0. : v);
+        if (!logarithmic || v > 0)
+          t.push_back(std::abs(v) < 1e-9 * step ? 0. : v);
       return t;
     }
 

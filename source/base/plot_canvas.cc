@@ -23,9 +23,16 @@ namespace forma
       cairo_status_t
       append(void *closure, const unsigned char *data, unsigned int length)
       {
-        static_cast<std::string *>(closure)->append(
-          reinterpret_cast<const char *>(data), length);
-        return CAIRO_STATUS_SUCCESS;
+        try // nothing may be thrown through Cairo's C code
+          {
+            static_cast<std::string *>(closure)->append(
+              reinterpret_cast<const char *>(data), length);
+            return CAIRO_STATUS_SUCCESS;
+          }
+        catch (...)
+          {
+            return CAIRO_STATUS_NO_MEMORY;
+          }
       }
 
       std::string
@@ -49,9 +56,13 @@ namespace forma
       AssertThrow(format == "png" || format == "svg" || format == "pdf",
                   dealii::ExcMessage("the plot '" + file_name +
                                      "' must end in .png, .svg or .pdf"));
-      AssertThrow(width >= 1 && height >= 1 && width < 1e5 && height < 1e5,
-                  dealii::ExcMessage("the plot '" + file_name +
-                                     "' has no sensible size"));
+      // Cairo's image surfaces end at 32767 pixels a side.
+      AssertThrow(width >= 1 && height >= 1 && width < 32767 && height < 32767,
+                  dealii::ExcMessage(
+                    "the plot '" + file_name + "' would be " +
+                    std::to_string(std::lround(width)) + " x " +
+                    std::to_string(std::lround(height)) +
+                    " units: empty, or over Cairo's 32767 a side"));
       if (format == "png")
         surface =
           cairo_image_surface_create(CAIRO_FORMAT_RGB24,
@@ -165,6 +176,15 @@ namespace forma
     {
       cairo_surface_t *picture =
         cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height);
+      if (cairo_surface_status(picture) != CAIRO_STATUS_SUCCESS)
+        {
+          cairo_surface_destroy(picture);
+          AssertThrow(false,
+                      dealii::ExcMessage("Cairo cannot hold a " +
+                                         std::to_string(width) + " x " +
+                                         std::to_string(height) +
+                                         " image for '" + file_name + "'"));
+        }
       cairo_surface_flush(picture);
       unsigned char *data   = cairo_image_surface_get_data(picture);
       const int      stride = cairo_image_surface_get_stride(picture);
@@ -305,6 +325,11 @@ namespace forma
     void
     Canvas::save()
     {
+      // A drawing error (e.g. text that is not UTF-8) stops all drawing.
+      AssertThrow(cairo_status(cr) == CAIRO_STATUS_SUCCESS,
+                  dealii::ExcMessage(
+                    "Cairo could not draw the plot '" + file_name +
+                    "': " + cairo_status_to_string(cairo_status(cr))));
       if (format == "png")
         {
           cairo_surface_flush(surface);
@@ -339,8 +364,10 @@ namespace forma
                                   {60, 180, 60},
                                   {240, 210, 40},
                                   {210, 40, 30}};
-      const double s           = 4 * std::clamp(t, 0., 1.);
-      const int    k           = std::min(3, static_cast<int>(s));
+      if (!std::isfinite(t))
+        return {{200, 200, 200}}; // no value: gray
+      const double s = 4 * std::clamp(t, 0., 1.);
+      const int    k = std::min(3, static_cast<int>(s));
       Color        c;
       for (unsigned int i = 0; i < 3; ++i)
         c[i] = static_cast<std::uint8_t>(

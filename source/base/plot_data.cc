@@ -18,7 +18,8 @@ namespace forma
       const auto slash = plot_file.find_last_of('/');
       const bool has_extension =
         dot != std::string::npos && (slash == std::string::npos || dot > slash);
-      return (has_extension ? plot_file.substr(0, dot) : plot_file) + ".csv";
+      return (has_extension ? plot_file.substr(0, dot) : plot_file) +
+             ".plot.csv";
     }
 
 

@@ -14,7 +14,8 @@ namespace forma
 {
   namespace internal
   {
-    /// `<stem>.csv` for the plot `<stem>.<png|svg|pdf>`.
+    /// `<stem>.plot.csv` for the plot `<stem>.<png|svg|pdf>` (apart from
+    /// any table an app writes as `<stem>.csv`).
     std::string
     data_file_name(const std::string &plot_file);
 

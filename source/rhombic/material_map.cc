@@ -621,5 +621,47 @@ namespace forma
                          "Poisson's ratio ν",
                          "E / E_b");
     }
+
+
+
+    void
+    MaterialMap::write_coverage_plot(const std::string &file_name) const
+    {
+      const std::array<std::array<std::uint8_t, 3>, 4> colors = {
+        {{{200, 30, 30}}, {{235, 150, 40}}, {{40, 140, 60}}, {{31, 90, 180}}}};
+      std::vector<PlotSeries> series;
+      double                  top = 0;
+      for (unsigned int a = 0; a < angles.size(); ++a)
+        {
+          PlotSeries s;
+          for (unsigned int n = 0; n < E.size() * nu.size(); ++n)
+            if (covered[a][n])
+              {
+                s.points.push_back({{nu[n % nu.size()], E[n / nu.size()]}});
+                top = std::max(top, E[n / nu.size()]);
+              }
+          std::ostringstream label;
+          label << "α = " << std::setprecision(3) << angles[a] << "°";
+          s.color = colors[a % colors.size()];
+          s.size  = 5 - std::min<int>(a, 3);
+          s.label = label.str();
+          series.push_back(s);
+          if (a < polygons.size()) // D(alpha), the coverage polygon
+            {
+              PlotSeries outline;
+              outline.points = polygons[a].outline();
+              outline.line   = true;
+              outline.color  = s.color;
+              series.push_back(outline);
+            }
+        }
+      write_xy_plot(file_name,
+                    series,
+                    "Material map coverage",
+                    "Poisson's ratio ν",
+                    "E / E_b",
+                    {{-1, 1}},
+                    {{0, 1.1 * std::max(top, 1e-3)}});
+    }
   } // namespace rhombic
 } // namespace forma

@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 
 using namespace forma;
 using dealii::deallog;
@@ -86,11 +87,11 @@ main()
   write_history_plot("history.png", values, "objective history", "iteration");
   check("history: a PNG of 820 x 640 pixels",
         png_size("history.png") == (std::array<int, 2>{{820, 640}}));
-  const auto history = rows("history.csv");
-  deallog << "history.csv: " << history.size() << " rows; first "
+  const auto history = rows("history.plot.csv");
+  deallog << "history.plot.csv: " << history.size() << " rows; first "
           << history.front() << std::endl;
-  check("history.csv says log y",
-        read_file("history.csv").find("# logarithmic: y\n") !=
+  check("history.plot.csv says log y and J0 = 2",
+        read_file("history.plot.csv").find("# logarithmic: y\n# J0: 2\n") !=
           std::string::npos);
 
   // An x-y plot in three formats; Greek labels; a legend beside the axes.
@@ -115,26 +116,49 @@ main()
           read_file("coverage.svg").find("<svg") != std::string::npos &&
           starts_with("coverage.pdf", "%PDF"));
   check("the legend widens the canvas", png_size("coverage.png")[0] > 820);
-  for (const std::string &r : rows("coverage.csv"))
-    deallog << "  coverage.csv: " << r << std::endl;
+  for (const std::string &r : rows("coverage.plot.csv"))
+    deallog << "  coverage.plot.csv: " << r << std::endl;
 
   // A field on two unit squares, y up: the low value at the bottom.
   const std::vector<std::vector<std::array<double, 2>>> squares = {
     {{{0, 0}}, {{1, 0}}, {{1, 1}}, {{0, 1}}},
     {{{0, 1}}, {{1, 1}}, {{1, 2}}, {{0, 2}}}};
   write_polygon_field("field.png", squares, {0., 1.}, {{0, 1}}, "E / E_b", 330);
-  // width 330: margin 20 + 180 px per unit + color bar 130; top 50.
+  // width 330: margin 20 + 160 px per unit + color bar 130; top 50.
   const auto low  = pixel("field.png", 110, 50 + 270),
              high = pixel("field.png", 110, 50 + 90);
   deallog << "field: bottom square " << low[0] << " " << low[1] << " " << low[2]
           << ", top square " << high[0] << " " << high[1] << " " << high[2]
           << std::endl;
-  deallog << "field.csv: " << rows("field.csv").size() << " rows" << std::endl;
+  deallog << "field.plot.csv: " << rows("field.plot.csv").size() << " rows"
+          << std::endl;
+
+  // No value (NaN): gray.
+  write_polygon_field("nan.png",
+                      squares,
+                      {std::numeric_limits<double>::quiet_NaN(), 1.},
+                      {{0, 1}},
+                      "NaN",
+                      330);
+  const auto none = pixel("nan.png", 110, 50 + 270);
+  deallog << "field: no value " << none[0] << " " << none[1] << " " << none[2]
+          << std::endl;
+  // A log axis inside two decades: labelled at 1, 2 and 5 times 10^k.
+  write_xy_plot("narrow.png",
+                {samples},
+                "narrow",
+                "x",
+                "y",
+                {{0, 1}},
+                {{0.02, 0.5}},
+                {{false, true}});
+  check("a log axis inside two decades drawn",
+        starts_with("narrow.png", "\x89PNG"));
 
   write_overlay("overlay.svg", squares, {squares[0]}, 400);
   check("overlay: an SVG and its CSV",
         read_file("overlay.svg").find("<svg") != std::string::npos &&
-          rows("overlay.csv").size() == 12);
+          rows("overlay.plot.csv").size() == 12);
 
   // Panels: two fields on a 2 x 3 grid, one point undefined (gray).
   FieldPanel f1{"p_1", {0, 1, 2, 3, 4, 5}, {}},
@@ -154,7 +178,7 @@ main()
              red  = pixel("panels.png", 280 + 20, 50 + 20);
   deallog << "panels: undefined " << gray[0] << " " << gray[1] << " " << gray[2]
           << ", largest " << red[0] << " " << red[1] << " " << red[2]
-          << "; panels.csv: " << rows("panels.csv").size() << " rows"
+          << "; panels.plot.csv: " << rows("panels.plot.csv").size() << " rows"
           << std::endl;
 
   // A raw image read back pixel for pixel.
@@ -186,11 +210,11 @@ main()
           << ", ends with EOF: " << (last == "EOF" ? "yes" : "no") << std::endl;
 
   // The data files redraw with matplotlib.
-  for (const std::string csv : {"history.csv",
-                                "coverage.csv",
-                                "field.csv",
-                                "overlay.csv",
-                                "panels.csv"})
+  for (const std::string csv : {"history.plot.csv",
+                                "coverage.plot.csv",
+                                "field.plot.csv",
+                                "overlay.plot.csv",
+                                "panels.plot.csv"})
     redraw(csv);
 
   // Bad input: a clear error and no file written.
@@ -217,6 +241,12 @@ main()
       write_image("bad.png", 2, 2, {1, 2, 3});
     },
     "3 bytes do not make a 2 x 2 RGB image");
+  expect_refusal(
+    "an image beyond Cairo's 32767 pixels",
+    [] {
+      write_image("bad.png", 40000, 1, std::vector<unsigned char>(3 * 40000));
+    },
+    "would be 40000 x 1 units");
   check("no bad.png written", !std::filesystem::exists("bad.png"));
   expect_refusal(
     "an unwritable directory",

@@ -26,7 +26,8 @@ namespace forma
     const double                                           stroke);
 
   /// An ASCII DXF (R12, read by every CAD and cutter program): one closed
-  /// POLYLINE per polygon on layer "outline", units millimetres.
+  /// POLYLINE per polygon on layer "outline"; coordinates in millimetres
+  /// (R12 files do not say their unit: import them as mm).
   void
   write_polygons_dxf(
     const std::string                                     &file_name,

@@ -14,9 +14,11 @@ namespace forma
    *
    * Drawn with Cairo: the file name's extension (.png, .svg or .pdf) picks
    * the format, labels are UTF-8 (Greek letters and subscripts work), and
-   * every file is written whole or not at all. Each x-y and polygon plot
-   * leaves `<stem>.csv` beside it with exactly the plotted numbers, which
-   * `contrib/plot/redraw.py` turns back into the plot (e.g. for a paper).
+   * every file is written whole or not at all. Each chart (x-y, polygon
+   * field, overlay, field panels) leaves `<stem>.plot.csv` beside it with
+   * exactly the plotted numbers, which `contrib/plot/redraw.py` turns back
+   * into the chart (e.g. for a paper); images (write_image(),
+   * write_level_set()) are their own data.
    */
   /** @{ */
 

@@ -183,6 +183,12 @@ namespace forma
       write_parameter_surfaces(const std::string &file_name,
                                const double       angle) const;
 
+      /// The covered grid nodes and the coverage polygon D(alpha) of each
+      /// angle in the (nu, E/E_b) plane (Fig. 4.14), with the plotted
+      /// numbers beside it (write_xy_plot()).
+      void
+      write_coverage_plot(const std::string &file_name) const;
+
       /**
        * A map written by write(). `with_splines` false reads a build's
        * progress file (grid, coverage and samples; its splines are not fitted

@@ -258,11 +258,11 @@ namespace forma
                       table[k * n_fields + f_E] / setup.base.E}});
               series.insert(series.begin(), s);
             }
-          series.push_back(bound_curve(1, {{0, 0, 0}}, "HS bound phi=1"));
+          series.push_back(bound_curve(1, {{0, 0, 0}}, "HS bound φ = 1"));
           if (phi_max - phi_min <= 0.05)
             series.push_back(bound_curve(std::min(1., phi_min),
                                          {{120, 120, 120}},
-                                         "HS bound phi=" + sig(phi_min, 3)));
+                                         "HS bound φ = " + sig(phi_min, 3)));
           write_xy_plot(context.path("coverage.png"),
                         series,
                         "Coverage of the HS bounds",

@@ -725,40 +725,7 @@ namespace forma
                        {"nu_error_max", max_dnu}};
       if (context.is_root())
         {
-          std::vector<PlotSeries>                          series;
-          const std::array<std::array<std::uint8_t, 3>, 4> colors = {
-            {{{200, 30, 30}},
-             {{235, 150, 40}},
-             {{40, 140, 60}},
-             {{31, 90, 180}}}};
-          double top = 0;
-          for (unsigned int a = 0; a < angles.size(); ++a)
-            {
-              PlotSeries s;
-              for (unsigned int n = 0; n < n_nodes; ++n)
-                if (map.covered[a][n])
-                  {
-                    s.points.push_back({{node_nu(n), node_E(n)}});
-                    top = std::max(top, node_E(n));
-                  }
-              s.color = colors[a % colors.size()];
-              s.size  = 5 - std::min<int>(a, 3);
-              s.label = "α = " + sig(angles[a]) + "°";
-              series.push_back(s);
-              // D(alpha), the coverage polygon (Fig. 4.14).
-              PlotSeries outline;
-              outline.points = map.polygons[a].outline();
-              outline.line   = true;
-              outline.color  = s.color;
-              series.push_back(outline);
-            }
-          write_xy_plot(context.path("map_coverage.png"),
-                        series,
-                        "Material map coverage",
-                        "Poisson's ratio ν",
-                        "E / E_b",
-                        {{-1, 1}},
-                        {{0, 1.1 * std::max(top, 1e-3)}});
+          map.write_coverage_plot(context.path("map_coverage.png"));
           // Fig. 4.33: every check as a segment from its target (E*, nu*)
           // to what the map's structure gives.
           if (!accuracy.empty())
