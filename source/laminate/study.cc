@@ -408,8 +408,8 @@ namespace forma
         "Image file",
         "",
         Patterns::Anything(),
-        "Type = image: a PGM (P2/P5) or CSV matrix of densities "
-        "in [0, 1], relative to the .prm file.");
+        "Type = image: a grayscale PGM (P2/P5) or PNG (1-16 bits) image, or "
+        "a CSV matrix of densities in [0, 1]; relative to the .prm file.");
       prm.declare_entry("Image width",
                         "1",
                         Patterns::Double(0),

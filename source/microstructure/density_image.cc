@@ -2,6 +2,8 @@
 
 #include <forma/microstructure/density_image.h>
 
+#include "png_gray.h"
+
 #include <algorithm>
 #include <cctype>
 #include <fstream>
@@ -124,6 +126,8 @@ namespace forma
               }
           }
       }
+    else if (extension == ".png")
+      top_down = internal::read_png_gray(file, image.nx, image.ny);
     else if (extension == ".csv")
       {
         std::string  line;
@@ -175,7 +179,7 @@ namespace forma
     else
       AssertThrow(false,
                   ExcMessage("structure image '" + file +
-                             "': use a .pgm image or a .csv matrix"));
+                             "': use a .pgm or .png image or a .csv matrix"));
     AssertThrow(image.nx >= 2 && image.ny >= 2,
                 ExcMessage("structure image '" + file + "' has " +
                            std::to_string(image.nx) + " x " +

@@ -1,0 +1,153 @@
+// Structure images as PNG: grayscale at 1, 2, 4, 8 and 16 bits, with alpha
+// and interlaced, read exactly (each value over the largest of its depth,
+// the top row of the file at the top of the cell); color PNGs, bytes that
+// are not PNG, truncated files and missing files refused with clear errors.
+
+#include <forma/microstructure/density_image.h>
+
+#include "../tests.h"
+#include <png.h>
+
+#include <cstdio>
+#include <filesystem>
+
+using namespace forma;
+using dealii::deallog;
+
+// Write a w x h PNG of `samples` (per pixel: gray, or gray and alpha, or
+// RGB), rows from the top.
+void
+write_png(const std::string           &name,
+          const unsigned int           w,
+          const unsigned int           h,
+          const int                    bit_depth,
+          const int                    color_type,
+          const bool                   interlaced,
+          const std::vector<unsigned> &samples)
+{
+  std::FILE  *file = std::fopen(name.c_str(), "wb");
+  png_structp png =
+    png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png_create_info_struct(png);
+  png_init_io(png, file);
+  png_set_IHDR(png,
+               info,
+               w,
+               h,
+               bit_depth,
+               color_type,
+               interlaced ? PNG_INTERLACE_ADAM7 : PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT,
+               PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  if (bit_depth < 8)
+    png_set_packing(png); // one byte a sample in, packed bits out
+  const unsigned int         per_pixel = samples.size() / (w * h);
+  const unsigned int         bytes     = bit_depth == 16 ? 2 : 1;
+  std::vector<unsigned char> data;
+  for (const unsigned v : samples)
+    {
+      if (bytes == 2)
+        data.push_back(v >> 8);
+      data.push_back(v & 255);
+    }
+  std::vector<png_bytep> rows(h);
+  for (unsigned int y = 0; y < h; ++y)
+    rows[y] = data.data() + y * w * per_pixel * bytes;
+  png_write_image(png, rows.data());
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  std::fclose(file);
+}
+
+// Read `name` and compare with the gray samples (every per_pixel-th from
+// the first) over `top`, flipped to bottom-up rows.
+void
+check_exact(const std::string           &name,
+            const unsigned int           w,
+            const unsigned int           h,
+            const unsigned int           per_pixel,
+            const double                 top,
+            const std::vector<unsigned> &samples)
+{
+  const DensityImage image = DensityImage::read(name, false);
+  double             worst = image.nx == w && image.ny == h ? 0 : 1;
+  for (unsigned int j = 0; j < h && worst == 0; ++j)
+    for (unsigned int i = 0; i < w; ++i)
+      worst =
+        std::max(worst,
+                 std::abs(image.density(i, j) -
+                          samples[per_pixel * ((h - 1 - j) * w + i)] / top));
+  deallog << name << ": " << image.nx << " x " << image.ny << ", mean "
+          << image.mean() << ", exact: " << (worst == 0 ? "yes" : "NO")
+          << std::endl;
+}
+
+int
+main()
+{
+  initlog();
+  // 3 x 2 images; the top row differs from the bottom one.
+  const std::vector<unsigned> one = {1, 0, 1, 0, 0, 1};
+  write_png("gray1.png", 3, 2, 1, PNG_COLOR_TYPE_GRAY, false, one);
+  check_exact("gray1.png", 3, 2, 1, 1, one);
+  const std::vector<unsigned> two = {0, 1, 2, 3, 3, 0};
+  write_png("gray2.png", 3, 2, 2, PNG_COLOR_TYPE_GRAY, false, two);
+  check_exact("gray2.png", 3, 2, 1, 3, two);
+  const std::vector<unsigned> four = {0, 5, 15, 7, 9, 1};
+  write_png("gray4.png", 3, 2, 4, PNG_COLOR_TYPE_GRAY, false, four);
+  check_exact("gray4.png", 3, 2, 1, 15, four);
+  const std::vector<unsigned> eight = {0, 128, 255, 17, 200, 99};
+  write_png("gray8.png", 3, 2, 8, PNG_COLOR_TYPE_GRAY, false, eight);
+  check_exact("gray8.png", 3, 2, 1, 255, eight);
+  const std::vector<unsigned> sixteen = {0, 32768, 65535, 1, 40000, 12345};
+  write_png("gray16.png", 3, 2, 16, PNG_COLOR_TYPE_GRAY, false, sixteen);
+  check_exact("gray16.png", 3, 2, 1, 65535, sixteen);
+  // Gray and alpha, 8 bits: the alpha (the second sample) is ignored.
+  const std::vector<unsigned> alpha = {
+    0, 9, 128, 9, 255, 9, 17, 0, 200, 0, 99, 0};
+  write_png("alpha.png", 3, 2, 8, PNG_COLOR_TYPE_GRAY_ALPHA, false, alpha);
+  check_exact("alpha.png", 3, 2, 2, 255, alpha);
+  // Interlaced (Adam7) 16 bits, 9 x 9 so that every pass has pixels.
+  std::vector<unsigned> big(81);
+  for (unsigned int k = 0; k < big.size(); ++k)
+    big[k] = (k * 7919) % 65536;
+  write_png("interlaced.png", 9, 9, 16, PNG_COLOR_TYPE_GRAY, true, big);
+  check_exact("interlaced.png", 9, 9, 1, 65535, big);
+
+  // Bad files.
+  write_png("color.png",
+            2,
+            2,
+            8,
+            PNG_COLOR_TYPE_RGB,
+            false,
+            std::vector<unsigned>(12, 100));
+  expect_refusal(
+    "a color PNG",
+    [] { DensityImage::read("color.png", false); },
+    "is a color PNG");
+  std::ofstream("noise.png") << "GIF89a and then some bytes";
+  expect_refusal(
+    "not a PNG",
+    [] { DensityImage::read("noise.png", false); },
+    "is not a PNG image (no PNG signature)");
+  const std::string whole = read_file("interlaced.png");
+  std::ofstream("truncated.png", std::ios::binary)
+    << whole.substr(0, whole.size() / 2);
+  expect_refusal(
+    "a truncated PNG",
+    [] { DensityImage::read("truncated.png", false); },
+    "'truncated.png' is not a readable PNG");
+  expect_refusal(
+    "a missing PNG",
+    [] { DensityImage::read("nowhere.png", false); },
+    "cannot open the structure image 'nowhere.png'");
+  std::filesystem::copy_file("gray8.png",
+                             "gray8.tif",
+                             std::filesystem::copy_options::overwrite_existing);
+  expect_refusal(
+    "an unknown extension",
+    [] { DensityImage::read("gray8.tif", false); },
+    "use a .pgm or .png image or a .csv matrix");
+}
