@@ -1,7 +1,8 @@
 // Structure images as PNG: grayscale at 1, 2, 4, 8 and 16 bits, with alpha
 // and interlaced, read exactly (each value over the largest of its depth,
-// the top row of the file at the top of the cell); color PNGs, bytes that
-// are not PNG, truncated files and missing files refused with clear errors.
+// the top row of the file at the top of the cell); color PNGs, images over
+// 8192 x 8192 pixels, bytes that are not PNG, truncated files and missing
+// files refused with clear errors.
 
 #include <forma/microstructure/density_image.h>
 
@@ -126,7 +127,35 @@ main()
   expect_refusal(
     "a color PNG",
     [] { DensityImage::read("color.png", false); },
-    "is a color PNG");
+    "is a color or palette PNG");
+  {
+    // The header of a 10000 x 10000 image: refused before any pixel memory
+    // is taken.
+    std::FILE  *file = std::fopen("huge.png", "wb");
+    png_structp png =
+      png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+    png_infop info = png_create_info_struct(png);
+    png_init_io(png, file);
+    png_set_IHDR(png,
+                 info,
+                 10000,
+                 10000,
+                 8,
+                 PNG_COLOR_TYPE_GRAY,
+                 PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT,
+                 PNG_FILTER_TYPE_DEFAULT);
+    png_write_info(png, info);
+    png_destroy_write_struct(&png, &info);
+    std::fclose(file);
+    // The start of the first IDAT chunk, where the header ends.
+    std::ofstream("huge.png", std::ios::binary | std::ios::app)
+      << std::string("\0\0\0\x10IDAT", 8) << "0123456789";
+  }
+  expect_refusal(
+    "a PNG over 8192 x 8192 pixels",
+    [] { DensityImage::read("huge.png", false); },
+    "is 10000 x 10000 pixels, more than 8192 x 8192");
   std::ofstream("noise.png") << "GIF89a and then some bytes";
   expect_refusal(
     "not a PNG",
