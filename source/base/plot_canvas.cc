@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <fstream>
 
 namespace forma
@@ -34,13 +35,6 @@ namespace forma
             return CAIRO_STATUS_NO_MEMORY;
           }
       }
-
-      std::string
-      extension(const std::string &file_name)
-      {
-        const auto dot = file_name.find_last_of('.');
-        return dot == std::string::npos ? "" : file_name.substr(dot + 1);
-      }
     } // namespace
 
 
@@ -49,11 +43,11 @@ namespace forma
                    const double       width,
                    const double       height)
       : file_name(file_name)
-      , format(extension(file_name))
+      , format(std::filesystem::path(file_name).extension().string())
       , width(width)
       , height(height)
     {
-      AssertThrow(format == "png" || format == "svg" || format == "pdf",
+      AssertThrow(format == ".png" || format == ".svg" || format == ".pdf",
                   dealii::ExcMessage("the plot '" + file_name +
                                      "' must end in .png, .svg or .pdf"));
       // Cairo's image surfaces end at 32767 pixels a side.
@@ -63,12 +57,12 @@ namespace forma
                     std::to_string(std::lround(width)) + " x " +
                     std::to_string(std::lround(height)) +
                     " units: empty, or over Cairo's 32767 a side"));
-      if (format == "png")
+      if (format == ".png")
         surface =
           cairo_image_surface_create(CAIRO_FORMAT_RGB24,
                                      static_cast<int>(std::ceil(width)),
                                      static_cast<int>(std::ceil(height)));
-      else if (format == "svg")
+      else if (format == ".svg")
         surface =
           cairo_svg_surface_create_for_stream(append, &bytes, width, height);
       else
@@ -330,7 +324,7 @@ namespace forma
                   dealii::ExcMessage(
                     "Cairo could not draw the plot '" + file_name +
                     "': " + cairo_status_to_string(cairo_status(cr))));
-      if (format == "png")
+      if (format == ".png")
         {
           cairo_surface_flush(surface);
           AssertThrow(cairo_surface_write_to_png_stream(

@@ -5,6 +5,7 @@
 #include <forma/base/replace_file.h>
 
 #include <charconv>
+#include <filesystem>
 #include <fstream>
 
 namespace forma
@@ -14,12 +15,9 @@ namespace forma
     std::string
     data_file_name(const std::string &plot_file)
     {
-      const auto dot   = plot_file.find_last_of('.');
-      const auto slash = plot_file.find_last_of('/');
-      const bool has_extension =
-        dot != std::string::npos && (slash == std::string::npos || dot > slash);
-      return (has_extension ? plot_file.substr(0, dot) : plot_file) +
-             ".plot.csv";
+      return std::filesystem::path(plot_file)
+        .replace_extension(".plot.csv")
+        .string();
     }
 
 

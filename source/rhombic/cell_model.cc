@@ -12,6 +12,7 @@
 #include <Sacado.hpp>
 
 #include <algorithm>
+#include <filesystem>
 
 namespace forma
 {
@@ -112,9 +113,7 @@ namespace forma
           if ((signed_area(loop.vertices) < 0) != loop.hole)
             std::reverse(polygon.begin(), polygon.end());
         }
-      const bool dxf = file_name.size() > 4 &&
-                       file_name.compare(file_name.size() - 4, 4, ".dxf") == 0;
-      if (dxf)
+      if (std::filesystem::path(file_name).extension() == ".dxf")
         write_polygons_dxf(file_name, loops);
       else
         write_polygons_svg(file_name, loops, 1e-3 * side);

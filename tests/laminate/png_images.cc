@@ -88,22 +88,19 @@ int
 main()
 {
   initlog();
-  // 3 x 2 images; the top row differs from the bottom one.
-  const std::vector<unsigned> one = {1, 0, 1, 0, 0, 1};
-  write_png("gray1.png", 3, 2, 1, PNG_COLOR_TYPE_GRAY, false, one);
-  check_exact("gray1.png", 3, 2, 1, 1, one);
-  const std::vector<unsigned> two = {0, 1, 2, 3, 3, 0};
-  write_png("gray2.png", 3, 2, 2, PNG_COLOR_TYPE_GRAY, false, two);
-  check_exact("gray2.png", 3, 2, 1, 3, two);
-  const std::vector<unsigned> four = {0, 5, 15, 7, 9, 1};
-  write_png("gray4.png", 3, 2, 4, PNG_COLOR_TYPE_GRAY, false, four);
-  check_exact("gray4.png", 3, 2, 1, 15, four);
-  const std::vector<unsigned> eight = {0, 128, 255, 17, 200, 99};
-  write_png("gray8.png", 3, 2, 8, PNG_COLOR_TYPE_GRAY, false, eight);
-  check_exact("gray8.png", 3, 2, 1, 255, eight);
-  const std::vector<unsigned> sixteen = {0, 32768, 65535, 1, 40000, 12345};
-  write_png("gray16.png", 3, 2, 16, PNG_COLOR_TYPE_GRAY, false, sixteen);
-  check_exact("gray16.png", 3, 2, 1, 65535, sixteen);
+  // 3 x 2 images at every gray depth; the top row differs from the bottom.
+  const std::vector<std::pair<int, std::vector<unsigned>>> depths = {
+    {1, {1, 0, 1, 0, 0, 1}},
+    {2, {0, 1, 2, 3, 3, 0}},
+    {4, {0, 5, 15, 7, 9, 1}},
+    {8, {0, 128, 255, 17, 200, 99}},
+    {16, {0, 32768, 65535, 1, 40000, 12345}}};
+  for (const auto &[bits, samples] : depths)
+    {
+      const std::string name = "gray" + std::to_string(bits) + ".png";
+      write_png(name, 3, 2, bits, PNG_COLOR_TYPE_GRAY, false, samples);
+      check_exact(name, 3, 2, 1, (1u << bits) - 1, samples);
+    }
   // Gray and alpha, 8 bits: the alpha (the second sample) is ignored.
   const std::vector<unsigned> alpha = {
     0, 9, 128, 9, 255, 9, 17, 0, 200, 0, 99, 0};
