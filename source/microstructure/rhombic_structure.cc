@@ -148,6 +148,28 @@ namespace forma
 
 
 
+  RhombicStructure
+  RhombicStructure::mirrored() const
+  {
+    RhombicStructure m = *this;
+    for (unsigned int i = 0; i < n_parameters; ++i)
+      m.p[i] = p[mirror_partner(i)];
+    return m;
+  }
+
+
+
+  unsigned int
+  RhombicStructure::mirror_partner(const unsigned int i)
+  {
+    AssertIndexRange(i, n_parameters);
+    constexpr std::array<unsigned int, n_parameters> partner = {
+      {1, 0, 3, 2, 4, 5, 7, 6}};
+    return partner[i];
+  }
+
+
+
   bool
   RhombicStructure::clear_corner(const double clearance, const double lowest)
   {

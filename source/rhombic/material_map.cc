@@ -25,13 +25,16 @@ namespace forma
 
     TensorSpline::TensorSpline(const std::vector<double>       &lower,
                                const std::vector<double>       &upper,
-                               const std::vector<unsigned int> &n)
+                               const std::vector<unsigned int> &n,
+                               const std::vector<bool>         &logarithmic)
       : lower(lower)
       , upper(upper)
       , n(n)
+      , logarithmic(logarithmic.empty() ? std::vector<bool>(n.size(), false) :
+                                          logarithmic)
     {
       AssertThrow(lower.size() == upper.size() && lower.size() == n.size() &&
-                    !n.empty(),
+                    !n.empty() && this->logarithmic.size() == n.size(),
                   ExcMessage("spline: inconsistent dimensions"));
       std::size_t size = 1;
       for (unsigned int k = 0; k < n.size(); ++k)
@@ -39,6 +42,10 @@ namespace forma
           AssertThrow(n[k] >= 4,
                       ExcMessage("spline: at least 4 control points per "
                                  "direction"));
+          AssertThrow(!this->logarithmic[k] || lower[k] > 0,
+                      ExcMessage("spline: a logarithmic direction needs "
+                                 "positive bounds, not " +
+                                 std::to_string(lower[k])));
           // A degenerate direction (one value) gets a unit interval.
           if (!(this->upper[k] > this->lower[k]))
             this->upper[k] = this->lower[k] + 1;
@@ -52,8 +59,13 @@ namespace forma
     std::pair<int, std::array<double, 4>>
     TensorSpline::basis(const unsigned int k, const double x) const
     {
-      const double h = (upper[k] - lower[k]) / (n[k] - 3);
-      const double t = std::clamp((x - lower[k]) / h, 0., n[k] - 3.);
+      // Outside the box (and x <= 0 on a log axis) the end values hold.
+      const auto coordinate = [&](const double y) {
+        return !logarithmic[k] ? y : std::log(std::max(y, lower[k]));
+      };
+      const double a = coordinate(lower[k]);
+      const double h = (coordinate(upper[k]) - a) / (n[k] - 3);
+      const double t = std::clamp((coordinate(x) - a) / h, 0., n[k] - 3.);
       const int i = std::min(static_cast<int>(t), static_cast<int>(n[k]) - 4);
       const double u = t - i, v = 1 - u;
       return {i,
@@ -153,10 +165,16 @@ namespace forma
     nlohmann::json
     TensorSpline::to_json() const
     {
-      return {{"lower", lower},
-              {"upper", upper},
-              {"control_points", n},
-              {"coefficients", coefficients}};
+      // "logarithmic" only where used, so maps without it read and write
+      // as before.
+      nlohmann::json j = {{"lower", lower},
+                          {"upper", upper},
+                          {"control_points", n},
+                          {"coefficients", coefficients}};
+      if (std::find(logarithmic.begin(), logarithmic.end(), true) !=
+          logarithmic.end())
+        j["logarithmic"] = logarithmic;
+      return j;
     }
 
 
@@ -166,7 +184,8 @@ namespace forma
     {
       TensorSpline s(j.at("lower").get<std::vector<double>>(),
                      j.at("upper").get<std::vector<double>>(),
-                     j.at("control_points").get<std::vector<unsigned int>>());
+                     j.at("control_points").get<std::vector<unsigned int>>(),
+                     j.value("logarithmic", std::vector<bool>()));
       const auto   c = j.at("coefficients").get<std::vector<double>>();
       AssertThrow(c.size() == s.coefficients.size(),
                   ExcMessage("spline: " + std::to_string(c.size()) +
@@ -480,7 +499,11 @@ namespace forma
     MaterialMap::write(const std::string &file_name) const
     {
       nlohmann::json j;
-      j["format"]   = "forma-rhombic material map 1";
+      // Format 2: splines uniform in log E, which a reader of format 1
+      // would evaluate on a linear axis without noticing.
+      j["format"]   = parameters[0].is_logarithmic(0) ?
+                        "forma-rhombic material map 2" :
+                        "forma-rhombic material map 1";
       j["base"]     = {{"E", 1}, {"nu", 0}};
       j["axes"]     = {"E/E_b", "nu", "angle_degrees"};
       j["blending"] = blending;
@@ -523,8 +546,10 @@ namespace forma
       try
         {
           const auto j = nlohmann::json::parse(in);
-          AssertThrow(j.at("format") == "forma-rhombic material map 1",
-                      ExcMessage("not a forma-rhombic material map"));
+          AssertThrow(j.at("format") == "forma-rhombic material map 1" ||
+                        j.at("format") == "forma-rhombic material map 2",
+                      ExcMessage("not a forma-rhombic material map (format "
+                                 "1 or 2)"));
           map.blending = j.at("blending").get<double>();
           map.E        = j.at("grid").at("E").get<std::vector<double>>();
           map.nu       = j.at("grid").at("nu").get<std::vector<double>>();
@@ -589,15 +614,22 @@ namespace forma
     {
       // Parameter surfaces (Fig. 4.17): p1..p4 in the top row, p5..p8
       // below; nu along x, E up; gray outside the coverage.
-      const unsigned int      P = 120;
+      // A map whose splines are uniform in log E is drawn over log10 E.
+      const bool              log_E = parameters[0].is_logarithmic(0);
+      const unsigned int      P     = 120;
       std::vector<FieldPanel> panels(RhombicStructure::n_parameters);
       for (unsigned int i = 0; i < panels.size(); ++i)
         panels[i].title = "p_" + std::to_string(i + 1);
+      const std::array<double, 2> y_range =
+        log_E ?
+          std::array<double, 2>{{std::log10(E.front()), std::log10(E.back())}} :
+          std::array<double, 2>{{E.front(), E.back()}};
       for (unsigned int r = 0; r < P; ++r)
         for (unsigned int c = 0; c < P; ++c)
           {
-            const double E_rc =
-              E.front() + (E.back() - E.front()) * (P - 1 - r) / (P - 1);
+            const double y =
+              y_range[0] + (y_range[1] - y_range[0]) * (P - 1 - r) / (P - 1);
+            const double E_rc = log_E ? std::pow(10., y) : y;
             const double nu_rc =
               nu.front() + (nu.back() - nu.front()) * c / (P - 1);
             bool inside;
@@ -616,10 +648,10 @@ namespace forma
                          P,
                          P,
                          {{nu.front(), nu.back()}},
-                         {{E.front(), E.back()}},
+                         y_range,
                          title.str(),
                          "Poisson's ratio ν",
-                         "E / E_b");
+                         log_E ? "log_{10}(E / E_b)" : "E / E_b");
     }
 
 
@@ -629,6 +661,7 @@ namespace forma
     {
       const std::array<std::array<std::uint8_t, 3>, 4> colors = {
         {{{200, 30, 30}}, {{235, 150, 40}}, {{40, 140, 60}}, {{31, 90, 180}}}};
+      const bool              log_E = parameters[0].is_logarithmic(0);
       std::vector<PlotSeries> series;
       double                  top = 0;
       for (unsigned int a = 0; a < angles.size(); ++a)
@@ -649,9 +682,21 @@ namespace forma
           if (a < polygons.size()) // D(alpha), the coverage polygon
             {
               PlotSeries outline;
-              outline.points = polygons[a].outline();
-              outline.line   = true;
-              outline.color  = s.color;
+              // Edges subdivided where the E axis is logarithmic: the
+              // slanted ones curve there.
+              const auto         corners = polygons[a].outline();
+              const unsigned int pieces  = log_E ? 16 : 1;
+              for (std::size_t k = 0; k + 1 < corners.size(); ++k)
+                for (unsigned int t = 0; t < pieces; ++t)
+                  outline.points.push_back(
+                    {{corners[k][0] +
+                        (corners[k + 1][0] - corners[k][0]) * t / pieces,
+                      corners[k][1] +
+                        (corners[k + 1][1] - corners[k][1]) * t / pieces}});
+              if (!corners.empty())
+                outline.points.push_back(corners.back());
+              outline.line  = true;
+              outline.color = s.color;
               series.push_back(outline);
             }
         }
@@ -661,7 +706,11 @@ namespace forma
                     "Poisson's ratio ν",
                     "E / E_b",
                     {{-1, 1}},
-                    {{0, 1.1 * std::max(top, 1e-3)}});
+                    log_E ?
+                      std::array<double, 2>{
+                        {E.front() / 1.25, 1.25 * E.back()}} :
+                      std::array<double, 2>{{0, 1.1 * std::max(top, 1e-3)}},
+                    {{false, log_E}});
     }
   } // namespace rhombic
 } // namespace forma

@@ -356,6 +356,14 @@ namespace forma
                         "Weight of the second-difference (Laplacian) "
                         "penalty of the spline fit.");
       prm.declare_entry(
+        "Young's modulus axis",
+        "linear",
+        Patterns::Selection("linear|logarithmic"),
+        "The splines' control points along E/E_b: uniform in E, or in "
+        "log E for a grid spanning decades (0.01-0.3), where uniform "
+        "control points would leave the small moduli, whose structures "
+        "change fastest, with one or two.");
+      prm.declare_entry(
         "Branch tolerance",
         "0.25",
         Patterns::Double(0),

@@ -14,7 +14,8 @@
 // eq. 4.11), within its documented accuracy (doc/rhombic.md: E to 15% between
 // its sparse samples, nu to 0.03). The tileable map (p5 = 0.3) is queried at
 // the edge of its coverage between its two smallest angles (45 and 46.25
-// degrees), where its splines change fastest, to within 3%.
+// degrees), where its splines change fastest, to within 3%. A target
+// outside the coverage is reported with the nearest covered point.
 
 #include "../tests.h"
 #include <nlohmann/json.hpp>
@@ -22,6 +23,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <sstream>
 
 namespace
@@ -278,4 +280,41 @@ main()
         0.03,
         0.03,
         false);
+
+  // A target outside the coverage: the query says so and names the
+  // nearest covered point, which lies on the coverage's boundary: a query
+  // there is inside, one a little beyond it (towards the target) outside.
+  {
+    const std::string map =
+      std::string(FORMA_SOURCE_DIR) + "/contrib/rhombic/map.json";
+    const auto ask =
+      [&](const std::string &name, const double E, const double nu) {
+        std::ostringstream target;
+        target << std::setprecision(17) << " set Young's modulus = " << E
+               << "\n set Poisson's ratio = " << nu << "\n";
+        run_app(FORMA_APP,
+                name,
+                "set Dimension = 2\nset Mode = query\nset Output directory = " +
+                  name + "\n" + mesh +
+                  "subsection Output\n set Write vtu = false\nend\n"
+                  "subsection Map\n set Map file = " +
+                  map + "\nend\nsubsection Query\n" + target.str() +
+                  " set Angle = 75\nend\n");
+        return nlohmann::json::parse(read_file(name + "/summary.json"));
+      };
+    const double x[2]    = {0.5, 0.2};
+    const auto   outside = ask("outside", x[0], x[1]);
+    const auto p = outside["nearest_covered_point"].get<std::vector<double>>();
+    const double d      = std::hypot(x[0] - p[0], x[1] - p[1]);
+    const auto   near   = ask("nearest", p[0], p[1]);
+    const auto   beyond = ask("beyond",
+                            p[0] + 1e-3 * (x[0] - p[0]) / d,
+                            p[1] + 1e-3 * (x[1] - p[1]) / d);
+    dealii::deallog << "query outside the coverage: inside "
+                    << outside["inside_coverage"].get<bool>()
+                    << "; at the nearest covered point: inside "
+                    << near["inside_coverage"].get<bool>()
+                    << "; 0.001 beyond it: inside "
+                    << beyond["inside_coverage"].get<bool>() << std::endl;
+  }
 }

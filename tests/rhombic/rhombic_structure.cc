@@ -6,6 +6,9 @@
 //  - node 4's joint reaches the cell's corner and joins its image there
 //    where corner_clearance() changes sign, and clear_corner() moves it
 //    back;
+//  - on the square cell, mirrored() (p1 <-> p2, p3 <-> p4, p7 <-> p8) is
+//    the structure reflected across the bisector of the cell's sides
+//    through its center, with the same isotropic fit and anisotropy;
 //  - C^H is orthotropic in the diagonal axes (ch. 4.6.1) up to the mesh's
 //    asymmetry, converges under mesh refinement, and the CLM transform
 //    (eq. 4.11) agrees with a direct computation for another base
@@ -145,6 +148,45 @@ main(int argc, char **argv)
     deallog << "; node 3 at 0.9 with radius 0.2: clearance negative "
             << (square.corner_clearance() < 0) << ", cleared by p4 "
             << square.clear_corner(min, 0.1) << std::endl;
+  }
+
+  // The mirror image on the square cell: the level set reflected across
+  // the line x = y through the center (the sides' bisectors in R are at 45
+  // degrees to the diagonal axes), and the same moduli.
+  {
+    RhombicStructure a;
+    a.p = {{0.32, 0.24, 0.35, 0.72, 0.3, 0.08, 0.12, 0.05}};
+    const RhombicStructure b  = a.mirrored();
+    const auto             ga = a.graph<double>(a.p), gb = b.graph<double>(b.p);
+    const Point<2>         center(a.cell_map() * Point<2>(1, 1));
+    double                 defect = 0;
+    for (unsigned int k = 0; k < 200; ++k)
+      {
+        const Tensor<1, 2> d(
+          {2.0 * ((k * 37) % 200) / 200 - 1, 2.0 * ((k * 91) % 200) / 200 - 1});
+        defect =
+          std::max(defect,
+                   std::abs(ga.value(center + d) -
+                            gb.value(center + Tensor<1, 2>({d[1], d[0]}))));
+      }
+    rhombic::Setup m;
+    m.base               = IsotropicModuli::from_young_poisson(1, 0);
+    m.mesh.size          = 0.05;
+    m.mesh.boundary_size = 0.0125;
+    const auto ra        = rhombic::evaluate(a, m, MPI_COMM_WORLD);
+    const auto rb        = rhombic::evaluate(b, m, MPI_COMM_WORLD);
+    deallog << "mirrored on the square: p = " << b.p[0] << ", " << b.p[1]
+            << ", " << b.p[2] << ", " << b.p[3] << ", " << b.p[4] << ", "
+            << b.p[5] << ", " << b.p[6] << ", " << b.p[7]
+            << "; level set reflected (< 1e-12): " << (defect < 1e-12)
+            << "; |E_b / E_a - 1| < 0.005: "
+            << (std::abs(rb.fit.E / ra.fit.E - 1) < 0.005)
+            << ", |nu_b - nu_a| < 0.003: "
+            << (std::abs(rb.fit.nu - ra.fit.nu) < 0.003)
+            << ", |a2_b - a2_a| < 0.01: "
+            << (std::abs(rb.anisotropy.a2 - ra.anisotropy.a2) < 0.01)
+            << ", |phi_b - phi_a| < 1e-3: "
+            << (std::abs(rb.phi - ra.phi) < 1e-3) << std::endl;
   }
 
   // Homogenization: orthotropy, convergence, CLM.

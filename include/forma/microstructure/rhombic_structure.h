@@ -105,6 +105,22 @@ namespace forma
     static constexpr double min_corner_clearance = 0.00625;
 
     /**
+     * The structure mirrored across the line through O and the midpoint of
+     * AB: A and B swap, so p1 <-> p2, p3 <-> p4 and p7 <-> p8 (alpha is
+     * kept). On the square cell that line is a symmetry of the cell, so
+     * the mirror image is the same material mirrored: the same isotropic
+     * moduli, anisotropy and volume fraction from a second branch of
+     * parameters.
+     */
+    RhombicStructure
+    mirrored() const;
+
+    /// The parameter that mirrored() exchanges with p[i] (i itself for p5,
+    /// p6).
+    static unsigned int
+    mirror_partner(const unsigned int i);
+
+    /**
      * Lowers p4 (node 4 towards the center, not below `lowest`) just enough
      * that corner_clearance() >= `clearance` (to 1e-7 in p4).
      * Returns whether p4 moved; it stays where the corner is clear already

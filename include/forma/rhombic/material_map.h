@@ -28,10 +28,14 @@ namespace forma
     public:
       TensorSpline() = default;
 
-      /// n[k] >= 4 control points along [lower[k], upper[k]].
+      /// n[k] >= 4 control points along [lower[k], upper[k]], uniform in
+      /// x[k], or in log x[k] where `logarithmic[k]` (bounds > 0; empty:
+      /// none): a quantity spanning decades (E/E_b 0.01-0.3) gets as many
+      /// control points per decade at its small end as at its large one.
       TensorSpline(const std::vector<double>       &lower,
                    const std::vector<double>       &upper,
-                   const std::vector<unsigned int> &n);
+                   const std::vector<unsigned int> &n,
+                   const std::vector<bool>         &logarithmic = {});
 
       /// Least squares on (x_s, y_s) plus `smoothing` times the squared
       /// second differences of the control values.
@@ -55,6 +59,14 @@ namespace forma
         return coefficients.size();
       }
 
+      /// Whether direction k is uniform in log x (false for a spline not
+      /// set up yet, e.g. a build's progress map).
+      bool
+      is_logarithmic(const unsigned int k) const
+      {
+        return k < logarithmic.size() && logarithmic[k];
+      }
+
     private:
       /// Nonzero basis functions at x along direction k: first index and
       /// the 4 values (x clamped to the box).
@@ -63,6 +75,7 @@ namespace forma
 
       std::vector<double>       lower, upper;
       std::vector<unsigned int> n;
+      std::vector<bool>         logarithmic;
       std::vector<double>       coefficients;
     };
 

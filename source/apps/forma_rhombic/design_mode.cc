@@ -31,6 +31,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <map>
 #include <memory>
@@ -280,12 +281,42 @@ namespace forma
         }
       };
 
+      /// What projecting the materials into the coverage moved: how many
+      /// slots, the largest violation, and the slot moved furthest, from
+      /// where to where.
+      struct Projection
+      {
+        unsigned int          outside    = 0;
+        double                worst      = 0;
+        double                moved      = 0;
+        unsigned int          moved_slot = 0;
+        std::array<double, 2> from{}, to{};
+
+        /// "N <what> projected into the coverage", and the furthest one
+        /// (`name` gives its number as the user knows it).
+        std::string
+        describe(const std::string                              &what,
+                 const std::function<std::string(unsigned int)> &name) const
+        {
+          std::string text = std::to_string(outside) + " " + what +
+                             " projected into the coverage (largest "
+                             "distance " +
+                             sig(worst, 2) + ")";
+          if (outside > 0)
+            text += "; moved furthest: " + name(moved_slot) +
+                    ", (E/E_b, nu) = (" + sig(from[0], 3) + ", " +
+                    sig(from[1], 3) + ") moved to the nearest covered point (" +
+                    sig(to[0], 3) + ", " + sig(to[1], 3) + ")";
+          return text;
+        }
+      };
+
       /**
        * The block's materials (E/E_b, nu) per slot: optimized for the
        * macro problem in `context`, or `constant` ('E/E_b, nu') in every
-       * slot; then projected into their regions (`worst`: the largest
-       * distance moved, `outside`: how many moved). q becomes the design
-       * with the projected materials, what the structures are built for.
+       * slot; then projected into their regions (the closest point,
+       * `projection` says what moved). q becomes the design with the
+       * projected materials, what the structures are built for.
        */
       std::vector<std::array<double, 2>>
       design_materials(CoverageConstraint         &coverage,
@@ -294,8 +325,7 @@ namespace forma
                        RunContext                 &context,
                        const std::string          &constant,
                        std::vector<double>        &q,
-                       double                     &worst,
-                       unsigned int               &outside)
+                       Projection                 &projection)
       {
         DesignConstraint constraint = coverage.constraint();
         if (constant.empty())
@@ -324,16 +354,24 @@ namespace forma
               }
           }
         std::vector<std::array<double, 2>> materials;
-        worst   = 0;
-        outside = 0;
+        projection = Projection();
         for (unsigned int g = 0; g < coverage.regions.size(); ++g)
           {
             const unsigned int          i = coverage.offset + 2 * g;
             const std::array<double, 2> m = {{q[i] / coverage.E_b, q[i + 1]}};
             const double v = std::max(0., violation(m, *coverage.regions[g]));
-            worst          = std::max(worst, v);
-            outside += v > 1e-6;
             materials.push_back(closest_point(m, *coverage.regions[g]));
+            const auto  &to    = materials.back();
+            const double moved = std::hypot(to[0] - m[0], to[1] - m[1]);
+            projection.outside += v > 1e-6;
+            projection.worst = std::max(projection.worst, v);
+            if (v > 1e-6 && moved > projection.moved)
+              {
+                projection.moved      = moved;
+                projection.moved_slot = g;
+                projection.from       = m;
+                projection.to         = to;
+              }
             q[i]     = coverage.E_b * materials.back()[0];
             q[i + 1] = materials.back()[1];
           }
@@ -513,16 +551,9 @@ namespace forma
         context.print("material optimization on the rhombic mesh (" +
                       std::to_string(n_cells) + " cells)");
       std::vector<double> q;
-      double              worst     = 0;
-      unsigned int        outside   = 0;
-      const auto          materials = design_materials(coverage,
-                                              parameters,
-                                              macro,
-                                              context,
-                                              constant_material,
-                                              q,
-                                              worst,
-                                              outside);
+      Projection          projection;
+      const auto          materials = design_materials(
+        coverage, parameters, macro, context, constant_material, q, projection);
       if (!constant_material.empty())
         {
           const auto m = Utilities::split_string_list(constant_material);
@@ -549,9 +580,10 @@ namespace forma
                     sig(*std::max_element(E.begin(), E.end()), 3) + ", nu " +
                     sig(*std::min_element(nu.begin(), nu.end()), 3) + "-" +
                     sig(*std::max_element(nu.begin(), nu.end()), 3) + "; " +
-                    std::to_string(outside) +
-                    " cells projected into the coverage (largest distance " +
-                    sig(worst, 2) + ")");
+                    projection.describe("cells", [&](const unsigned int g) {
+                      return "cell " + std::to_string(quad_of[g]) + " (" +
+                             sig(alpha[quad_of[g]], 3) + " degrees)";
+                    }));
 
       lap("map");
 
@@ -971,8 +1003,7 @@ namespace forma
             " (the rhombic mesh's mean edge)" +
             (constant_material.empty() ? "; materials optimized on them" : ""));
           std::vector<double>                q_cut;
-          double                             cut_worst   = 0;
-          unsigned int                       cut_outside = 0;
+          Projection                         cut_projection;
           std::vector<std::array<double, 2>> cut_materials;
           nlohmann::json                     cut_summary;
           {
@@ -991,19 +1022,19 @@ namespace forma
                                              cut_context,
                                              constant_material,
                                              q_cut,
-                                             cut_worst,
-                                             cut_outside);
+                                             cut_projection);
             macro.enter_subsection("Optimization");
             macro.set("Resume", resume);
             macro.leave_subsection();
             cut_summary = cut_context.summary;
             cut_context.commit();
           }
-          context.log("cut grid: " + std::to_string(cut_tria.n_active_cells()) +
-                      " triangles; " + std::to_string(cut_outside) +
-                      " squares projected into the coverage (largest "
-                      "distance " +
-                      sig(cut_worst, 2) + ")");
+          context.log(
+            "cut grid: " + std::to_string(cut_tria.n_active_cells()) +
+            " triangles; " +
+            cut_projection.describe("squares", [](const unsigned int k) {
+              return "square " + std::to_string(k);
+            }));
           lap("cut grid materials");
           std::vector<Quad>             quads;
           std::vector<RhombicStructure> tiles;
@@ -1034,8 +1065,8 @@ namespace forma
             {"squares", corners.size()},
             {"side", edge},
             {"triangles", cut_tria.n_active_cells()},
-            {"projected_squares", cut_outside},
-            {"largest_coverage_violation", cut_worst}};
+            {"projected_squares", cut_projection.outside},
+            {"largest_coverage_violation", cut_projection.worst}};
           if (cut_summary.count("final_objective"))
             context.summary["cut_grid"]["final_objective"] =
               cut_summary["final_objective"];
@@ -1061,8 +1092,9 @@ namespace forma
       context.summary["cells"]     = cells;
       context.summary["two_scale"] = {{"cells", n_cells},
                                       {"clamped_angles", clamped},
-                                      {"projected_cells", outside},
-                                      {"largest_coverage_violation", worst}};
+                                      {"projected_cells", projection.outside},
+                                      {"largest_coverage_violation",
+                                       projection.worst}};
       on_root(context.communicator(), [&]() {
         // PNG previews, and SVG with real strokes for papers.
         for (const std::string extension : {".png", ".svg"})

@@ -11,6 +11,7 @@
 #include <forma/base/run_context.h>
 #include <forma/optimization/optimizer.h>
 #include <forma/rhombic/grid_growth.h>
+#include <forma/rhombic/half_plane_region.h>
 #include <forma/rhombic/inverse_problem.h>
 #include <forma/rhombic/material_map.h>
 #include <forma/rhombic/transversal_map.h>
@@ -158,6 +159,7 @@ namespace forma
       const auto   controls  = parse_values(prm.get("Spline control points"),
                                          "Map/Spline control points");
       const double smoothing = prm.get_double("Smoothing");
+      const bool   log_E     = prm.get("Young's modulus axis") == "logarithmic";
       const double branch_tolerance = prm.get_double("Branch tolerance");
       const std::string  map_file   = prm.get("Map file");
       const unsigned int n_checks   = prm.get_integer("Accuracy checks");
@@ -173,6 +175,11 @@ namespace forma
                       ExcMessage("Map/Initial map = file needs Map/Initial "
                                  "map file"));
           extended = MaterialMap::read(path_relative_to(prm_directory, file));
+          if (extended->parameters[0].is_logarithmic(0) != log_E)
+            context.print(std::string("map: note: the splines are fitted ") +
+                          (log_E ? "uniform in log E" : "uniform in E") +
+                          " (Map/Young's modulus axis), the initial map's " +
+                          "were not");
         }
       TransversalMapParameters transversal_parameters;
       if (transversal)
@@ -323,6 +330,24 @@ namespace forma
       };
       const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(comm);
 
+      // Whether the inverse problem treats a structure and its mirror image
+      // alike (the swapped parameters both free or both fixed at one value,
+      // with the same bounds): only then can a sample be mirrored.
+      const bool mirror_symmetric = [&]() {
+        const auto is_free = [&](const unsigned int i) {
+          return std::count(base.free.begin(), base.free.end(), i) > 0;
+        };
+        for (unsigned int i = 0; i < RhombicStructure::n_parameters; ++i)
+          {
+            const unsigned int j      = RhombicStructure::mirror_partner(i);
+            const bool         free_i = is_free(i), free_j = is_free(j);
+            if (free_i != free_j || base.bounds[i] != base.bounds[j] ||
+                (!free_i && seed.p[i] != seed.p[j]))
+              return false;
+          }
+        return true;
+      }();
+
       // Solve jobs at one angle, shared among the ranks.
       const auto solve = [&](const double angle, const std::vector<Job> &jobs) {
         return rank_strided<Outcome>(
@@ -360,9 +385,18 @@ namespace forma
                   problem.solve(s, setup, MPI_COMM_SELF, op, context);
                 o.reached = r.reached;
                 o.p       = r.structure.p;
-                o.misfit  = r.misfit;
-                o.E       = r.sample.fit.E / setup.base.E;
-                o.nu      = r.sample.fit.nu;
+                // On the square cell a structure and its mirror image have
+                // the same moduli: a solve may land on either. Samples keep
+                // p3 <= p4, so that neighbours lie on one branch (the wide
+                // map's growth otherwise crossed to the mirror branch between
+                // two rows of E, a jump of up to 0.46 in six parameters that
+                // the branch test cannot see along a whole row).
+                if (mirror_symmetric && std::abs(angle - 90) < 1e-9 &&
+                    o.p[2] > o.p[3])
+                  o.p = r.structure.mirrored().p;
+                o.misfit = r.misfit;
+                o.E      = r.sample.fit.E / setup.base.E;
+                o.nu     = r.sample.fit.nu;
               }
             catch (const std::exception &e)
               {
@@ -598,7 +632,8 @@ namespace forma
                          upper,
                          {static_cast<unsigned int>(controls[0]),
                           static_cast<unsigned int>(controls[1]),
-                          static_cast<unsigned int>(controls[2])});
+                          static_cast<unsigned int>(controls[2])},
+                         {log_E, false, false});
           std::vector<double> y;
           for (const auto &s : map.samples)
             y.push_back(s[3 + i]);
@@ -653,9 +688,11 @@ namespace forma
                   map.covered[a][n + 1] && n + nus.size() < n_nodes &&
                   map.covered[a][n + nus.size()] &&
                   map.covered[a][n + nus.size() + 1])
-                checks.push_back({{(node_E(n) + node_E(n + nus.size())) / 2,
-                                   (node_nu(n) + node_nu(n + 1)) / 2,
-                                   angles[a]}});
+                checks.push_back(
+                  {{log_E ? std::sqrt(node_E(n) * node_E(n + nus.size())) :
+                            (node_E(n) + node_E(n + nus.size())) / 2,
+                    (node_nu(n) + node_nu(n + 1)) / 2,
+                    angles[a]}});
             }
       if (checks.size() > n_checks)
         {
@@ -817,8 +854,21 @@ namespace forma
       context.print("query: E/E_b = " + sig(E) + ", nu = " + sig(nu) +
                     ", alpha = " + sig(angle) + " degrees -> p = " + p);
       if (!inside)
-        context.print("query: the point lies outside the map's coverage; "
-                      "the structure is an extrapolation");
+        {
+          std::string nearest          = "the map covers nothing at this angle";
+          const HalfPlaneRegion region = map.coverage(angle, setup.base.nu);
+          context.summary["nearest_covered_point"] = nullptr;
+          if (!region.empty())
+            {
+              const auto q = closest_point({{E, nu}}, region);
+              nearest      = "the nearest covered point is (E/E_b, nu) = (" +
+                        sig(q[0], 3) + ", " + sig(q[1], 3) + ")";
+              context.summary["nearest_covered_point"] = q;
+            }
+          context.print("query: the point lies outside the map's coverage "
+                        "D(alpha) (" +
+                        nearest + "); the structure is an extrapolation");
+        }
       const CellModel model(s, setup, context.communicator());
       const Sample   &r  = model.sample();
       const double    dE = r.fit.E / setup.base.E / E - 1, dnu = r.fit.nu - nu;
