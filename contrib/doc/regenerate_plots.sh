@@ -76,8 +76,12 @@ make -C "$root/build" map_plots > /dev/null
 mkdir -p "$work/maps"
 "$bin/map_plots" "$root/contrib/rhombic/map.json" "$work/maps/shipped" 90 60
 "$bin/map_plots" "$root/contrib/rhombic/map_full.json" "$work/maps/full" 90
+"$bin/map_plots" "$root/contrib/rhombic/map_wide.json" "$work/maps/wide" 90 60
 keep maps shipped_coverage rhombic_map_coverage
 keep maps shipped_parameters_90 rhombic_map_parameters_90
 keep maps shipped_parameters_60 rhombic_map_parameters_60
 keep maps full_parameters_90 rhombic_map_full_parameters_90
+keep maps wide_coverage rhombic_map_wide_coverage
+keep maps wide_parameters_90 rhombic_map_wide_parameters_90
+keep maps wide_parameters_60 rhombic_map_wide_parameters_60
 echo "plots in $root/doc, data in $root/doc/data (runs in $work)"

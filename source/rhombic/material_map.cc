@@ -659,8 +659,15 @@ namespace forma
     void
     MaterialMap::write_coverage_plot(const std::string &file_name) const
     {
-      const std::array<std::array<std::uint8_t, 3>, 4> colors = {
-        {{{200, 30, 30}}, {{235, 150, 40}}, {{40, 140, 60}}, {{31, 90, 180}}}};
+      const std::array<std::array<std::uint8_t, 3>, 8> colors = {
+        {{{200, 30, 30}},
+         {{235, 150, 40}},
+         {{40, 140, 60}},
+         {{31, 90, 180}},
+         {{120, 60, 170}},
+         {{140, 90, 40}},
+         {{20, 150, 150}},
+         {{220, 90, 160}}}};
       const bool              log_E = parameters[0].is_logarithmic(0);
       std::vector<PlotSeries> series;
       double                  top = 0;
