@@ -15,6 +15,48 @@
 using namespace forma;
 using dealii::deallog;
 
+// A PNG file with its header written (the pixels would follow).
+struct PngStart
+{
+  std::FILE  *file;
+  png_structp png;
+  png_infop   info;
+};
+
+PngStart
+write_header(const std::string &name,
+             const unsigned int w,
+             const unsigned int h,
+             const int          bit_depth,
+             const int          color_type,
+             const bool         interlaced)
+{
+  PngStart p;
+  p.file = std::fopen(name.c_str(), "wb");
+  p.png =
+    png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  p.info = png_create_info_struct(p.png);
+  png_init_io(p.png, p.file);
+  png_set_IHDR(p.png,
+               p.info,
+               w,
+               h,
+               bit_depth,
+               color_type,
+               interlaced ? PNG_INTERLACE_ADAM7 : PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT,
+               PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(p.png, p.info);
+  return p;
+}
+
+void
+close_png(PngStart &p)
+{
+  png_destroy_write_struct(&p.png, &p.info);
+  std::fclose(p.file);
+}
+
 // Write a w x h PNG of `samples` (per pixel: gray, or gray and alpha, or
 // RGB), rows from the top.
 void
@@ -26,21 +68,8 @@ write_png(const std::string           &name,
           const bool                   interlaced,
           const std::vector<unsigned> &samples)
 {
-  std::FILE  *file = std::fopen(name.c_str(), "wb");
-  png_structp png =
-    png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-  png_infop info = png_create_info_struct(png);
-  png_init_io(png, file);
-  png_set_IHDR(png,
-               info,
-               w,
-               h,
-               bit_depth,
-               color_type,
-               interlaced ? PNG_INTERLACE_ADAM7 : PNG_INTERLACE_NONE,
-               PNG_COMPRESSION_TYPE_DEFAULT,
-               PNG_FILTER_TYPE_DEFAULT);
-  png_write_info(png, info);
+  PngStart    p   = write_header(name, w, h, bit_depth, color_type, interlaced);
+  png_structp png = p.png;
   if (bit_depth < 8)
     png_set_packing(png); // one byte a sample in, packed bits out
   const unsigned int         per_pixel = samples.size() / (w * h);
@@ -57,8 +86,7 @@ write_png(const std::string           &name,
     rows[y] = data.data() + y * w * per_pixel * bytes;
   png_write_image(png, rows.data());
   png_write_end(png, nullptr);
-  png_destroy_write_struct(&png, &info);
-  std::fclose(file);
+  close_png(p);
 }
 
 // Read `name` and compare with the gray samples (every per_pixel-th from
@@ -128,23 +156,9 @@ main()
   {
     // The header of a 10000 x 10000 image: refused before any pixel memory
     // is taken.
-    std::FILE  *file = std::fopen("huge.png", "wb");
-    png_structp png =
-      png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-    png_infop info = png_create_info_struct(png);
-    png_init_io(png, file);
-    png_set_IHDR(png,
-                 info,
-                 10000,
-                 10000,
-                 8,
-                 PNG_COLOR_TYPE_GRAY,
-                 PNG_INTERLACE_NONE,
-                 PNG_COMPRESSION_TYPE_DEFAULT,
-                 PNG_FILTER_TYPE_DEFAULT);
-    png_write_info(png, info);
-    png_destroy_write_struct(&png, &info);
-    std::fclose(file);
+    PngStart p =
+      write_header("huge.png", 10000, 10000, 8, PNG_COLOR_TYPE_GRAY, false);
+    close_png(p);
     // The start of the first IDAT chunk, where the header ends.
     std::ofstream("huge.png", std::ios::binary | std::ios::app)
       << std::string("\0\0\0\x10IDAT", 8) << "0123456789";
