@@ -137,6 +137,19 @@ expect_failure(const std::string &name,
 }
 #endif
 
+/// A Taylor test's rate as a verdict ("in [1.8, 2.3]" or the value):
+/// printed values could round either way.
+inline std::string
+rate_verdict(const double rate)
+{
+  std::ostringstream v;
+  if (rate >= 1.8 && rate <= 2.3)
+    v << "in [1.8, 2.3]";
+  else
+    v << "= " << rate << " (expected about 2)";
+  return v.str();
+}
+
 /// Observed convergence rates between successive (h or n, error) pairs.
 inline std::vector<double>
 observed_rates(const std::vector<double> &h, const std::vector<double> &e)

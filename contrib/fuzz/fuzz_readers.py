@@ -16,15 +16,18 @@ import os
 import random
 import re
 import shutil
+import struct
 import subprocess
 import sys
 import tempfile
+import zlib
 
 SOURCE = os.path.dirname(os.path.dirname(os.path.dirname(
     os.path.abspath(__file__))))
 
 # name: (app, prm file, file that gets mutated (relative to the prm), extra
-# --set assignments that keep a run that still succeeds short).
+# --set assignments that keep a run that still succeeds short[, files from
+# the source tree copied next to the prm as (source path, name)]).
 TARGETS = {
     "gmsh mesh": ("forma-transient-ipc", "transient_ipc/two_blocks_collision.prm",
                   "meshes/two_blocks_2d.msh", ["Time/End time=0.02"]),
@@ -37,6 +40,14 @@ TARGETS = {
     "laminate prm": ("forma-laminate", "laminate/hexagon_homogenize.prm", None,
                      ["Grid/Cells along height=24"]),
     "rhombic prm": ("forma-rhombic", "rhombic/homogenize_cell.prm", None, []),
+    "png image": ("forma-laminate", "laminate/image_homogenize.prm",
+                  "images/round_hole.png", []),
+    "pgm image": ("forma-laminate", "laminate/image_homogenize.prm",
+                  "images/round_hole.pgm",
+                  ["Structure/Image file=images/round_hole.pgm"]),
+    "material map": ("forma-rhombic", "rhombic/query_map.prm", "map.json",
+                     ["Map/Map file=map.json"],
+                     [("contrib/rhombic/map.json", "map.json")]),
 }
 
 SPECIAL_NUMBERS = ["nan", "inf", "-inf", "-1", "0", "1e308", "-1e308",
@@ -89,6 +100,63 @@ def mutate(data, rng, kind=None):
     return bytes(b), kind
 
 
+def png_chunks(data):
+    """The chunks of a PNG file as [type, data] lists, or None."""
+    if not data.startswith(b"\x89PNG\r\n\x1a\n"):
+        return None
+    chunks, i = [], 8
+    while i + 8 <= len(data):
+        n = struct.unpack(">I", data[i:i + 4])[0]
+        chunks.append([data[i + 4:i + 8], data[i + 8:i + 8 + n]])
+        i += 12 + n
+    return chunks
+
+
+def mutate_png(data, rng):
+    """A mutation inside a PNG's chunks with valid checksums, so that it
+    reaches the decoder: header fields, the compressed or the raw image
+    data, a chunk dropped or repeated."""
+    chunks = png_chunks(data)
+    kind = rng.choice(["header", "header", "deflate", "raw", "raw",
+                       "drop_chunk", "repeat_chunk"])
+    i = rng.randrange(len(chunks))
+    if kind == "header":
+        header = bytearray(chunks[0][1])
+        field = rng.choice([(0, 4), (4, 4), (8, 1), (9, 1), (10, 1), (11, 1),
+                            (12, 1)])
+        value = rng.choice([0, 1, 2, 3, 4, 5, 6, 7, 8, 16, 255, 65535,
+                            2 ** 31 - 1, 2 ** 32 - 1])
+        header[field[0]:field[0] + field[1]] = (
+            value % 2 ** (8 * field[1])).to_bytes(field[1], "big")
+        chunks[0][1] = bytes(header)
+    elif kind in ("deflate", "raw"):
+        data_chunks = [c for c in chunks if c[0] == b"IDAT"]
+        if data_chunks:
+            c = data_chunks[0]
+            if kind == "deflate":
+                b = bytearray(c[1])
+                j = rng.randrange(len(b))
+                b[j] ^= 1 << rng.randrange(8)
+                c[1] = bytes(b)
+            else:
+                raw = bytearray(zlib.decompress(c[1]))
+                if rng.random() < 0.5 and raw:
+                    raw = raw[:rng.randrange(len(raw))]
+                else:
+                    for _ in range(rng.randint(1, 8)):
+                        raw[rng.randrange(len(raw))] = rng.randrange(256)
+                c[1] = zlib.compress(bytes(raw))
+    elif kind == "drop_chunk":
+        del chunks[i]
+    else:
+        chunks.insert(i, list(chunks[i]))
+    out = bytearray(b"\x89PNG\r\n\x1a\n")
+    for t, d in chunks:
+        out += struct.pack(">I", len(d)) + t + d
+        out += struct.pack(">I", zlib.crc32(t + d) & 0xffffffff)
+    return bytes(out), "png " + kind
+
+
 def run_case(app_path, workdir, prm, extra, timeout):
     args = [app_path, prm, "--set", "Output directory=out"]
     for e in extra:
@@ -126,11 +194,16 @@ def main():
     options = parser.parse_args()
     findings = 0
     for name in options.target or sorted(TARGETS):
-        app, prm, victim, extra = TARGETS[name]
+        app, prm, victim, extra = TARGETS[name][:4]
+        copies = TARGETS[name][4] if len(TARGETS[name]) > 4 else []
         rng = random.Random("%s/%d" % (name, options.seed))
         prm_source = os.path.join(SOURCE, "parameter_files", prm)
         work = tempfile.mkdtemp(prefix="forma-fuzz-")
-        shutil.copytree(os.path.dirname(prm_source), work, dirs_exist_ok=True)
+        shutil.copytree(os.path.dirname(prm_source), work, dirs_exist_ok=True,
+                        ignore=shutil.ignore_patterns("results"))
+        for source, copy in copies:
+            shutil.copyfile(os.path.join(SOURCE, source),
+                            os.path.join(work, copy))
         prm_name = os.path.basename(prm)
         target = os.path.join(work, victim or prm_name)
         with open(target, "rb") as f:
@@ -138,7 +211,11 @@ def main():
         counts = {"clean failure": 0, "success": 0, "finding": 0}
         for case in range(options.cases):
             # Every campaign starts with a file of random bytes.
-            data, kind = mutate(original, rng, "binary" if case == 0 else None)
+            if case > 0 and png_chunks(original) and rng.random() < 0.75:
+                data, kind = mutate_png(original, rng)
+            else:
+                data, kind = mutate(original, rng,
+                                    "binary" if case == 0 else None)
             with open(target, "wb") as f:
                 f.write(data)
             shutil.rmtree(os.path.join(work, "out"), ignore_errors=True)

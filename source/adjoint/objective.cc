@@ -19,6 +19,8 @@ namespace forma
                                     const double       weight)
     : name(name)
     , weight(weight)
+    , first_weight(weight)
+    , last_weight(weight)
   {}
 
 
@@ -33,7 +35,10 @@ namespace forma
         "",
         Patterns::Anything(),
         "Records 'name : key=value, ...' separated by ';', all with an "
-        "optional weight (default 1). The stress, compliance, volume, center "
+        "optional weight (default 1) and 'final weight' (with "
+        "Optimization/Outer iterations: the weight goes linearly from "
+        "'weight' in the first outer iteration to 'final weight' in the last, "
+        "thesis Table 2.2's 'a/b'). The stress, compliance, volume, center "
         "of mass, height and contact force terms take 'material=id' to "
         "integrate over one part only (e.g. the printed connectors of an "
         "assembly, the object a throw pushes). Terms (name: keys and "
@@ -129,6 +134,14 @@ namespace forma
                                              "for this term."));
             t->restrict_to_material(static_cast<types::material_id>(m));
           }
+        // `final weight`: the end of Algorithm 1's schedule (ramp_weight()).
+        t->last_weight = r.key("final weight", r.weight);
+        // A misspelt key must not pass silently as its default.
+        for (const auto &[key, value] : r.keys)
+          AssertThrow(r.read.count(key) || key == "material",
+                      ExcMessage(r.where + ": unknown key '" + key +
+                                 "' (see --print-parameters for the term's "
+                                 "keys)."));
         if (!state_terms_only || t->depends_on_state())
           term_list.push_back(std::move(t));
       }

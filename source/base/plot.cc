@@ -235,10 +235,12 @@ namespace forma
 
 
   void
-  write_history_plot(const std::string         &file_name,
-                     const std::vector<double> &values,
-                     const std::string         &title,
-                     const std::string         &x_label)
+  write_history_plot(const std::string               &file_name,
+                     const std::vector<double>       &values,
+                     const std::string               &title,
+                     const std::string               &x_label,
+                     const std::vector<unsigned int> &marks,
+                     const std::string               &mark_label)
   {
     if (values.empty())
       return;
@@ -274,10 +276,23 @@ namespace forma
     line.points = dots.points = points;
     line.line                 = true;
     dots.size                 = 3;
+    std::vector<PlotSeries> series{line};
+    if (values.size() <= 200)
+      series.push_back(dots);
+    PlotSeries marked;
+    for (const unsigned int i : marks)
+      if (i < points.size())
+        marked.points.push_back(points[i]);
+    if (!marked.points.empty())
+      {
+        marked.color = {{230, 120, 20}};
+        marked.size  = 5;
+        marked.label = mark_label;
+        series.push_back(marked);
+      }
     // J0 in the data file: y holds J / J0 on a logarithmic axis.
     xy_plot(file_name,
-            values.size() <= 200 ? std::vector<PlotSeries>{line, dots} :
-                                   std::vector<PlotSeries>{line},
+            series,
             title,
             x_label,
             logarithmic ? "J / J₀" : "J",

@@ -177,6 +177,19 @@ namespace
     return text;
   }
 
+  // "name w, ..." of the terms whose weights ramp (thesis Algorithm 1).
+  template <int dim>
+  std::string
+  ramped_weights(const forma::LoadCases<dim> &simulator)
+  {
+    std::string text;
+    for (const auto &[name, weight] : simulator.ramped_weights())
+      text += (text.empty() ? "" : ", ") + name + " " + significant(weight, 4);
+    return text;
+  }
+
+
+
   template <int dim>
   std::vector<double>
   optimize_job(const forma::ElasticityParameters   &parameters,
@@ -209,23 +222,44 @@ namespace
     const auto  directory      = forma::checkpoint_directory(context);
     auto        stage_settings = settings;
     std::string mesh; // file stem of the current remeshed design, if any
+    // Thesis Algorithm 1's outer iteration (a run of L-BFGS on one mesh,
+    // from 1) and the iteration it started at.
+    unsigned int n_outer = 1, outer_start = 0;
     if (settings.resume)
       {
-        mesh = forma::checkpoint_mesh(context);
+        const auto place = forma::checkpoint_place(context);
+        mesh             = place.mesh;
+        n_outer          = place.outer_iteration;
+        outer_start      = place.outer_start;
         if (!mesh.empty())
           {
             simulator.load_remeshed(directory + "/" + mesh);
           }
       }
-    if (settings.remesh_quality > 0 || settings.element_removal > 0)
+    if (settings.remesh_quality > 0 || settings.element_removal > 0 ||
+        settings.outer_iterations > 0)
       for (const auto &b : layout.blocks)
         AssertThrow(!b.on_mesh,
                     dealii::ExcMessage(
-                      std::string(settings.remesh_quality > 0 ?
+                      std::string(settings.element_removal > 0 ?
+                                    "Optimization/Element removal" :
+                                  settings.remesh_quality > 0 ?
                                     "Optimization/Remesh quality" :
-                                    "Optimization/Element removal") +
+                                    "Optimization/Outer iterations") +
                       ": the design block '" + b.name +
                       "' lives on the mesh and cannot be remeshed."));
+    // Algorithm 1's weight schedule: linear over the outer iterations.
+    const auto progress = [&]() {
+      return settings.outer_iterations > 1 ?
+               std::min(1., (n_outer - 1.) / (settings.outer_iterations - 1.)) :
+               0.;
+    };
+    AssertThrow(!simulator.ramp_objective_weights(progress()) ||
+                  settings.outer_iterations >= 2,
+                dealii::ExcMessage(
+                  "Objective/Terms: 'final weight' ramps a weight over thesis "
+                  "Algorithm 1's outer iterations: set Optimization/Outer "
+                  "iterations to 2 or more."));
     if (settings.element_removal > 0)
       {
         AssertThrow(dim == 2,
@@ -347,6 +381,8 @@ namespace
       const unsigned int n_quality_remeshes =
         simulator.n_remeshes() - (removal_done ? 1 : 0);
       if (!remesh_allowed || n_quality_remeshes >= settings.max_remeshes ||
+          (settings.outer_iterations > 0 &&
+           n_outer >= settings.outer_iterations) ||
           q >= settings.remesh_quality || q >= remeshed_quality - 0.05)
         return false;
       // Try it first: a remesh that cannot help must not restart L-BFGS.
@@ -374,12 +410,39 @@ namespace
     // Thesis Table 2.2's columns: the first and last gradient norms, and
     // where the last outer iteration (the run since the last remesh)
     // started.
-    double       first_gradient_norm = 0, last_gradient_norm = 0;
-    unsigned int outer_start = 0, n_outer = 1;
+    double                    first_gradient_norm = 0, last_gradient_norm = 0;
+    std::vector<unsigned int> outer_starts{outer_start};
+    // J at the end of each finished outer iteration (before its remesh).
+    std::vector<double>         outer_last_J;
+    std::vector<nlohmann::json> outer_weights; // per outer iteration
+    unsigned int                iteration_cap = settings.max_iterations;
+    bool outer_possible = true; // false once a remesh failed
     for (;;)
       {
-        model.initial = simulator.design();
-        model.scale   = simulator.design_scales(model.initial);
+        if (simulator.ramp_objective_weights(progress()) &&
+            outer_weights.size() < outer_starts.size())
+          {
+            solved.clear(); // J changes with the weights
+            context.print("[iteration " + std::to_string(outer_start) +
+                          "] outer iteration " + std::to_string(n_outer) + "/" +
+                          std::to_string(settings.outer_iterations) +
+                          ", weights " + ramped_weights(simulator));
+          }
+        if (outer_weights.size() < outer_starts.size())
+          {
+            nlohmann::json w = nlohmann::json::object();
+            for (const auto &[name, weight] : simulator.ramped_weights())
+              w[name] = weight;
+            outer_weights.push_back(w);
+          }
+        stage_settings.max_iterations =
+          settings.inner_iterations > 0 ?
+            std::min(iteration_cap, outer_start + settings.inner_iterations) :
+            iteration_cap;
+        stage_settings.outer_iteration = n_outer;
+        stage_settings.outer_start     = outer_start;
+        model.initial                  = simulator.design();
+        model.scale                    = simulator.design_scales(model.initial);
         simulator.design_bounds(model.initial,
                                 parameters.design.shape_bound > 0 ?
                                   parameters.design.shape_bound :
@@ -404,8 +467,28 @@ namespace
             last_gradient_norm = result.gradient_norms.back();
           }
         const std::size_t last = result.history.size() - 1;
+        // Algorithm 1: a run that stagnated or used its inner iterations
+        // is followed by a remesh, unless it lowered J by less than
+        // Relative decrease (converged) or the outer iterations are used.
+        const bool run_over =
+          forma::stagnated(result) ||
+          (settings.inner_iterations > 0 &&
+           last >= outer_start + settings.inner_iterations &&
+           last < iteration_cap);
+        const bool converged =
+          settings.outer_iterations > 0 && run_over &&
+          result.history[outer_start] - result.history[last] <
+            settings.relative_decrease * std::abs(result.history.front());
+        const bool outer_due = settings.outer_iterations > 0 && run_over &&
+                               !converged && outer_possible &&
+                               n_outer < settings.outer_iterations;
+        if (converged)
+          result.stop_reason =
+            "Algorithm 1 converged: outer iteration " +
+            std::to_string(n_outer) + " lowered J by less than " +
+            significant(settings.relative_decrease, 3) + " |J0|";
         if (settings.hold_blocked_vertices && forma::stagnated(result) &&
-            n_holds < 10)
+            n_holds < 10 && !outer_due)
           {
             // The guard blocked the line search in the last window: hold
             // the cells that blocked it and go on with the rest.
@@ -436,7 +519,7 @@ namespace
                 continue;
               }
           }
-        if (result.stop_reason != forma::remesh_stop)
+        if (result.stop_reason != forma::remesh_stop && !outer_due)
           {
             if (removal_done || settings.element_removal == 0)
               break;
@@ -503,10 +586,11 @@ namespace
             history_so_far                       = result.history;
             stage_settings.resume                = false;
             stage_settings.decrease_window_start = result.history.size() - 1;
+            outer_last_J.push_back(result.history.back());
             outer_start = result.history.size() - 1, ++n_outer;
+            outer_starts.push_back(outer_start);
             // The stage with the holes gets its own iteration budget.
-            stage_settings.max_iterations =
-              result.history.size() - 1 + settings.max_iterations;
+            iteration_cap = result.history.size() - 1 + settings.max_iterations;
             remeshed_quality = simulator.mesh_quality();
             continue;
           }
@@ -529,7 +613,9 @@ namespace
             // J jumps where the new mesh resolves the stress peaks
             // differently: the decrease window restarts on the new mesh.
             stage_settings.decrease_window_start = result.history.size() - 1;
+            outer_last_J.push_back(result.history.back());
             outer_start = result.history.size() - 1, ++n_outer;
+            outer_starts.push_back(outer_start);
           }
         catch (const std::exception &e)
           {
@@ -547,6 +633,7 @@ namespace
             line = "remeshing failed, continuing on the current mesh: " +
                    forma::error_message(e);
             remesh_allowed = false;
+            outer_possible = false;
           }
         context.print(iteration + line);
         remeshes.push_back(
@@ -566,6 +653,21 @@ namespace
       outer_start < result.history.size() ?
         100 * (result.history[outer_start] - J1) / std::abs(J0) :
         0;
+    // Per outer iteration: where it started, its weights and what it
+    // lowered J by on its own mesh and weights (its first value to its
+    // last, before the remesh).
+    nlohmann::json outer = nlohmann::json::array();
+    for (unsigned int i = 0; i < outer_starts.size(); ++i)
+      {
+        const double last_J =
+          i < outer_last_J.size() ? outer_last_J[i] : result.history.back();
+        outer.push_back(
+          {{"iteration", outer_starts[i]},
+           {"weights",
+            i < outer_weights.size() ? outer_weights[i] : nlohmann::json()},
+           {"reduction_percent",
+            100 * (result.history[outer_starts[i]] - last_J) / std::abs(J0)}});
+      }
     context.log("outer iterations (meshes) " + std::to_string(n_outer) +
                 ", relative gradient norm " +
                 significant(relative_gradient_norm, 3) +
@@ -604,6 +706,8 @@ namespace
       {"remeshes", remeshes},
       {"holds", holds},
       {"outer_iterations", n_outer},
+      {"max_outer_iterations", settings.outer_iterations},
+      {"outer", outer},
       {"relative_gradient_norm", relative_gradient_norm},
       {"last_outer_reduction_percent", last_outer_reduction},
       {"final_design", final_values}};
@@ -639,7 +743,10 @@ namespace
         forma::write_history_plot(context.path("convergence.png"),
                                   result.history,
                                   "objective history",
-                                  "iteration");
+                                  "iteration",
+                                  {outer_starts.begin() + 1,
+                                   outer_starts.end()},
+                                  "remesh (new outer iteration)");
       }
     return result.design;
   }

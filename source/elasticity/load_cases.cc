@@ -65,9 +65,39 @@ namespace forma
   void
   LoadCases<dim>::set_objective(const ObjectiveParameters &parameters)
   {
+    objectives.clear();
     for (unsigned int k = 0; k < cases.size(); ++k)
-      cases[k]->set_objective(
-        std::make_shared<const Objective<dim>>(parameters, k > 0));
+      {
+        objectives.push_back(
+          std::make_shared<const Objective<dim>>(parameters, k > 0));
+        cases[k]->set_objective(objectives.back());
+      }
+  }
+
+  template <int dim>
+  bool
+  LoadCases<dim>::ramp_objective_weights(const double progress)
+  {
+    bool ramps = false;
+    for (const auto &J : objectives)
+      for (const auto &t : J->terms())
+        {
+          t->ramp_weight(progress);
+          ramps = ramps || t->first_weight != t->last_weight;
+        }
+    return ramps;
+  }
+
+  template <int dim>
+  std::vector<std::pair<std::string, double>>
+  LoadCases<dim>::ramped_weights() const
+  {
+    std::vector<std::pair<std::string, double>> weights;
+    if (!objectives.empty())
+      for (const auto &t : objectives[0]->terms())
+        if (t->first_weight != t->last_weight)
+          weights.emplace_back(t->name, t->weight);
+    return weights;
   }
 
   template <int dim>

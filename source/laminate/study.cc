@@ -502,19 +502,40 @@ namespace forma
         "Tolerance",
         "1e-3",
         Patterns::Double(0),
-        "Stop when sqrt((E/E* - 1)^2 + (nu - nu*)^2) is below.");
+        "Stop when sqrt((E/E* - 1)^2 + (nu - nu*)^2) is below (Objective "
+        "= moduli).");
+      prm.declare_entry(
+        "Objective",
+        "moduli",
+        Patterns::Selection("moduli|compliance"),
+        "moduli: J = (E/E* - 1)^2 + (nu - nu*)^2. compliance: thesis ch. "
+        "5.5's J = 1/2 |S^H - S*|_F^2, S^H = (C^H)^-1 and S* the compliance "
+        "of the isotropic target; with a target on the Hashin-Shtrikman bound "
+        "the run ends where the family's parameters stop improving J (thesis "
+        "Table 5.1), not at Tolerance.");
+      prm.declare_entry(
+        "Report shape derivative",
+        "false",
+        Patterns::Bool(),
+        "Thesis Table 5.1: at every accepted iterate, mesh the structure with "
+        "Gmsh (Conforming mesh section), homogenize it and report the norm "
+        "of the shape derivative of the compliance J with respect to the "
+        "positions of all vertices on the solid-void interface (exact for "
+        "the discrete J), and the share of its square within one element "
+        "size of the polygons' corners. Needs Objective = compliance.");
       prm.leave_subsection();
 
       prm.enter_subsection("Conforming mesh");
       prm.declare_entry("Element size",
                         "0.01",
                         Patterns::Double(0),
-                        "compare meshes: target triangle size (the cell is "
-                        "sqrt(3) x 1).");
+                        "compare meshes, Inverse/Report shape derivative: "
+                        "target triangle size (the cell is sqrt(3) x 1).");
       prm.declare_entry("Degree",
                         "2",
                         Patterns::Integer(1, 3),
-                        "compare meshes: polynomial degree on the triangles.");
+                        "compare meshes, Inverse/Report shape derivative: "
+                        "polynomial degree on the triangles.");
       prm.leave_subsection();
 
       prm.enter_subsection("Output");

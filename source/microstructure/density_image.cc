@@ -79,8 +79,9 @@ namespace forma
         image.nx                     = pgm_number(in, file, "width");
         image.ny                     = pgm_number(in, file, "height");
         const unsigned int max_value = pgm_number(in, file, "maximum value");
-        AssertThrow(image.nx > 0 && image.ny > 0 && max_value > 0 &&
-                      max_value < 65536,
+        // 8192 x 8192 as for PNG: what one homogenization can hold.
+        AssertThrow(image.nx > 0 && image.ny > 0 && image.nx <= 8192 &&
+                      image.ny <= 8192 && max_value > 0 && max_value < 65536,
                     ExcMessage("'" + file + "': PGM size " +
                                std::to_string(image.nx) + " x " +
                                std::to_string(image.ny) + ", maximum " +

@@ -93,6 +93,24 @@ namespace forma
                       "Remeshes for mesh quality at most in one run (the "
                       "remesh of Element removal is not one of them).");
     prm.declare_entry(
+      "Outer iterations",
+      "0",
+      Patterns::Integer(0),
+      "max_oi of thesis Algorithm 1: when an L-BFGS run stagnates (see "
+      "Relative decrease) or reaches Inner iterations, remesh (Design/Remesh "
+      "boundary says how) and start a fresh L-BFGS run on the new mesh, up "
+      "to this many runs (remeshes for Remesh quality start one too); stop "
+      "when a whole run lowered J by less than Relative decrease times |J0|. "
+      "Objective terms with 'final weight' ramp their weights over these "
+      "runs. Max iterations still bounds the total. 0: one run, remeshed "
+      "only for Remesh quality.");
+    prm.declare_entry("Inner iterations",
+                      "0",
+                      Patterns::Integer(0),
+                      "oi_max_ii of thesis Algorithm 1: accepted iterations "
+                      "of one run between remeshes at most (with Outer "
+                      "iterations); 0: no limit.");
+    prm.declare_entry(
       "Hold blocked vertices",
       "false",
       Patterns::Bool(),
@@ -137,15 +155,20 @@ namespace forma
   OptimizationParameters::parse(ParameterHandler &prm)
   {
     prm.enter_subsection("Optimization");
-    max_iterations           = prm.get_integer("Max iterations");
-    relative_decrease        = prm.get_double("Relative decrease");
-    decrease_window          = prm.get_integer("Decrease window");
-    gradient_tolerance       = prm.get_double("Gradient tolerance");
-    memory                   = prm.get_integer("Memory");
-    normalize                = prm.get_bool("Normalize objective");
-    resume                   = prm.get_bool("Resume");
-    remesh_quality           = prm.get_double("Remesh quality");
-    max_remeshes             = prm.get_integer("Max remeshes");
+    max_iterations     = prm.get_integer("Max iterations");
+    relative_decrease  = prm.get_double("Relative decrease");
+    decrease_window    = prm.get_integer("Decrease window");
+    gradient_tolerance = prm.get_double("Gradient tolerance");
+    memory             = prm.get_integer("Memory");
+    normalize          = prm.get_bool("Normalize objective");
+    resume             = prm.get_bool("Resume");
+    remesh_quality     = prm.get_double("Remesh quality");
+    max_remeshes       = prm.get_integer("Max remeshes");
+    outer_iterations   = prm.get_integer("Outer iterations");
+    inner_iterations   = prm.get_integer("Inner iterations");
+    AssertThrow(inner_iterations == 0 || outer_iterations > 0,
+                ExcMessage("Optimization/Inner iterations needs Outer "
+                           "iterations (thesis Algorithm 1's outer loop)."));
     hold_blocked_vertices    = prm.get_bool("Hold blocked vertices");
     element_removal          = prm.get_double("Element removal");
     element_removal_boundary = prm.get_integer("Element removal boundary");
@@ -153,6 +176,11 @@ namespace forma
                 ExcMessage("Optimization/Element removal needs 'Element "
                            "removal boundary': the boundary "
                            "id the holes get (a free, designable id)."));
+    AssertThrow(element_removal == 0 || outer_iterations == 0,
+                ExcMessage("Optimization/Element removal and Outer "
+                           "iterations cannot be combined (the removal "
+                           "is a stage of its own after the shape has "
+                           "converged)."));
     AssertThrow(element_removal < 1,
                 ExcMessage("Optimization/Element removal must be below 1 "
                            "(a fraction of the largest cell stress)."));
@@ -279,6 +307,8 @@ namespace forma
             c["mesh"]                  = run.model.mesh;
             c["history"]               = run.history;
             c["decrease_window_start"] = run.window_start;
+            c["outer_iteration"]       = run.parameters.outer_iteration;
+            c["outer_start"]           = run.parameters.outer_start;
             replace_file(run.checkpoint, [&](const std::string &file) {
               std::ofstream(file) << c.dump();
             });
@@ -402,10 +432,13 @@ namespace forma
 
 
 
-  std::string
-  checkpoint_mesh(const RunContext &context)
+  CheckpointPlace
+  checkpoint_place(const RunContext &context)
   {
-    return read_checkpoint(context).at("mesh").get<std::string>();
+    const auto c = read_checkpoint(context);
+    return {c.at("mesh").get<std::string>(),
+            c.value("outer_iteration", 1u),
+            c.value("outer_start", 0u)};
   }
 
 

@@ -107,6 +107,31 @@ main()
                  contact(" set Rigid-deformable = 2 : alpha=1e-3\n") +
                    "subsection Time\n set Problem = transient\nend\n",
                  good);
+  const std::string optimize = contact(" set Rigid-deformable = 2 : "
+                                       "alpha=1e-3\n") +
+                               "set Mode = optimize\n"
+                               "subsection Design\n set Parameters = shape\n"
+                               "end\n";
+  expect_failure("objective_unknown_key",
+                 optimize + "subsection Objective\n set Terms = stress : "
+                            "p=4, wieght=2\nend\n",
+                 good);
+  expect_failure("final_weight_without_outer_iterations",
+                 optimize + "subsection Objective\n set Terms = stress : "
+                            "p=4, final weight=10\nend\n",
+                 good);
+  expect_failure("inner_iterations_without_outer_iterations",
+                 optimize +
+                   "subsection Objective\n set Terms = stress : p=4\nend\n"
+                   "subsection Optimization\n set Inner iterations = 5\nend\n",
+                 good);
+  expect_failure("element_removal_with_outer_iterations",
+                 optimize +
+                   "subsection Objective\n set Terms = stress : p=4\nend\n"
+                   "subsection Optimization\n set Element removal = 0.1\n"
+                   " set Element removal boundary = 3\n"
+                   " set Outer iterations = 3\nend\n",
+                 good);
   // Singular problems: the top part cut off, held in x only,
   // one part held in x only, two parts in contact held by nothing else,
   // a Newton iteration limit and the top part pulled off its contact.

@@ -23,6 +23,7 @@ main()
   std::ofstream("range.csv") << "0,1.5\n1,1\n";
   std::ofstream("color.pgm") << "P3\n2 2\n255\n0 0 0 0 0 0 0 0 0 0 0 0\n";
   std::ofstream("short.pgm") << "P2\n3 3\n255\n0 255 0\n255\n";
+  std::ofstream("huge.pgm") << "P5\n100000 100000\n255\n";
 
   const int ok =
     run_app(FORMA_APP,
@@ -51,6 +52,7 @@ main()
   expect_failure("density_out_of_range", image("range.csv"), good);
   expect_failure("color_pgm", image("color.pgm"), good);
   expect_failure("truncated_pgm", image("short.pgm"), good);
+  expect_failure("oversized_pgm", image("huge.pgm"), good);
   expect_failure("missing_image", image("nowhere.pgm"), good);
   expect_failure("three_dimensions",
                  base + "set Dimension = 3\nset Mode = homogenize\n",
@@ -79,5 +81,9 @@ main()
   expect_failure("inverse_table_without_columns",
                  base + "set Mode = inverse\nsubsection Inverse\n"
                         " set Table file = ring.csv\nend\n",
+                 good);
+  expect_failure("inverse_shape_derivative_without_compliance",
+                 base + "set Mode = inverse\nsubsection Inverse\n"
+                        " set Report shape derivative = true\nend\n",
                  good);
 }

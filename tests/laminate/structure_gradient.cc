@@ -75,18 +75,9 @@ namespace
         const double       e_nu = std::abs(f.nu - f0.nu - h * dnu);
         std::ostringstream line;
         line << "  h = " << std::setw(9) << h;
-        // Rates as a verdict: printed values could round either way.
-        auto verdict = [](const double rate) {
-          std::ostringstream v;
-          if (rate >= 1.8 && rate <= 2.3)
-            v << "in [1.8, 2.3]";
-          else
-            v << "= " << rate << " (expected about 2)";
-          return v.str();
-        };
         if (k > 0)
-          line << "  rate(E) " << verdict(std::log2(previous_E / e_E))
-               << ", rate(nu) " << verdict(std::log2(previous_nu / e_nu));
+          line << "  rate(E) " << rate_verdict(std::log2(previous_E / e_E))
+               << ", rate(nu) " << rate_verdict(std::log2(previous_nu / e_nu));
         deallog << line.str() << std::endl;
         previous_E  = e_E;
         previous_nu = e_nu;

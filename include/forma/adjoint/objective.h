@@ -155,8 +155,18 @@ namespace forma
     /// The body of a contact force term; empty: all.
     std::set<dealii::types::material_id> contact_bodies;
 
+    /// Algorithm 1's weight schedule (thesis Table 2.2, "a/b"): the weight
+    /// goes linearly from `first_weight` (first outer iteration) to
+    /// `last_weight` (the last one); `final weight=b` in Objective/Terms.
+    void
+    ramp_weight(const double progress)
+    {
+      weight = first_weight + progress * (last_weight - first_weight);
+    }
+
     const std::string name;
-    const double      weight;
+    double            weight;
+    double            first_weight, last_weight;
   };
 
   /**

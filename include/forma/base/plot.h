@@ -25,13 +25,16 @@ namespace forma
   /**
    * A line plot of `values` against their index (iterations, time steps):
    * values / values[0] on a logarithmic axis when every value is positive,
-   * the values on a linear one otherwise.
+   * the values on a linear one otherwise. `marks`: indices to mark with a
+   * larger dot labelled `mark_label` (e.g. where outer iterations start).
    */
   void
-  write_history_plot(const std::string         &file_name,
-                     const std::vector<double> &values,
-                     const std::string         &title,
-                     const std::string         &x_label);
+  write_history_plot(const std::string               &file_name,
+                     const std::vector<double>       &values,
+                     const std::string               &title,
+                     const std::string               &x_label,
+                     const std::vector<unsigned int> &marks      = {},
+                     const std::string               &mark_label = "");
 
   /// One data set of an x-y plot: points (discs of radius `size` + 0.5) or
   /// a polyline; an empty label keeps it out of the legend.

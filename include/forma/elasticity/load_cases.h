@@ -51,6 +51,16 @@ namespace forma
     void
     set_objective(const ObjectiveParameters &parameters);
 
+    /// Thesis Algorithm 1's weight schedule: every term's weight at
+    /// `progress` in [0, 1] of its ramp (0: the first outer iteration).
+    /// Returns whether any term ramps ('final weight').
+    bool
+    ramp_objective_weights(const double progress);
+
+    /// The terms whose weights ramp, with their current weights.
+    std::vector<std::pair<std::string, double>>
+    ramped_weights() const;
+
     const DesignLayout &
     design_layout() const;
     const std::vector<double> &
@@ -121,6 +131,8 @@ namespace forma
 
   private:
     std::vector<std::unique_ptr<ElasticitySimulator<dim>>> cases;
+    /// The cases' objectives (shared with them), for the weight ramps.
+    std::vector<std::shared_ptr<const Objective<dim>>> objectives;
   };
 } // namespace forma
 

@@ -24,6 +24,16 @@ namespace forma
     bool         resume             = false;
     double       remesh_quality     = 0; ///< remesh below this; 0: never
     unsigned int max_remeshes       = 10;
+    /// max_oi of thesis Algorithm 1: a stagnated inner run (or one at
+    /// `inner_iterations`) is followed by a remesh and a fresh L-BFGS run,
+    /// up to this many runs; 0: remesh on mesh quality only.
+    unsigned int outer_iterations = 0;
+    /// oi_max_ii of Algorithm 1: iterations of one inner run; 0: no limit.
+    unsigned int inner_iterations = 0;
+    /// The outer iteration (from 1) this run belongs to and the iteration
+    /// it started at, recorded in the checkpoint (not parameter-file
+    /// entries).
+    unsigned int outer_iteration = 1, outer_start = 0;
     /// Shape optimization: hold the vertices where the mesh-quality guard
     /// blocks the line search and go on (see the parameter's text).
     bool hold_blocked_vertices = false;
@@ -123,9 +133,16 @@ namespace forma
   std::string
   checkpoint_directory(const RunContext &context);
 
-  /// DesignModel::mesh of the checkpoint's design (empty if none).
-  std::string
-  checkpoint_mesh(const RunContext &context);
+  /// Where the checkpoint's design lives: its DesignModel::mesh (empty:
+  /// the parameter file's) and its outer iteration.
+  struct CheckpointPlace
+  {
+    std::string  mesh;
+    unsigned int outer_iteration = 1, outer_start = 0;
+  };
+
+  CheckpointPlace
+  checkpoint_place(const RunContext &context);
 } // namespace forma
 
 #endif

@@ -6,7 +6,7 @@
 #include <deal.II/grid/tria.h>
 
 #include <forma/base/run_context.h>
-#include <forma/mesh/periodic_phase_mesh.h>
+#include <forma/laminate/shape_derivative.h>
 
 #include "modes.h"
 
@@ -48,12 +48,7 @@ namespace forma
 
       // Conforming mesh: material id 0 is void, k + 1 phase k.
       Triangulation<2> mesh;
-      {
-        std::vector<std::pair<std::vector<Point<2>>, unsigned int>> polygons;
-        for (const auto &p : s.polygons())
-          polygons.push_back(p);
-        periodic_phase_mesh(polygons, box, size, mesh, context.communicator());
-      }
+      conforming_mesh(s, size, mesh, context.communicator());
       std::vector<double> density;
       const auto tensor   = phase_tensors(s, setup.base, setup.weak, density);
       const auto weak     = setup.weak.tensor();

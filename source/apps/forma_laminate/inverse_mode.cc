@@ -3,9 +3,11 @@
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/timer.h>
 #include <deal.II/base/utilities.h>
+#include <deal.II/grid/tria.h>
 
 #include <forma/base/application.h>
 #include <forma/base/run_context.h>
+#include <forma/laminate/shape_derivative.h>
 #include <forma/optimization/optimizer.h>
 
 #include "modes.h"
@@ -109,6 +111,33 @@ namespace forma
         return table;
       }
 
+      /**
+       * Thesis Table 5.1's row for one iterate: the structure meshed
+       * conformingly, its compliance misfit and the norm of its shape
+       * derivative on the solid-void interface, and where it concentrates.
+       */
+      nlohmann::json
+      shape_derivative_row(const HexagonalLaminate &s,
+                           const Setup             &setup,
+                           const double             size,
+                           const unsigned int       degree,
+                           const ComplianceMisfit  &misfit)
+      {
+        Triangulation<2> mesh;
+        conforming_mesh(s, size, mesh);
+        std::vector<double> density;
+        const auto phases = phase_tensors(s, setup.base, setup.weak, density);
+        const auto d      = interface_shape_derivative(
+          mesh, phases, setup.weak.tensor(), setup.solver, degree, misfit);
+        const auto fit = isotropic_fit(d.C);
+        return {{"mesh_J", d.J},
+                {"mesh_E_over_Eb", fit.E / setup.base.E},
+                {"mesh_nu", fit.nu},
+                {"cells", d.n_cells},
+                {"interface_vertices", d.vertices.size()},
+                {"shape_derivative_norm", d.norm},
+                {"corner_share", corner_share(d, s, size)}};
+      }
     } // namespace
 
 
@@ -137,10 +166,22 @@ namespace forma
       const unsigned int table_ny = prm.get_integer("Table cells along height");
       const unsigned int n_candidates = prm.get_integer("Candidates");
       OptimizationParameters op;
-      op.max_iterations      = prm.get_integer("Max iterations");
-      const double tolerance = prm.get_double("Tolerance");
+      op.max_iterations                 = prm.get_integer("Max iterations");
+      const double tolerance            = prm.get_double("Tolerance");
+      const bool   compliance_objective = prm.get("Objective") == "compliance";
+      const bool   report_shape = prm.get_bool("Report shape derivative");
       prm.leave_subsection();
-      op.value_target       = tolerance * tolerance;
+      AssertThrow(!report_shape || compliance_objective,
+                  ExcMessage("Inverse/Report shape derivative needs "
+                             "Inverse/Objective = compliance (thesis Table "
+                             "5.1's objective)."));
+      prm.enter_subsection("Conforming mesh");
+      const double       mesh_size   = prm.get_double("Element size");
+      const unsigned int mesh_degree = prm.get_integer("Degree");
+      prm.leave_subsection();
+      op.value_target       = compliance_objective ?
+                                -std::numeric_limits<double>::infinity() :
+                                tolerance * tolerance;
       op.relative_decrease  = 1e-6;
       op.decrease_window    = 3;
       op.gradient_tolerance = 1e-8;
@@ -184,6 +225,13 @@ namespace forma
       auto misfit = [&](const double E, const double nu) {
         return std::pow(E / E_star - 1, 2) + std::pow(nu - target_nu, 2);
       };
+      const ComplianceMisfit compliance(E_star, target_nu);
+      // The optimized J: the moduli misfit or the compliance misfit.
+      auto objective = [&](const Sample &r) {
+        return compliance_objective ? compliance.value(r.C) :
+                                      misfit(r.fit.E, r.fit.nu);
+      };
+      nlohmann::json shape_rows = nlohmann::json::array();
       std::vector<std::pair<double, unsigned int>> ranked;
       for (unsigned int k = 0; k < table.size(); ++k)
         if (std::count(grid.families.begin(),
@@ -220,8 +268,9 @@ namespace forma
         return r;
       };
 
-      nlohmann::json    candidates = nlohmann::json::array();
-      double            best_J     = std::numeric_limits<double>::max();
+      nlohmann::json    candidates     = nlohmann::json::array();
+      double            best_J         = std::numeric_limits<double>::max();
+      double            best_objective = std::numeric_limits<double>::max();
       HexagonalLaminate best;
       Sample            best_sample;
       for (unsigned int c = 0; c < ranked.size(); ++c)
@@ -275,8 +324,7 @@ namespace forma
             return last;
           };
           auto J = [&](const std::vector<double> &q) {
-            const Sample r = sample_at(q);
-            return misfit(r.fit.E, r.fit.nu);
+            return objective(sample_at(q));
           };
           model.value = J;
           // Exact: the pixel tensors' derivatives through C^H's material
@@ -288,20 +336,49 @@ namespace forma
               evaluate_gradient(*cell, with(s0, q), setup, nx, ny, r);
             const double dJ_dE  = 2 * (r.fit.E / E_star - 1) / E_star,
                          dJ_dnu = 2 * (r.fit.nu - target_nu);
+            const auto G        = compliance.derivative(r.C);
             dJ.assign(q.size(), 0);
             for (unsigned int i = 0; i < q.size(); ++i)
-              dJ[i] = dJ_dE * g.E[i] + dJ_dnu * g.nu[i];
+              dJ[i] = compliance_objective ? full_contraction(G, g.C[i]) :
+                                             dJ_dE * g.E[i] + dJ_dnu * g.nu[i];
             // The optimizer's alpha is in degrees.
             if (s0.limit)
               dJ[2] *= numbers::PI / 180;
-            return misfit(r.fit.E, r.fit.nu);
+            return objective(r);
           };
-          model.accepted =
-            [](unsigned int, const std::vector<double> &, double) {};
+          model.accepted = [&](const unsigned int         k,
+                               const std::vector<double> &q,
+                               const double               value) {
+            if (!report_shape)
+              return;
+            std::vector<double> dJ;
+            model.gradient(q, dJ);
+            double norm = 0;
+            for (const double x : dJ)
+              norm += x * x;
+            auto row = shape_derivative_row(
+              with(s0, q), setup, mesh_size, mesh_degree, compliance);
+            row["candidate"]               = c + 1;
+            row["iteration"]               = k;
+            row["J"]                       = value;
+            row["parameter_gradient_norm"] = std::sqrt(norm);
+            row["structure"]               = structure_json(with(s0, q));
+            context.print(
+              "inverse: [iteration " + std::to_string(k) +
+              "] J = " + sig(value) + ", |dJ/dq| = " + sig(std::sqrt(norm), 3) +
+              "; conforming mesh: E/Eb = " +
+              sig(double(row["mesh_E_over_Eb"])) +
+              ", nu = " + sig(double(row["mesh_nu"])) +
+              ", |dJ/dX| = " + sig(double(row["shape_derivative_norm"]), 4) +
+              ", " + sig(100 * double(row["corner_share"]), 3) +
+              "% of |dJ/dX|^2 near corners");
+            shape_rows.push_back(row);
+          };
           const auto   result = optimize(model, op, context);
           const auto   s      = with(s0, result.design);
           const auto   r      = sample_at(result.design);
           const double Jc     = misfit(r.fit.E, r.fit.nu);
+          const double Jo     = objective(r);
           context.print("inverse: candidate " + std::to_string(c + 1) +
                         " reaches E/Eb = " + sig(r.fit.E / setup.base.E) +
                         ", nu = " + sig(r.fit.nu) + " (" + result.stop_reason +
@@ -310,11 +387,12 @@ namespace forma
           j["E_over_Eb"]   = r.fit.E / setup.base.E;
           j["nu"]          = r.fit.nu;
           j["misfit"]      = Jc;
+          j["objective"]   = Jo;
           j["iterations"]  = result.history.size() - 1;
           j["stop_reason"] = result.stop_reason;
           candidates.push_back(j);
-          if (Jc < best_J)
-            best_J = Jc, best = s, best_sample = r;
+          if (Jo < best_objective)
+            best_objective = Jo, best_J = Jc, best = s, best_sample = r;
           if (Jc <= op.value_target)
             break;
         }
@@ -329,7 +407,9 @@ namespace forma
       context.summary["misfit"]     = std::sqrt(best_J);
       context.summary["reached"]    = best_J <= op.value_target;
       context.summary["candidates"] = candidates;
-      context.summary["grid"]       = {nx, ny};
+      if (report_shape)
+        context.summary["shape_derivative"] = shape_rows;
+      context.summary["grid"] = {nx, ny};
     }
   } // namespace laminate
 } // namespace forma
