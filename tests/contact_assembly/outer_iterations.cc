@@ -3,7 +3,8 @@
 // followed by a remesh and a fresh run, 3 runs in all, and the volume
 // bound's weight ramps linearly from 100 to 300 over them ('final
 // weight', thesis Table 2.2's "a/b"). summary.json reports every outer
-// iteration with its weights.
+// iteration with its weights. A run killed inside an outer iteration
+// resumes in it.
 
 #include "../tests.h"
 #include <nlohmann/json.hpp>
@@ -45,4 +46,34 @@ main()
           0.5 * s["initial_max_stress"].get<double>());
   check("volume within 2%",
         std::abs(s["final_volume"].get<double>() / 4. - 1) < 0.02);
+
+  // Kill-and-resume inside outer iteration 2: the checkpoint keeps the
+  // outer iteration and where it started, so the resumed run remeshes
+  // after iteration 8 and ends in outer iteration 3 with weight 300.
+  const std::string settings =
+    " --set 'Optimization/Outer iterations=3'"
+    " --set 'Optimization/Inner iterations=4'"
+    " --set 'Optimization/Remesh quality=0'"
+    " --set 'Objective/Terms=stress : p=20 ; volume bound : bound=4, "
+    "weight=100, final weight=300'";
+  run_example("contact_assembly",
+              "connector_stress",
+              settings + " --set 'Optimization/Max iterations=6'");
+  const auto r =
+    run_example("contact_assembly",
+                "connector_stress",
+                settings + " --set 'Optimization/Max iterations=12'"
+                           " --set 'Optimization/Resume=true'");
+  const auto &ro = r["optimization"];
+  check("resumed from iteration 6",
+        read_file("connector_stress.stdout")
+            .find("resuming from iteration 6") != std::string::npos);
+  check("resumed: 3 outer iterations, the third from iteration 8",
+        ro["outer_iterations"] == 3 && ro["outer"].size() == 2 &&
+          ro["outer"][0]["iteration"] == 4 && ro["outer"][1]["iteration"] == 8);
+  check("resumed: weights 200 and 300",
+        ro["outer"][0]["weights"]["volume bound"] == 200. &&
+          ro["outer"][1]["weights"]["volume bound"] == 300.);
+  check("resumed: 12 iterations, J/J0 below 0.5",
+        ro["iterations"] == 12 && ro["ratio"].get<double>() < 0.5);
 }
