@@ -27,7 +27,9 @@ SOURCE = os.path.dirname(os.path.dirname(os.path.dirname(
 
 # name: (app, prm file, file that gets mutated (relative to the prm), extra
 # --set assignments that keep a run that still succeeds short[, files from
-# the source tree copied next to the prm as (source path, name)]).
+# the source tree copied next to the prm as (source path, name)[, --set
+# assignments of a first run that writes the file]]). A file under out/ is
+# put back before every case (each case starts from an empty out/).
 TARGETS = {
     "gmsh mesh": ("forma-transient-ipc", "transient_ipc/two_blocks_collision.prm",
                   "meshes/two_blocks_2d.msh", ["Time/End time=0.02"]),
@@ -48,6 +50,12 @@ TARGETS = {
     "material map": ("forma-rhombic", "rhombic/query_map.prm", "map.json",
                      ["Map/Map file=map.json"],
                      [("contrib/rhombic/map.json", "map.json")]),
+    "optimization checkpoint": (
+        "forma-contact-assembly", "contact_assembly/connector_stress.prm",
+        "out/optimization.checkpoint.json",
+        ["Optimization/Max iterations=2", "Optimization/Resume=true",
+         "Output/Write vtu=false"],
+        [], ["Optimization/Max iterations=1", "Output/Write vtu=false"]),
 }
 
 SPECIAL_NUMBERS = ["nan", "inf", "-inf", "-1", "0", "1e308", "-1e308",
@@ -196,6 +204,7 @@ def main():
     for name in options.target or sorted(TARGETS):
         app, prm, victim, extra = TARGETS[name][:4]
         copies = TARGETS[name][4] if len(TARGETS[name]) > 4 else []
+        prepare = TARGETS[name][5] if len(TARGETS[name]) > 5 else None
         rng = random.Random("%s/%d" % (name, options.seed))
         prm_source = os.path.join(SOURCE, "parameter_files", prm)
         work = tempfile.mkdtemp(prefix="forma-fuzz-")
@@ -206,6 +215,14 @@ def main():
                             os.path.join(work, copy))
         prm_name = os.path.basename(prm)
         target = os.path.join(work, victim or prm_name)
+        if prepare is not None:
+            problem = run_case(os.path.join(options.bin, app), work,
+                               prm_name, prepare, options.timeout)
+            if problem or not os.path.exists(target):
+                print("%s: the run that writes %s failed: %s" %
+                      (name, victim, problem))
+                findings += 1
+                continue
         with open(target, "rb") as f:
             original = f.read()
         counts = {"clean failure": 0, "success": 0, "finding": 0}
@@ -216,9 +233,10 @@ def main():
             else:
                 data, kind = mutate(original, rng,
                                     "binary" if case == 0 else None)
+            shutil.rmtree(os.path.join(work, "out"), ignore_errors=True)
+            os.makedirs(os.path.dirname(target), exist_ok=True)
             with open(target, "wb") as f:
                 f.write(data)
-            shutil.rmtree(os.path.join(work, "out"), ignore_errors=True)
             problem = run_case(os.path.join(options.bin, app), work,
                                prm_name, extra, options.timeout)
             if problem:

@@ -1,8 +1,8 @@
 // A bounded campaign of contrib/fuzz/fuzz_readers.py: mutated Gmsh meshes,
-// OBJ obstacles, .prm files, PGM and PNG structure images and a rhombic
-// material map (bit flips, junk and binary bytes, truncation, special
-// numbers, line edits, bad encodings; PNG chunks with valid checksums) for
-// all four apps' readers.
+// OBJ obstacles, .prm files, PGM and PNG structure images, a rhombic
+// material map and an optimization checkpoint read by Resume (bit flips,
+// junk and binary bytes, truncation, special numbers, line edits, bad
+// encodings; PNG chunks with valid checksums) for all four apps' readers.
 // Every case must succeed or fail cleanly: exit code 1, one `error:` line,
 // a valid failed-run/summary.json, no signal, no hang. (A mesh of binary
 // junk used to abort with exit code 134.) Seeded, so the cases are the same
