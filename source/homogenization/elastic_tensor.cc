@@ -352,6 +352,21 @@ namespace forma
 
 
   double
+  full_contraction(const SymmetricTensor<4, 2> &A,
+                   const SymmetricTensor<4, 2> &B)
+  {
+    double sum = 0;
+    for (unsigned int i = 0; i < 2; ++i)
+      for (unsigned int j = 0; j < 2; ++j)
+        for (unsigned int k = 0; k < 2; ++k)
+          for (unsigned int l = 0; l < 2; ++l)
+            sum += A[i][j][k][l] * B[i][j][k][l];
+    return sum;
+  }
+
+
+
+  double
   smallest_eigenvalue(const SymmetricTensor<4, 2> &C)
   {
     const VoigtMatrix     V = to_voigt(C);

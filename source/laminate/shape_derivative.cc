@@ -18,21 +18,6 @@ namespace forma
   {
     using namespace dealii;
 
-    double
-    full_contraction(const SymmetricTensor<4, 2> &A,
-                     const SymmetricTensor<4, 2> &B)
-    {
-      double sum = 0;
-      for (unsigned int i = 0; i < 2; ++i)
-        for (unsigned int j = 0; j < 2; ++j)
-          for (unsigned int k = 0; k < 2; ++k)
-            for (unsigned int l = 0; l < 2; ++l)
-              sum += A[i][j][k][l] * B[i][j][k][l];
-      return sum;
-    }
-
-
-
     ComplianceMisfit::ComplianceMisfit(const double E_star,
                                        const double nu_star)
       : S_star(

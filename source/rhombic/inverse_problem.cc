@@ -4,6 +4,7 @@
 #include <deal.II/base/utilities.h>
 
 #include <forma/base/run_context.h>
+#include <forma/homogenization/elastic_tensor.h>
 #include <forma/optimization/optimizer.h>
 #include <forma/rhombic/inverse_problem.h>
 #include <forma/rhombic/parameter_ranges.h>
@@ -17,24 +18,6 @@ namespace forma
   namespace rhombic
   {
     using namespace dealii;
-
-    namespace
-    {
-      // Sum over all ijkl: the tensor (Frobenius) inner product.
-      double
-      inner(const SymmetricTensor<4, 2> &A, const SymmetricTensor<4, 2> &B)
-      {
-        double s = 0;
-        for (unsigned int i = 0; i < 2; ++i)
-          for (unsigned int j = 0; j < 2; ++j)
-            for (unsigned int k = 0; k < 2; ++k)
-              for (unsigned int l = 0; l < 2; ++l)
-                s += A[i][j][k][l] * B[i][j][k][l];
-        return s;
-      }
-    } // namespace
-
-
 
     InverseProblem
     InverseProblem::read(ParameterHandler       &prm,
@@ -161,9 +144,9 @@ namespace forma
     {
       const Sample           &r  = model.sample();
       const RhombicStructure &s  = model.structure();
-      const double            t2 = inner(target, target);
+      const double            t2 = full_contraction(target, target);
       const auto              D  = r.C - target;
-      double                  J  = inner(D, D) / t2 + volume_weight * r.phi;
+      double J = full_contraction(D, D) / t2 + volume_weight * r.phi;
       for (const unsigned int i : free)
         J += proximity_weight * (s.p[i] - start[i]) * (s.p[i] - start[i]);
       if (gradient)
@@ -173,7 +156,7 @@ namespace forma
           for (unsigned int k = 0; k < free.size(); ++k)
             {
               const unsigned int i = free[k];
-              (*gradient)[k]       = 2 * inner(D, g.C[i]) / t2 +
+              (*gradient)[k]       = 2 * full_contraction(D, g.C[i]) / t2 +
                                volume_weight * g.phi[i] +
                                2 * proximity_weight * (s.p[i] - start[i]);
             }

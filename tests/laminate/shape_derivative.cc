@@ -61,7 +61,7 @@ namespace
             C[r][t][p][q] += c, dC[r][t][p][q] = dc;
         }
     const double J  = misfit.value(C);
-    const double dJ = laminate::full_contraction(misfit.derivative(C), dC);
+    const double dJ = full_contraction(misfit.derivative(C), dC);
     deallog << "compliance misfit against C^H" << std::endl;
     report_rates([&](const double h) {
       return std::abs(misfit.value(C + h * dC) - J - h * dJ);

@@ -141,6 +141,11 @@ namespace forma
   dealii::SymmetricTensor<4, 2, Number>
   isotropic_tensor(const Number &kappa, const Number &mu);
 
+  /// sum_ijkl A_ijkl B_ijkl: the tensor (Frobenius) inner product.
+  double
+  full_contraction(const dealii::SymmetricTensor<4, 2> &A,
+                   const dealii::SymmetricTensor<4, 2> &B);
+
   /// Smallest eigenvalue of the Voigt matrix (with engineering shear):
   /// positive iff C is positive definite.
   double

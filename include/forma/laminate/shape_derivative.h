@@ -15,11 +15,6 @@ namespace forma
 {
   namespace laminate
   {
-    /// sum_ijkl A_ijkl B_ijkl.
-    double
-    full_contraction(const dealii::SymmetricTensor<4, 2> &A,
-                     const dealii::SymmetricTensor<4, 2> &B);
-
     /**
      * Thesis ch. 5.5's objective J = 1/2 |S^H - S*|_F^2, S^H = (C^H)^-1 the
      * compliance and S* that of the isotropic target (E*, nu*) (2D moduli),

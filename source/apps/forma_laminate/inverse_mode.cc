@@ -329,6 +329,8 @@ namespace forma
           model.value = J;
           // Exact: the pixel tensors' derivatives through C^H's material
           // gradient at the last homogenization (sample_at's).
+          // The last gradient, for the report of an accepted design.
+          std::vector<double> gradient_q, gradient;
           model.gradient = [&](const std::vector<double> &q,
                                std::vector<double>       &dJ) {
             const Sample r = sample_at(q);
@@ -344,6 +346,7 @@ namespace forma
             // The optimizer's alpha is in degrees.
             if (s0.limit)
               dJ[2] *= numbers::PI / 180;
+            gradient_q = q, gradient = dJ;
             return objective(r);
           };
           model.accepted = [&](const unsigned int         k,
@@ -351,8 +354,9 @@ namespace forma
                                const double               value) {
             if (!report_shape)
               return;
-            std::vector<double> dJ;
-            model.gradient(q, dJ);
+            std::vector<double> dJ = gradient;
+            if (q != gradient_q)
+              model.gradient(q, dJ);
             double norm = 0;
             for (const double x : dJ)
               norm += x * x;
