@@ -355,5 +355,54 @@ namespace forma
           }
       return best;
     }
+
+
+
+    std::vector<CoveragePolygon>
+    fit_coverage_pieces(const std::vector<double> &E,
+                        const std::vector<double> &nu,
+                        const std::vector<bool>   &covered,
+                        const double               height_weight,
+                        const unsigned int         pieces)
+    {
+      AssertThrow(pieces == 1 || pieces == 2,
+                  ExcMessage("coverage polygon: 1 or 2 pieces, not " +
+                             std::to_string(pieces)));
+      if (pieces == 1 || E.size() < 3)
+        return std::vector<CoveragePolygon>(
+          pieces, fit_coverage_polygon(E, nu, covered, height_weight));
+      const unsigned int nn = nu.size();
+      const auto band = [&](const unsigned int lo, const unsigned int hi) {
+        std::vector<bool> c(covered.size(), false);
+        for (unsigned int i = lo; i <= hi; ++i)
+          for (unsigned int j = 0; j < nn; ++j)
+            c[i * nn + j] = covered[i * nn + j];
+        return c;
+      };
+      const auto value = [&](const std::vector<CoveragePolygon> &p) {
+        double v = 0, top = -std::numeric_limits<double>::infinity();
+        for (const auto &q : p)
+          if (q.E_min < q.E_max)
+            {
+              v += q.area(nu.back() - nu.front());
+              top = std::max(top, q.E_max);
+            }
+        return top > -std::numeric_limits<double>::infinity() ?
+                 v +
+                   height_weight * (top - E.front()) / (E.back() - E.front()) :
+                 v;
+      };
+      std::vector<CoveragePolygon> best;
+      double best_value = -std::numeric_limits<double>::infinity();
+      for (unsigned int s = 1; s + 1 < E.size(); ++s)
+        {
+          const std::vector<CoveragePolygon> p = {
+            fit_coverage_polygon(E, nu, band(0, s), 0),
+            fit_coverage_polygon(E, nu, band(s, E.size() - 1), height_weight)};
+          if (value(p) > best_value + 1e-12)
+            best_value = value(p), best = p;
+        }
+      return best;
+    }
   } // namespace rhombic
 } // namespace forma

@@ -308,12 +308,28 @@ namespace forma
 
 
 
+    double
+    MaterialMap::coverage_coordinate(const double E_relative) const
+    {
+      return log_coverage ? std::log(E_relative) : E_relative;
+    }
+
+
+
     void
     MaterialMap::fit_coverage_polygons(const double height_weight)
     {
-      polygons.clear();
+      std::vector<double> x;
+      for (const double e : E)
+        x.push_back(coverage_coordinate(e));
+      polygons.assign(coverage_pieces, {});
       for (const auto &c : covered)
-        polygons.push_back(fit_coverage_polygon(E, nu, c, height_weight));
+        {
+          const auto p =
+            fit_coverage_pieces(x, nu, c, height_weight, coverage_pieces);
+          for (unsigned int k = 0; k < coverage_pieces; ++k)
+            polygons[k].push_back(p[k]);
+        }
       fit_polygon_splines();
     }
 
@@ -322,7 +338,7 @@ namespace forma
     void
     MaterialMap::fit_polygon_splines()
     {
-      // Angles from the largest down while the polygons last.
+      // Angles from the largest down while a piece's polygons last.
       std::vector<unsigned int> order(angles.size());
       std::iota(order.begin(), order.end(), 0u);
       std::sort(order.begin(),
@@ -330,61 +346,66 @@ namespace forma
                 [&](unsigned int i, unsigned int k) {
                   return angles[i] > angles[k];
                 });
-      std::vector<unsigned int> used;
-      for (const auto a : order)
-        if (polygons[a].E_min < polygons[a].E_max)
-          used.push_back(a);
-        else if (!used.empty())
-          break;
-      polygon_angles = {{1, 0}};
-      polygon_spline_angles.clear();
-      for (auto &v : polygon_spline_values)
-        v.clear();
-      if (used.empty())
-        return;
-      polygon_angles = {{angles[used.back()], angles[used.front()]}};
-      for (auto a = used.rbegin(); a != used.rend(); ++a)
+      polygon_splines.assign(polygons.size(), {});
+      for (unsigned int k = 0; k < polygons.size(); ++k)
         {
-          polygon_spline_angles.push_back(angles[*a]);
-          for (unsigned int k = 0; k < CoveragePolygon::n_coefficients; ++k)
-            polygon_spline_values[k].push_back(polygons[*a].coefficients()[k]);
+          std::vector<unsigned int> used;
+          for (const auto a : order)
+            if (polygons[k][a].E_min < polygons[k][a].E_max)
+              used.push_back(a);
+            else if (!used.empty())
+              break;
+          if (used.empty())
+            continue;
+          PolygonSplines &s = polygon_splines[k];
+          s.range           = {{angles[used.back()], angles[used.front()]}};
+          for (auto a = used.rbegin(); a != used.rend(); ++a)
+            {
+              s.angles.push_back(angles[*a]);
+              for (unsigned int c = 0; c < CoveragePolygon::n_coefficients; ++c)
+                s.values[c].push_back(polygons[k][*a].coefficients()[c]);
+            }
         }
     }
 
 
 
     CoveragePolygon
-    MaterialMap::coverage_polygon(const double alpha_degrees) const
+    MaterialMap::coverage_polygon(const double       alpha_degrees,
+                                  const unsigned int piece) const
     {
       CoveragePolygon polygon;
       polygon.E_min = 1; // empty
-      if (alpha_degrees < polygon_angles[0] - 1e-9 ||
-          alpha_degrees > polygon_angles[1] + 1e-9)
+      if (piece >= polygon_splines.size())
+        return polygon;
+      const PolygonSplines &s = polygon_splines[piece];
+      if (alpha_degrees < s.range[0] - 1e-9 ||
+          alpha_degrees > s.range[1] + 1e-9)
         return polygon;
       std::array<double, CoveragePolygon::n_coefficients> c;
       for (unsigned int k = 0; k < c.size(); ++k)
-        c[k] = monotone_spline(polygon_spline_angles,
-                               polygon_spline_values[k],
-                               alpha_degrees);
-      return CoveragePolygon::from_coefficients(c, E.front(), E.back());
+        c[k] = monotone_spline(s.angles, s.values[k], alpha_degrees);
+      return CoveragePolygon::from_coefficients(c,
+                                                coverage_coordinate(E.front()),
+                                                coverage_coordinate(E.back()));
     }
 
 
 
-    std::vector<MaterialMap::HalfPlane>
+    CoverageRegion
     MaterialMap::coverage(const double alpha_degrees,
                           const double base_nu) const
     {
-      const CoveragePolygon polygon = coverage_polygon(alpha_degrees);
-      // In (E, nu_map) with nu_map = nu - base_nu E (eq. 4.11 backwards).
-      std::vector<HalfPlane> region;
-      for (const auto &h : polygon.half_planes())
+      // In (x, nu_map) with nu_map = nu - base_nu E (eq. 4.11 backwards).
+      std::vector<HalfPlaneRegion> pieces;
+      for (unsigned int k = 0; k < polygon_splines.size(); ++k)
         {
-          const HalfPlane s{h[0] - base_nu * h[1], h[1], h[2]};
-          const double    n = std::hypot(s.c_E, s.c_nu);
-          region.push_back({s.c_E / n, s.c_nu / n, s.d / n});
+          HalfPlaneRegion planes;
+          for (const auto &h : coverage_polygon(alpha_degrees, k).half_planes())
+            planes.push_back({h[0], h[1], h[2]});
+          pieces.push_back(planes);
         }
-      return region;
+      return CoverageRegion(pieces, log_coverage, base_nu);
     }
 
 
@@ -394,9 +415,13 @@ namespace forma
     {
       // Where D(alpha) exists; a map without polygons falls back to the
       // angles with covered nodes.
-      if (polygon_angles[0] <= polygon_angles[1])
-        return polygon_angles;
       std::array<double, 2> range = {{1e300, -1e300}};
+      for (const auto &s : polygon_splines)
+        if (s.range[0] <= s.range[1])
+          range = {
+            {std::min(range[0], s.range[0]), std::max(range[1], s.range[1])}};
+      if (range[0] <= range[1])
+        return range;
       for (unsigned int a = 0; a < angles.size(); ++a)
         if (std::count(covered[a].begin(), covered[a].end(), true) >= 3)
           {
@@ -406,27 +431,6 @@ namespace forma
       AssertThrow(range[0] <= range[1],
                   ExcMessage("the material map covers no angle"));
       return range;
-    }
-
-
-
-    double
-    coverage_penalty(const std::array<double, 2>               &m,
-                     const std::vector<MaterialMap::HalfPlane> &region,
-                     const double                               tau,
-                     std::array<double, 2>                     &gradient)
-    {
-      double P = 0;
-      for (const auto &h : region)
-        {
-          const double v = (h.c_E * m[0] + h.c_nu * m[1] - h.d) / tau;
-          if (v <= 0)
-            continue;
-          P += v * v;
-          gradient[0] += 2 * v / tau * h.c_E;
-          gradient[1] += 2 * v / tau * h.c_nu;
-        }
-      return P;
     }
 
 
@@ -442,13 +446,7 @@ namespace forma
       // The map is for a base with nu = 0: eq. 4.11 backwards.
       const double nu_map = nu - base_nu * E;
       inside              = false;
-      const auto region   = coverage(alpha_degrees, base_nu);
-      if (!region.empty())
-        {
-          inside = true;
-          for (const HalfPlane &h : region)
-            inside = inside && h.c_E * E + h.c_nu * nu <= h.d + 1e-9;
-        }
+      inside = coverage(alpha_degrees, base_nu).contains({{E, nu}});
       RhombicStructure s;
       s.alpha    = alpha_degrees * M_PI / 180;
       s.blending = blending;
@@ -500,24 +498,41 @@ namespace forma
     {
       nlohmann::json j;
       // Format 2: splines uniform in log E, which a reader of format 1
-      // would evaluate on a linear axis without noticing.
-      j["format"]   = parameters[0].is_logarithmic(0) ?
-                        "forma-rhombic material map 2" :
-                        "forma-rhombic material map 1";
-      j["base"]     = {{"E", 1}, {"nu", 0}};
-      j["axes"]     = {"E/E_b", "nu", "angle_degrees"};
-      j["blending"] = blending;
-      j["grid"]     = {{"E", E}, {"nu", nu}, {"angles", angles}};
-      j["covered"]  = covered;
+      // would evaluate on a linear axis without noticing; format 3:
+      // coverage polygons in log E or in pieces, which a reader of format 2
+      // would read as linear or lose.
+      const bool format_3 = log_coverage || coverage_pieces > 1;
+      j["format"]         = format_3 ? "forma-rhombic material map 3" :
+                            parameters[0].is_logarithmic(0) ?
+                                       "forma-rhombic material map 2" :
+                                       "forma-rhombic material map 1";
+      j["base"]           = {{"E", 1}, {"nu", 0}};
+      j["axes"]           = {"E/E_b", "nu", "angle_degrees"};
+      j["blending"]       = blending;
+      j["grid"]           = {{"E", E}, {"nu", nu}, {"angles", angles}};
+      j["covered"]        = covered;
       if (!build_settings.empty())
         j["build_settings"] = build_settings;
       // A build's progress file has no splines yet.
       if (parameters[0].n_coefficients() > 0)
         for (const auto &p : parameters)
           j["parameters"].push_back(p.to_json());
-      j["samples"] = samples;
-      for (const auto &p : polygons)
-        j["coverage_polygons"].push_back(p.coefficients());
+      j["samples"]            = samples;
+      const auto coefficients = [](const std::vector<CoveragePolygon> &p) {
+        nlohmann::json c = nlohmann::json::array();
+        for (const auto &q : p)
+          c.push_back(q.coefficients());
+        return c;
+      };
+      if (format_3)
+        {
+          j["coverage_axis"]   = log_coverage ? "log E/E_b" : "E/E_b";
+          j["coverage_pieces"] = nlohmann::json::array();
+          for (const auto &p : polygons)
+            j["coverage_pieces"].push_back(coefficients(p));
+        }
+      else if (!polygons.empty())
+        j["coverage_polygons"] = coefficients(polygons[0]);
       std::ofstream out(file_name);
       AssertThrow(out, ExcMessage("cannot write the map '" + file_name + "'"));
       out << j.dump() << '\n';
@@ -545,11 +560,21 @@ namespace forma
       MaterialMap map;
       try
         {
-          const auto j = nlohmann::json::parse(in);
-          AssertThrow(j.at("format") == "forma-rhombic material map 1" ||
-                        j.at("format") == "forma-rhombic material map 2",
+          const auto j      = nlohmann::json::parse(in);
+          const auto format = j.at("format");
+          AssertThrow(format == "forma-rhombic material map 1" ||
+                        format == "forma-rhombic material map 2" ||
+                        format == "forma-rhombic material map 3",
                       ExcMessage("not a forma-rhombic material map (format "
-                                 "1 or 2)"));
+                                 "1, 2 or 3)"));
+          const bool format_3 = format == "forma-rhombic material map 3";
+          if (format_3)
+            {
+              const std::string axis = j.at("coverage_axis");
+              AssertThrow(axis == "E/E_b" || axis == "log E/E_b",
+                          ExcMessage("coverage_axis: 'E/E_b' or 'log E/E_b'"));
+              map.log_coverage = axis == "log E/E_b";
+            }
           map.blending = j.at("blending").get<double>();
           map.E        = j.at("grid").at("E").get<std::vector<double>>();
           map.nu       = j.at("grid").at("nu").get<std::vector<double>>();
@@ -569,6 +594,10 @@ namespace forma
                                    "(E, nu) grid"));
           AssertThrow(map.E.size() >= 2 && map.nu.size() >= 2,
                       ExcMessage("the map's (E, nu) grid needs 2 x 2 nodes"));
+          AssertThrow(!map.log_coverage ||
+                        *std::min_element(map.E.begin(), map.E.end()) > 0,
+                      ExcMessage("the map's coverage axis is log E/E_b, but "
+                                 "its grid's moduli are not all positive"));
           if (!with_splines)
             return map;
           const auto &p = j.at("parameters");
@@ -580,22 +609,35 @@ namespace forma
                                    "(E, nu, alpha)"));
           for (unsigned int i = 0; i < p.size(); ++i)
             map.parameters[i] = TensorSpline::from_json(p[i]);
-          if (j.contains("coverage_polygons"))
+          // Per piece, the coefficients at every angle.
+          std::vector<nlohmann::json> pieces;
+          if (format_3)
+            for (const auto &p : j.at("coverage_pieces"))
+              pieces.push_back(p);
+          else if (j.contains("coverage_polygons"))
+            pieces.push_back(j.at("coverage_polygons"));
+          AssertThrow(pieces.size() <= 2,
+                      ExcMessage("the map's coverage has 1 or 2 pieces"));
+          for (const auto &piece : pieces)
             {
-              const auto c =
-                j.at("coverage_polygons")
-                  .get<std::vector<
-                    std::array<double, CoveragePolygon::n_coefficients>>>();
+              const auto c = piece.get<std::vector<
+                std::array<double, CoveragePolygon::n_coefficients>>>();
               AssertThrow(c.size() == map.angles.size(),
                           ExcMessage("the map's coverage polygons do not "
                                      "match its angles"));
+              map.polygons.emplace_back();
               for (const auto &k : c)
-                map.polygons.push_back(CoveragePolygon::from_coefficients(
-                  k, map.E.front(), map.E.back()));
-              map.fit_polygon_splines();
+                map.polygons.back().push_back(
+                  CoveragePolygon::from_coefficients(
+                    k,
+                    map.coverage_coordinate(map.E.front()),
+                    map.coverage_coordinate(map.E.back())));
             }
-          else // a map written before the polygons
+          map.coverage_pieces = std::max<std::size_t>(pieces.size(), 1);
+          if (pieces.empty()) // a map written before the polygons
             map.fit_coverage_polygons();
+          else
+            map.fit_polygon_splines();
         }
       catch (const nlohmann::json::exception &e)
         {
@@ -657,7 +699,8 @@ namespace forma
 
 
     void
-    MaterialMap::write_coverage_plot(const std::string &file_name) const
+    MaterialMap::write_coverage_plot(const std::string         &file_name,
+                                     const std::vector<double> &only) const
     {
       const std::array<std::array<std::uint8_t, 3>, 8> colors = {
         {{{200, 30, 30}},
@@ -670,9 +713,15 @@ namespace forma
          {{220, 90, 160}}}};
       const bool              log_E = parameters[0].is_logarithmic(0);
       std::vector<PlotSeries> series;
-      double                  top = 0;
+      double                  top   = 0;
+      unsigned int            drawn = 0; // picks the color and the marker size
       for (unsigned int a = 0; a < angles.size(); ++a)
         {
+          if (!only.empty() &&
+              std::none_of(only.begin(), only.end(), [&](const double x) {
+                return std::abs(x - angles[a]) < 1e-9;
+              }))
+            continue;
           PlotSeries s;
           for (unsigned int n = 0; n < E.size() * nu.size(); ++n)
             if (covered[a][n])
@@ -682,30 +731,36 @@ namespace forma
               }
           std::ostringstream label;
           label << "α = " << std::setprecision(3) << angles[a] << "°";
-          s.color = colors[a % colors.size()];
-          s.size  = 5 - std::min<int>(a, 3);
+          s.color = colors[drawn % colors.size()];
+          s.size  = 5 - std::min<int>(drawn, 3);
+          ++drawn;
           s.label = label.str();
           series.push_back(s);
-          if (a < polygons.size()) // D(alpha), the coverage polygon
-            {
-              PlotSeries outline;
-              // Edges subdivided where the E axis is logarithmic: the
-              // slanted ones curve there.
-              const auto         corners = polygons[a].outline();
-              const unsigned int pieces  = log_E ? 16 : 1;
-              for (std::size_t k = 0; k + 1 < corners.size(); ++k)
-                for (unsigned int t = 0; t < pieces; ++t)
-                  outline.points.push_back(
-                    {{corners[k][0] +
-                        (corners[k + 1][0] - corners[k][0]) * t / pieces,
-                      corners[k][1] +
-                        (corners[k + 1][1] - corners[k][1]) * t / pieces}});
-              if (!corners.empty())
-                outline.points.push_back(corners.back());
-              outline.line  = true;
-              outline.color = s.color;
-              series.push_back(outline);
-            }
+          for (const auto &piece : polygons) // D(alpha)'s polygons
+            if (a < piece.size())
+              {
+                PlotSeries outline;
+                // Edges subdivided where the plot's E axis is not the
+                // polygon's: the slanted ones curve there.
+                const auto         corners = piece[a].outline();
+                const unsigned int pieces  = log_E != log_coverage ? 16 : 1;
+                const auto         point = [&](const std::array<double, 2> &c) {
+                  return std::array<double, 2>{
+                    {c[0], log_coverage ? std::exp(c[1]) : c[1]}};
+                };
+                for (std::size_t k = 0; k + 1 < corners.size(); ++k)
+                  for (unsigned int t = 0; t < pieces; ++t)
+                    outline.points.push_back(point(
+                      {{corners[k][0] +
+                          (corners[k + 1][0] - corners[k][0]) * t / pieces,
+                        corners[k][1] +
+                          (corners[k + 1][1] - corners[k][1]) * t / pieces}}));
+                if (!corners.empty())
+                  outline.points.push_back(point(corners.back()));
+                outline.line  = true;
+                outline.color = s.color;
+                series.push_back(outline);
+              }
         }
       write_xy_plot(file_name,
                     series,

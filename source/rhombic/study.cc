@@ -435,6 +435,23 @@ namespace forma
                         Patterns::Integer(2, 50),
                         "Initial map = transversal: samples per coordinate "
                         "of the grid on V that is inverted.");
+      prm.declare_entry(
+        "Coverage axis",
+        "automatic",
+        Patterns::Selection("automatic|linear|logarithmic"),
+        "build map: the coverage polygon D(alpha) is convex in (E/E_b, nu) "
+        "(linear, the thesis's) or in (log E/E_b, nu) (logarithmic: on a "
+        "grid spanning decades the covered nodes form a wide base at small "
+        "E under a narrow stiff column, which a polygon in E cannot follow); "
+        "automatic: as the Young's modulus axis.");
+      prm.declare_entry(
+        "Coverage pieces",
+        "1",
+        Patterns::Integer(1, 2),
+        "build map: D(alpha) as one convex polygon (the thesis's) or the "
+        "union of two stacked in E, each inscribed in the covered nodes of "
+        "its band of rows (for a coverage that is not convex: a wide base "
+        "at small E under a narrow stiff column).");
       prm.declare_entry("Coverage height weight",
                         "0",
                         Patterns::Double(0),

@@ -6,7 +6,10 @@
 // sample on another branch of solutions is found and dropped, and the
 // base's Poisson's ratio shears it (eq. 4.11); the angles two-scale design
 // clamps to are those of D; the soft coverage constraint of two-scale
-// design passes its Taylor test.
+// design passes its Taylor test. The wide map's D, two polygons in (log E,
+// nu): inscribed, holding auxetic and stiff materials at 90 degrees, its
+// projection the closest point in (log E, nu - 0.3 E) for a sheared base,
+// its penalty Taylor-tested through the log and the shear.
 
 #include <forma/rhombic/material_map.h>
 
@@ -18,20 +21,89 @@
 using namespace dealii;
 using namespace forma::rhombic;
 
+namespace
+{
+  unsigned int
+  n_half_planes(const CoverageRegion &region)
+  {
+    unsigned int n = 0;
+    for (const auto &p : region.pieces())
+      n += p.size();
+    return n;
+  }
+
+
+  // On a logarithmic coverage axis with a sheared base (nu 0.3): points of
+  // the wide map's D(90) far apart in E, the projection's optimality (no
+  // point of the region on a fine grid in (log E, nu - 0.3 E) is closer to
+  // the projected point than its projection), and the penalty's Taylor
+  // test (the chain rule through log E and the shear).
+  void
+  log_coverage_checks(const MaterialMap &wide)
+  {
+    const CoverageRegion D = wide.coverage(90, 0);
+    deallog << "  D(90): (0.015, -0.25) inside: "
+            << (D.contains({{0.015, -0.25}}) ? "yes" : "no")
+            << ", (0.015, 0.65): "
+            << (D.contains({{0.015, 0.65}}) ? "yes" : "no")
+            << ", (0.1, 0.35): " << (D.contains({{0.1, 0.35}}) ? "yes" : "no")
+            << ", (0.3, 0.3): " << (D.contains({{0.3, 0.3}}) ? "yes" : "no")
+            << std::endl;
+    const CoverageRegion sheared = wide.coverage(80, 0.3);
+    unsigned int         worse = 0, n = 0;
+    for (const std::array<double, 2> m : {std::array<double, 2>{{0.3, -0.2}},
+                                          std::array<double, 2>{{0.005, 0.9}},
+                                          std::array<double, 2>{{0.2, 0.9}}})
+      {
+        const auto   q  = sheared.closest_point(m);
+        const auto   wm = sheared.coordinates(m), wq = sheared.coordinates(q);
+        const double d = std::hypot(wq[0] - wm[0], wq[1] - wm[1]);
+        deallog << "  base nu 0.3, 80 degrees: (" << m[0] << ", " << m[1]
+                << ") -> (" << q[0] << ", " << q[1] << "), "
+                << (sheared.violation(q) <= 1e-12 ? "in" : "NOT in")
+                << " the region" << std::endl;
+        for (double x = std::log(0.005); x < std::log(0.4); x += 0.01)
+          for (double y = -0.5; y < 1; y += 0.002, ++n)
+            if (sheared.violation(sheared.material({{x, y}})) <= 0 &&
+                std::hypot(x - wm[0], y - wm[1]) < d - 1e-12)
+              ++worse;
+      }
+    deallog << "  grid points of the region closer than the projection: "
+            << worse << (n > 100000 ? "" : " (too few tried)") << std::endl;
+    const std::array<double, 2> m = {{0.25, 0.6}}, d = {{0.05, -0.4}};
+    std::array<double, 2>       g  = {{0, 0}};
+    const double                P0 = sheared.penalty(m, 0.01, g);
+    deallog << "  penalty at (0.25, 0.6): " << P0 << std::endl;
+    std::vector<double> errors;
+    for (const double eps : {1e-3, 5e-4, 2.5e-4, 1.25e-4})
+      {
+        std::array<double, 2> unused = {{0, 0}};
+        const double          P =
+          sheared.penalty({{m[0] + eps * d[0], m[1] + eps * d[1]}},
+                          0.01,
+                          unused);
+        errors.push_back(std::abs(P - P0 - eps * (g[0] * d[0] + g[1] * d[1])));
+      }
+    for (unsigned int k = 1; k < errors.size(); ++k)
+      deallog << "  penalty Taylor rate "
+              << rate_verdict(std::log(errors[k - 1] / errors[k]) /
+                              std::log(2.))
+              << std::endl;
+  }
+} // namespace
+
+
+
 int
 main()
 {
   initlog();
   const MaterialMap map = MaterialMap::read(std::string(FORMA_SOURCE_DIR) +
                                             "/contrib/rhombic/map.json");
-  const auto violation  = [](const std::vector<MaterialMap::HalfPlane> &region,
-                            const double                               E,
-                            const double                               nu) {
-    double v = -1e300;
-    for (const auto &h : region)
-      v = std::max(v, h.c_E * E + h.c_nu * nu - h.d);
-    return v;
-  };
+  const auto        violation =
+    [](const CoverageRegion &region, const double E, const double nu) {
+      return region.violation({{E, nu}});
+    };
   // A staircase coverage on a 6 x 6 grid: row i starts at node 3 - i (the
   // boundary points lie on one line) and ends at node 5, except row 5,
   // which ends at node 3. Best polygon: the whole E range, nu_min = 0,
@@ -75,7 +147,7 @@ main()
               if (!c)
                 worst = std::max(worst, -v); // > 0: an uncovered node inside
             }
-        deallog << "angle " << m.angles[a] << ": " << region.size()
+        deallog << "angle " << m.angles[a] << ": " << n_half_planes(region)
                 << " half-planes, " << inside << " of " << n
                 << " covered nodes inside"
                 << (region.empty() ? " (no region)" :
@@ -94,13 +166,22 @@ main()
   deallog << "full-size map:" << std::endl;
   inscribed(MaterialMap::read(std::string(FORMA_SOURCE_DIR) +
                               "/contrib/rhombic/map_full.json"));
+  // The wide map's polygons are convex in (log E, nu): inscribed on that
+  // axis, and at 90 degrees holding auxetic and stiff materials.
+  const MaterialMap wide = MaterialMap::read(std::string(FORMA_SOURCE_DIR) +
+                                             "/contrib/rhombic/map_wide.json");
+  deallog << "wide map, coverage axis " << (wide.log_coverage ? "log E" : "E")
+          << ':' << std::endl;
+  inscribed(wide);
+  log_coverage_checks(wide);
   deallog << "polygon coefficients over the angle (E_min, E_max, nu_min, "
              "nu_max, s_l at E_0, E_1, s_r at E_0, E_1):"
           << std::endl;
   for (double alpha = 90; alpha >= 59.9; alpha -= 7.5)
     {
       const auto region = map.coverage(alpha, 0);
-      deallog << "  " << alpha << ": " << region.size() << " half-planes, "
+      deallog << "  " << alpha << ": " << n_half_planes(region)
+              << " half-planes, "
               << "(0.06, 0.2) inside: "
               << (violation(region, 0.06, 0.2) <= 1e-6 ? "yes" : "no")
               << std::endl;
@@ -120,8 +201,8 @@ main()
   {
     const MaterialMap full = MaterialMap::read(
       std::string(FORMA_SOURCE_DIR) + "/contrib/rhombic/map_full.json");
-    const auto  &a       = full.polygon_spline_angles;
-    const auto  &values  = full.polygon_spline_values;
+    const auto  &a       = full.polygon_splines[0].angles;
+    const auto  &values  = full.polygon_splines[0].values;
     unsigned int outside = 0, n = 0;
     for (unsigned int i = 0; i + 1 < a.size(); ++i)
       for (double t = 0.05; t < 1; t += 0.1, ++n)
@@ -142,9 +223,9 @@ main()
     const auto range = full.covered_angles();
     deallog << "full-size map: covered angles " << range[0] << "-" << range[1]
             << ", D at " << range[0] << ": "
-            << full.coverage(range[0], 0).size() << " half-planes, at "
-            << range[0] - 0.5 << ": " << full.coverage(range[0] - 0.5, 0).size()
-            << std::endl;
+            << n_half_planes(full.coverage(range[0], 0)) << " half-planes, at "
+            << range[0] - 0.5 << ": "
+            << n_half_planes(full.coverage(range[0] - 0.5, 0)) << std::endl;
   }
 
   // Samples on another branch of solutions (thesis ch. 4.6.3's continuation
@@ -188,14 +269,14 @@ main()
   const auto                  region = map.coverage(75, 0);
   const std::array<double, 2> m = {{0.115, 0.43}}, d = {{0.3, -0.7}};
   std::array<double, 2>       g  = {{0, 0}};
-  const double                P0 = coverage_penalty(m, region, 0.01, g);
+  const double                P0 = region.penalty(m, 0.01, g);
   deallog << "penalty at (0.115, 0.43): " << P0 << std::endl;
   double previous = 0;
   for (const double eps : {1e-3, 5e-4, 2.5e-4, 1.25e-4})
     {
       std::array<double, 2> unused = {{0, 0}};
-      const double          P      = coverage_penalty(
-        {{m[0] + eps * d[0], m[1] + eps * d[1]}}, region, 0.01, unused);
+      const double          P =
+        region.penalty({{m[0] + eps * d[0], m[1] + eps * d[1]}}, 0.01, unused);
       const double error = std::abs(P - P0 - eps * (g[0] * d[0] + g[1] * d[1]));
       if (previous > 0)
         deallog << "  eps " << eps << ": rate "

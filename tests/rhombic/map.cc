@@ -292,37 +292,48 @@ main()
   // A target outside the coverage: the query says so and names the
   // nearest covered point, which lies on the coverage's boundary: a query
   // there is inside, one a little beyond it (towards the target) outside.
-  {
-    const std::string map =
-      std::string(FORMA_SOURCE_DIR) + "/contrib/rhombic/map.json";
+  // On the 5 x 5 map (one polygon in E, nu) and on the wide one (two
+  // polygons in log E, nu; "beyond" is a step along E, nu, which moves
+  // away from the region in log E too).
+  const auto check_nearest = [&](const std::string &name,
+                                 const std::string &map,
+                                 const double       E,
+                                 const double       nu,
+                                 const double       angle) {
     const auto ask =
-      [&](const std::string &name, const double E, const double nu) {
+      [&](const std::string &run, const double E, const double nu) {
         std::ostringstream target;
         target << std::setprecision(17) << " set Young's modulus = " << E
-               << "\n set Poisson's ratio = " << nu << "\n";
+               << "\n set Poisson's ratio = " << nu
+               << "\n set Angle = " << angle << "\n";
         run_app(FORMA_APP,
-                name,
+                run,
                 "set Dimension = 2\nset Mode = query\nset Output directory = " +
-                  name + "\n" + mesh +
+                  run + "\n" + mesh +
                   "subsection Output\n set Write vtu = false\nend\n"
                   "subsection Map\n set Map file = " +
-                  map + "\nend\nsubsection Query\n" + target.str() +
-                  " set Angle = 75\nend\n");
-        return nlohmann::json::parse(read_file(name + "/summary.json"));
+                  map + "\nend\nsubsection Query\n" + target.str() + "end\n");
+        return nlohmann::json::parse(read_file(run + "/summary.json"));
       };
-    const double x[2]    = {0.5, 0.2};
-    const auto   outside = ask("outside", x[0], x[1]);
+    const double x[2]    = {E, nu};
+    const auto   outside = ask(name + "_outside", x[0], x[1]);
     const auto p = outside["nearest_covered_point"].get<std::vector<double>>();
     const double d      = std::hypot(x[0] - p[0], x[1] - p[1]);
-    const auto   near   = ask("nearest", p[0], p[1]);
-    const auto   beyond = ask("beyond",
+    const auto   near   = ask(name + "_nearest", p[0], p[1]);
+    const auto   beyond = ask(name + "_beyond",
                             p[0] + 1e-3 * (x[0] - p[0]) / d,
                             p[1] + 1e-3 * (x[1] - p[1]) / d);
-    dealii::deallog << "query outside the coverage: inside "
+    dealii::deallog << name << ": query outside the coverage: inside "
                     << outside["inside_coverage"].get<bool>()
                     << "; at the nearest covered point: inside "
                     << near["inside_coverage"].get<bool>()
                     << "; 0.001 beyond it: inside "
                     << beyond["inside_coverage"].get<bool>() << std::endl;
-  }
+  };
+  check_nearest("5x5",
+                std::string(FORMA_SOURCE_DIR) + "/contrib/rhombic/map.json",
+                0.5,
+                0.2,
+                75);
+  check_nearest("wide", wide, 0.3, -0.2, 75);
 }

@@ -35,13 +35,7 @@ namespace
   bool
   inside(const MaterialMap &m, const double E, const double nu, const double a)
   {
-    const auto region = m.coverage(a, 0);
-    if (region.empty())
-      return false;
-    for (const auto &h : region)
-      if (h.c_E * E + h.c_nu * nu > h.d + 1e-12)
-        return false;
-    return true;
+    return m.coverage(a, 0).contains({{E, nu}}, 1e-12);
   }
 
   Parameters

@@ -72,6 +72,25 @@ namespace forma
                          const std::vector<double> &nu,
                          const std::vector<bool>   &covered,
                          const double               height_weight);
+
+    /**
+     * The covered region as the union of `pieces` polygons stacked in E, a
+     * generalization of the thesis's one polygon for coverages that are not
+     * convex: a wide base at small E under a narrow stiff column, where one
+     * polygon holds much of either but not both. With 1 piece it is
+     * fit_coverage_polygon(); with 2 the grid's rows are split at one row
+     * (both bands include it), each band gets its own polygon
+     * (fit_coverage_polygon() on the band's nodes; `height_weight` for the
+     * upper one), and the split with the largest sum of their areas (plus
+     * `height_weight` times the top E) wins. Every piece is inscribed in
+     * the covered nodes, so their union is; a piece may be empty.
+     */
+    std::vector<CoveragePolygon>
+    fit_coverage_pieces(const std::vector<double> &E,
+                        const std::vector<double> &nu,
+                        const std::vector<bool>   &covered,
+                        const double               height_weight,
+                        const unsigned int         pieces);
   } // namespace rhombic
 } // namespace forma
 

@@ -1,8 +1,6 @@
 #ifndef forma_rhombic_half_plane_region_h
 #define forma_rhombic_half_plane_region_h
 
-#include <forma/rhombic/material_map.h>
-
 #include <array>
 #include <vector>
 
@@ -10,7 +8,15 @@ namespace forma
 {
   namespace rhombic
   {
-    using HalfPlaneRegion = std::vector<MaterialMap::HalfPlane>;
+    /// c_E x + c_nu y <= d on a plane of materials (x: E/E_b or its log,
+    /// y: Poisson's ratio); (c_E, c_nu) is a unit vector, so c . x - d is
+    /// a distance.
+    struct HalfPlane
+    {
+      double c_E, c_nu, d;
+    };
+
+    using HalfPlaneRegion = std::vector<HalfPlane>;
 
     /// The largest violation max_i (c_i . x - d_i), at most 0 inside.
     double

@@ -3,6 +3,7 @@
 
 #include <forma/microstructure/rhombic_structure.h>
 #include <forma/rhombic/coverage_polygon.h>
+#include <forma/rhombic/coverage_region.h>
 
 #include <nlohmann/json.hpp>
 
@@ -97,25 +98,41 @@ namespace forma
       double                         blending = 0.01;
       /// The samples the splines were fitted to: E, nu, angle, p1..p8.
       std::vector<std::array<double, 11>> samples;
-      /// The coverage polygon at each angle (empty where fewer than 2 x 2
-      /// nodes are covered), and its 8 coefficients over the angles from
-      /// the largest down to the last one with a polygon (increasing), as
-      /// 1D splines: monotone piecewise cubics (PCHIP), since a polygon can
-      /// change abruptly from one angle to the next and a fitted cubic
-      /// would overshoot both.
-      std::vector<CoveragePolygon> polygons;
-      std::vector<double>          polygon_spline_angles;
-      std::array<std::vector<double>, CoveragePolygon::n_coefficients>
-                            polygon_spline_values;
-      std::array<double, 2> polygon_angles = {{1, 0}}; ///< empty if lo > hi
+      /**
+       * The coverage polygons, per piece of the covered region (1, or 2
+       * stacked in E: fit_coverage_pieces()) at each angle (empty where
+       * fewer than 2 x 2 nodes are covered), and each piece's 8
+       * coefficients over the angles from the largest down to the last one
+       * with a polygon (increasing), as 1D splines: monotone piecewise
+       * cubics (PCHIP), since a polygon can change abruptly from one angle
+       * to the next and a fitted cubic would overshoot both.
+       */
+      struct PolygonSplines
+      {
+        std::vector<double>                                              angles;
+        std::array<std::vector<double>, CoveragePolygon::n_coefficients> values;
+        std::array<double, 2> range = {{1, 0}}; ///< empty if lo > hi
+      };
+      unsigned int                              coverage_pieces = 1;
+      std::vector<std::vector<CoveragePolygon>> polygons; ///< [piece][angle]
+      std::vector<PolygonSplines>               polygon_splines; ///< per piece
+      /// Whether the polygons live in (log E/E_b, nu) rather than (E/E_b,
+      /// nu): their E_min, E_max and reference moduli are then logs
+      /// (coverage_coordinate()). CoverageRegion says why.
+      bool log_coverage = false;
       /// The settings that decided a build's samples ("Section/Entry" ->
       /// value; empty for maps built before they were recorded): a resumed
       /// build checks them.
       nlohmann::json build_settings = nlohmann::json::object();
 
+      /// The polygons' coordinate of the modulus E/E_b: E or log E.
+      double
+      coverage_coordinate(const double E_relative) const;
+
       /**
-       * Fit the coverage polygons to `covered` (fit_coverage_polygon() per
-       * angle, `height_weight` as there) and spline their coefficients.
+       * Fit the coverage polygons to `covered` (fit_coverage_pieces() per
+       * angle over the grid's coverage_coordinate() with coverage_pieces,
+       * `height_weight` as there) and spline their coefficients.
        */
       void
       fit_coverage_polygons(const double height_weight = 0);
@@ -152,28 +169,24 @@ namespace forma
             const double base_nu,
             bool        &inside) const;
 
-      /// c_E E + c_nu nu <= d on (E relative to the base, nu); (c_E, c_nu)
-      /// is a unit vector, so c . x - d is a distance.
-      struct HalfPlane
-      {
-        double c_E, c_nu, d;
-      };
+      using HalfPlane = rhombic::HalfPlane;
 
-      /// The coverage polygon at `alpha_degrees` (for a base with nu = 0):
-      /// its 8 coefficients from the angle's splines; empty outside the
-      /// polygons' angles.
+      /// A piece's coverage polygon at `alpha_degrees` (for a base with nu =
+      /// 0): its 8 coefficients from the angle's splines; empty outside the
+      /// piece's angles.
       CoveragePolygon
-      coverage_polygon(const double alpha_degrees) const;
+      coverage_polygon(const double       alpha_degrees,
+                       const unsigned int piece = 0) const;
 
       /**
        * The covered region D(alpha) for a base of Poisson's ratio `base_nu`
-       * (thesis ch. 4.6.2-4.6.3): coverage_polygon() as half-planes sheared
-       * by eq. 4.11 (empty outside the polygons' angles). It is C^1 in
-       * alpha, its coefficients between those of the neighbouring
-       * construction angles, and at those angles inscribed in the covered
-       * nodes. query()'s `inside` is membership in this region.
+       * (thesis ch. 4.6.2-4.6.3): the pieces' coverage_polygon() on the
+       * map's coverage axis, sheared by eq. 4.11 (empty outside the
+       * polygons' angles). It is C^1 in alpha, its coefficients between those
+       * of the neighbouring construction angles, and at those angles inscribed
+       * in the covered nodes. query()'s `inside` is membership in this region.
        */
-      std::vector<HalfPlane>
+      CoverageRegion
       coverage(const double alpha_degrees, const double base_nu) const;
 
       /// The smallest and largest angle (degrees) with a covered region
@@ -196,11 +209,13 @@ namespace forma
       write_parameter_surfaces(const std::string &file_name,
                                const double       angle) const;
 
-      /// The covered grid nodes and the coverage polygon D(alpha) of each
-      /// angle in the (nu, E/E_b) plane (Fig. 4.14), with the plotted
-      /// numbers beside it (write_xy_plot()).
+      /// The covered grid nodes and the coverage polygons D(alpha) of each
+      /// construction angle (of those in `only`, if given: a map of many
+      /// angles is unreadable in one plot) in the (nu, E/E_b) plane (Fig.
+      /// 4.14), with the plotted numbers beside it (write_xy_plot()).
       void
-      write_coverage_plot(const std::string &file_name) const;
+      write_coverage_plot(const std::string         &file_name,
+                          const std::vector<double> &only = {}) const;
 
       /**
        * A map written by write(). `with_splines` false reads a build's
@@ -218,18 +233,6 @@ namespace forma
            const bool         with_splines = true);
     };
 
-    /**
-     * The soft constraint that keeps a material m = (E/E_b, nu) in a
-     * covered region (two-scale design): the sum over the violated
-     * half-planes h of ((h.c . m - h.d) / tau)^2 (a distance in units of
-     * tau, squared; C^1). Its gradient with respect to m is added to
-     * `gradient`.
-     */
-    double
-    coverage_penalty(const std::array<double, 2>               &m,
-                     const std::vector<MaterialMap::HalfPlane> &region,
-                     const double                               tau,
-                     std::array<double, 2>                     &gradient);
   } // namespace rhombic
 } // namespace forma
 

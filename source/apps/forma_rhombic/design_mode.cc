@@ -215,7 +215,7 @@ namespace forma
         return p;
       }
 
-      using Region = std::vector<MaterialMap::HalfPlane>;
+      using Region = CoverageRegion;
 
       /**
        * The (E, nu) pairs of one design block kept inside the map's
@@ -261,17 +261,17 @@ namespace forma
           };
           c.penalty = [this](const std::vector<double> &q,
                              std::vector<double>       &dP) {
-            constexpr double tau = 0.01; // violation scale in (E/E_b, nu)
+            // Violation scale in the regions' coordinates: 0.01 in nu, and
+            // in E/E_b or 1% of E on a log axis.
+            constexpr double tau = 0.01;
             const double     w   = weight / regions.size();
             double           P   = 0;
             for (unsigned int g = 0; g < regions.size(); ++g)
               {
                 const unsigned int    i    = offset + 2 * g;
                 std::array<double, 2> grad = {{0, 0}};
-                P += w * coverage_penalty({{q[i] / E_b, q[i + 1]}},
-                                          *regions[g],
-                                          tau,
-                                          grad);
+                P +=
+                  w * regions[g]->penalty({{q[i] / E_b, q[i + 1]}}, tau, grad);
                 dP[i] += w * grad[0] / E_b;
                 dP[i + 1] += w * grad[1];
               }
@@ -359,10 +359,13 @@ namespace forma
           {
             const unsigned int          i = coverage.offset + 2 * g;
             const std::array<double, 2> m = {{q[i] / coverage.E_b, q[i + 1]}};
-            const double v = std::max(0., violation(m, *coverage.regions[g]));
-            materials.push_back(closest_point(m, *coverage.regions[g]));
-            const auto  &to    = materials.back();
-            const double moved = std::hypot(to[0] - m[0], to[1] - m[1]);
+            const Region               &region = *coverage.regions[g];
+            const double                v = std::max(0., region.violation(m));
+            materials.push_back(region.closest_point(m));
+            // Distances in the region's coordinates (log E on a log axis).
+            const auto   to    = region.coordinates(materials.back());
+            const auto   from  = region.coordinates(m);
+            const double moved = std::hypot(to[0] - from[0], to[1] - from[1]);
             projection.outside += v > 1e-6;
             projection.worst = std::max(projection.worst, v);
             if (v > 1e-6 && moved > projection.moved)
@@ -370,7 +373,7 @@ namespace forma
                 projection.moved      = moved;
                 projection.moved_slot = g;
                 projection.from       = m;
-                projection.to         = to;
+                projection.to         = materials.back();
               }
             q[i]     = coverage.E_b * materials.back()[0];
             q[i + 1] = materials.back()[1];
@@ -462,11 +465,11 @@ namespace forma
       MPI_Barrier(context.communicator()); // the root wrote it
 
       // Each quad's angle, clamped to the map's range, and its region D.
-      const unsigned int  n_cells = tria.n_active_cells();
-      std::vector<double> alpha(n_cells);
-      std::vector<std::vector<MaterialMap::HalfPlane>> region(n_cells);
-      std::vector<Point<2>>                            centers;
-      unsigned int                                     clamped = 0;
+      const unsigned int          n_cells = tria.n_active_cells();
+      std::vector<double>         alpha(n_cells);
+      std::vector<CoverageRegion> region(n_cells);
+      std::vector<Point<2>>       centers;
+      unsigned int                clamped = 0;
       for (const auto &cell : tria.active_cell_iterators())
         {
           const unsigned int c = cell->active_cell_index();

@@ -164,8 +164,12 @@ namespace forma
       const std::string  map_file   = prm.get("Map file");
       const unsigned int n_checks   = prm.get_integer("Accuracy checks");
       const double height_weight    = prm.get_double("Coverage height weight");
-      const bool   transversal      = prm.get("Initial map") == "transversal";
-      const bool   resume           = prm.get_bool("Resume");
+      const bool   log_coverage     = prm.get("Coverage axis") == "automatic" ?
+                                        log_E :
+                                        prm.get("Coverage axis") == "logarithmic";
+      const unsigned int coverage_pieces = prm.get_integer("Coverage pieces");
+      const bool         transversal = prm.get("Initial map") == "transversal";
+      const bool         resume      = prm.get_bool("Resume");
       // Initial map = file: the map being extended to smaller angles.
       std::optional<MaterialMap> extended;
       if (prm.get("Initial map") == "file")
@@ -643,6 +647,8 @@ namespace forma
               std::max(worst_fit,
                        std::abs(map.parameters[i].value(x[k]) - y[k]));
         }
+      map.log_coverage    = log_coverage;
+      map.coverage_pieces = coverage_pieces;
       map.fit_coverage_polygons(height_weight);
       // Written on root, failed on all ranks (a throw on root alone would
       // leave the others waiting). The progress file stays: a run resumed
@@ -855,12 +861,12 @@ namespace forma
                     ", alpha = " + sig(angle) + " degrees -> p = " + p);
       if (!inside)
         {
-          std::string nearest          = "the map covers nothing at this angle";
-          const HalfPlaneRegion region = map.coverage(angle, setup.base.nu);
+          std::string          nearest = "the map covers nothing at this angle";
+          const CoverageRegion region  = map.coverage(angle, setup.base.nu);
           context.summary["nearest_covered_point"] = nullptr;
           if (!region.empty())
             {
-              const auto q = closest_point({{E, nu}}, region);
+              const auto q = region.closest_point({{E, nu}});
               nearest      = "the nearest covered point is (E/E_b, nu) = (" +
                         sig(q[0], 3) + ", " + sig(q[1], 3) + ")";
               context.summary["nearest_covered_point"] = q;
