@@ -12,9 +12,9 @@ namespace forma
   {
     CoverageRegion::CoverageRegion(const std::vector<HalfPlaneRegion> &pieces,
                                    const bool   logarithmic,
-                                   const double shear)
+                                   const double base_nu)
       : log_E(logarithmic)
-      , shear(logarithmic ? shear : 0)
+      , shear(logarithmic ? base_nu : 0)
     {
       for (const auto &piece : pieces)
         {
@@ -25,9 +25,8 @@ namespace forma
             {
               // On a linear axis c_E E + c_nu (nu - s E) <= d is a
               // half-plane in (E, nu) itself.
-              const HalfPlane g = {logarithmic ? h.c_E : h.c_E - shear * h.c_nu,
-                                   h.c_nu,
-                                   h.d};
+              const HalfPlane g = {
+                logarithmic ? h.c_E : h.c_E - base_nu * h.c_nu, h.c_nu, h.d};
               const double n = std::hypot(g.c_E, g.c_nu);
               planes.push_back({g.c_E / n, g.c_nu / n, g.d / n});
             }
@@ -98,7 +97,10 @@ namespace forma
           const auto   q = rhombic::closest_point(w, planes);
           const double d = std::hypot(q[0] - w[0], q[1] - w[1]);
           if (d < best_distance)
-            best_distance = d, best = q;
+            {
+              best_distance = d;
+              best          = q;
+            }
         }
       return material(best);
     }
@@ -110,9 +112,15 @@ namespace forma
                             const double                 tau,
                             std::array<double, 2>       &gradient) const
     {
+      if (empty())
+        return 0;
       const std::array<double, 2> w = coordinates(m);
-      // dw/dm: x' = 1/E on the log axis; the sheared nu falls with E.
-      const double          dx_dE = log_E ? 1 / m[0] : 1;
+      // dw/dm: x' = 1/E on the log axis (0 where coordinates() clamps E);
+      // the sheared nu falls with E.
+      const double          dx_dE = !log_E ? 1. :
+                                    m[0] > std::numeric_limits<double>::min() ?
+                                             1 / m[0] :
+                                             0.;
       double                least = std::numeric_limits<double>::infinity();
       std::array<double, 2> least_gradient = {{0, 0}};
       for (const auto &planes : convex_pieces)
@@ -129,10 +137,11 @@ namespace forma
               g[1] += 2 * v / tau * h.c_nu;
             }
           if (P < least)
-            least = P, least_gradient = g;
+            {
+              least          = P;
+              least_gradient = g;
+            }
         }
-      if (empty())
-        return 0;
       gradient[0] += least_gradient[0];
       gradient[1] += least_gradient[1];
       return least;

@@ -338,7 +338,10 @@ namespace forma
     void
     MaterialMap::fit_polygon_splines()
     {
-      // Angles from the largest down while a piece's polygons last.
+      // Angles from the largest down while some piece has a polygon: one
+      // range for all pieces, so that D(alpha) is never empty inside it. A
+      // piece without a polygon at one of these angles takes another
+      // piece's (the union is the same), so that its splines run through.
       std::vector<unsigned int> order(angles.size());
       std::iota(order.begin(), order.end(), 0u);
       std::sort(order.begin(),
@@ -346,24 +349,34 @@ namespace forma
                 [&](unsigned int i, unsigned int k) {
                   return angles[i] > angles[k];
                 });
+      const auto first_nonempty = [&](const unsigned int a) {
+        for (unsigned int k = 0; k < polygons.size(); ++k)
+          if (polygons[k][a].E_min < polygons[k][a].E_max)
+            return static_cast<int>(k);
+        return -1;
+      };
+      std::vector<unsigned int> used;
+      for (const auto a : order)
+        if (first_nonempty(a) >= 0)
+          used.push_back(a);
+        else if (!used.empty())
+          break;
       polygon_splines.assign(polygons.size(), {});
+      if (used.empty())
+        return;
       for (unsigned int k = 0; k < polygons.size(); ++k)
         {
-          std::vector<unsigned int> used;
-          for (const auto a : order)
-            if (polygons[k][a].E_min < polygons[k][a].E_max)
-              used.push_back(a);
-            else if (!used.empty())
-              break;
-          if (used.empty())
-            continue;
           PolygonSplines &s = polygon_splines[k];
           s.range           = {{angles[used.back()], angles[used.front()]}};
           for (auto a = used.rbegin(); a != used.rend(); ++a)
             {
+              const CoveragePolygon &p =
+                polygons[k][*a].E_min < polygons[k][*a].E_max ?
+                  polygons[k][*a] :
+                  polygons[first_nonempty(*a)][*a];
               s.angles.push_back(angles[*a]);
               for (unsigned int c = 0; c < CoveragePolygon::n_coefficients; ++c)
-                s.values[c].push_back(polygons[k][*a].coefficients()[c]);
+                s.values[c].push_back(p.coefficients()[c]);
             }
         }
     }
@@ -397,11 +410,16 @@ namespace forma
                           const double base_nu) const
     {
       // In (x, nu_map) with nu_map = nu - base_nu E (eq. 4.11 backwards).
+      // A piece whose interpolated lines shut it out entirely (its
+      // outline empty) is left out rather than made an infeasible region.
       std::vector<HalfPlaneRegion> pieces;
       for (unsigned int k = 0; k < polygon_splines.size(); ++k)
         {
+          const CoveragePolygon polygon = coverage_polygon(alpha_degrees, k);
+          if (polygon.outline().empty())
+            continue;
           HalfPlaneRegion planes;
-          for (const auto &h : coverage_polygon(alpha_degrees, k).half_planes())
+          for (const auto &h : polygon.half_planes())
             planes.push_back({h[0], h[1], h[2]});
           pieces.push_back(planes);
         }
@@ -501,7 +519,7 @@ namespace forma
       // would evaluate on a linear axis without noticing; format 3:
       // coverage polygons in log E or in pieces, which a reader of format 2
       // would read as linear or lose.
-      const bool format_3 = log_coverage || coverage_pieces > 1;
+      const bool format_3 = log_coverage || polygons.size() > 1;
       j["format"]         = format_3 ? "forma-rhombic material map 3" :
                             parameters[0].is_logarithmic(0) ?
                                        "forma-rhombic material map 2" :
@@ -570,9 +588,12 @@ namespace forma
           const bool format_3 = format == "forma-rhombic material map 3";
           if (format_3)
             {
-              const std::string axis = j.at("coverage_axis");
+              const auto axis = j.at("coverage_axis").get<std::string>();
               AssertThrow(axis == "E/E_b" || axis == "log E/E_b",
-                          ExcMessage("coverage_axis: 'E/E_b' or 'log E/E_b'"));
+                          ExcMessage("coverage_axis is '" + axis +
+                                     "', not 'E/E_b' or 'log E/E_b'"));
+              AssertThrow(!j.at("coverage_pieces").empty(),
+                          ExcMessage("coverage_pieces is empty"));
               map.log_coverage = axis == "log E/E_b";
             }
           map.blending = j.at("blending").get<double>();
@@ -617,7 +638,8 @@ namespace forma
           else if (j.contains("coverage_polygons"))
             pieces.push_back(j.at("coverage_polygons"));
           AssertThrow(pieces.size() <= 2,
-                      ExcMessage("the map's coverage has 1 or 2 pieces"));
+                      ExcMessage("the map's coverage has 1 or 2 pieces, not " +
+                                 std::to_string(pieces.size())));
           for (const auto &piece : pieces)
             {
               const auto c = piece.get<std::vector<
@@ -634,7 +656,7 @@ namespace forma
                     map.coverage_coordinate(map.E.back())));
             }
           map.coverage_pieces = std::max<std::size_t>(pieces.size(), 1);
-          if (pieces.empty()) // a map written before the polygons
+          if (pieces.empty()) // format 1 or 2 written before the polygons
             map.fit_coverage_polygons();
           else
             map.fit_polygon_splines();
@@ -713,8 +735,16 @@ namespace forma
          {{220, 90, 160}}}};
       const bool              log_E = parameters[0].is_logarithmic(0);
       std::vector<PlotSeries> series;
-      double                  top   = 0;
-      unsigned int            drawn = 0; // picks the color and the marker size
+      double                  top = 0;
+      for (const double x : only)
+        AssertThrow(std::any_of(angles.begin(),
+                                angles.end(),
+                                [&](const double a) {
+                                  return std::abs(x - a) < 1e-9;
+                                }),
+                    ExcMessage("coverage plot: " + std::to_string(x) +
+                               " degrees is not one of the map's angles"));
+      unsigned int drawn = 0; // picks the color and the marker size
       for (unsigned int a = 0; a < angles.size(); ++a)
         {
           if (!only.empty() &&
@@ -743,18 +773,19 @@ namespace forma
                 // Edges subdivided where the plot's E axis is not the
                 // polygon's: the slanted ones curve there.
                 const auto         corners = piece[a].outline();
-                const unsigned int pieces  = log_E != log_coverage ? 16 : 1;
-                const auto         point = [&](const std::array<double, 2> &c) {
+                const unsigned int subdivisions =
+                  log_E != log_coverage ? 16 : 1;
+                const auto point = [&](const std::array<double, 2> &c) {
                   return std::array<double, 2>{
                     {c[0], log_coverage ? std::exp(c[1]) : c[1]}};
                 };
                 for (std::size_t k = 0; k + 1 < corners.size(); ++k)
-                  for (unsigned int t = 0; t < pieces; ++t)
+                  for (unsigned int t = 0; t < subdivisions; ++t)
                     outline.points.push_back(point(
-                      {{corners[k][0] +
-                          (corners[k + 1][0] - corners[k][0]) * t / pieces,
-                        corners[k][1] +
-                          (corners[k + 1][1] - corners[k][1]) * t / pieces}}));
+                      {{corners[k][0] + (corners[k + 1][0] - corners[k][0]) *
+                                          t / subdivisions,
+                        corners[k][1] + (corners[k + 1][1] - corners[k][1]) *
+                                          t / subdivisions}}));
                 if (!corners.empty())
                   outline.points.push_back(point(corners.back()));
                 outline.line  = true;

@@ -90,6 +90,51 @@ namespace
                               std::log(2.))
               << std::endl;
   }
+
+  // Two pieces on a T-shaped coverage of a 6 x 6 grid (a wide base of rows
+  // 0-2, a narrow column of rows 3-5 at nu nodes 2-3): one polygon holds
+  // the base or part of both; two hold everything.
+  void
+  two_piece_fit()
+  {
+    const std::vector<double> grid = {0, 0.1, 0.2, 0.3, 0.4, 0.5};
+    std::vector<bool>         covered(36, false);
+    for (unsigned int i = 0; i < 6; ++i)
+      for (unsigned int j = 0; j < 6; ++j)
+        covered[i * 6 + j] = i <= 2 || (j == 2 || j == 3);
+    const auto one = fit_coverage_pieces(grid, grid, covered, 0, 1);
+    const auto two = fit_coverage_pieces(grid, grid, covered, 0, 2);
+    const auto held =
+      [&](const std::vector<CoveragePolygon> &pieces, bool &inscribed) {
+        unsigned int n = 0;
+        inscribed      = true;
+        for (unsigned int i = 0; i < 6; ++i)
+          for (unsigned int j = 0; j < 6; ++j)
+            {
+              bool in = false;
+              for (const auto &p : pieces)
+                {
+                  bool inside = p.E_min < p.E_max;
+                  for (const auto &h : p.half_planes())
+                    inside =
+                      inside && h[0] * grid[i] + h[1] * grid[j] <= h[2] + 1e-9;
+                  in = in || inside;
+                }
+              n += in && covered[i * 6 + j];
+              inscribed = inscribed && (!in || covered[i * 6 + j]);
+            }
+        return n;
+      };
+    bool         inscribed_one, inscribed_two;
+    const auto   n_one = held(one, inscribed_one);
+    const auto   n_two = held(two, inscribed_two);
+    deallog << "T-shaped coverage (24 nodes): one polygon holds " << n_one
+            << (inscribed_one ? "" : " (NOT inscribed)") << ", two hold "
+            << n_two << (inscribed_two ? "" : " (NOT inscribed)")
+            << "; split at E = " << two[0].E_max << " = " << two[1].E_min
+            << "; areas " << one[0].area(0.5) << " -> "
+            << two[0].area(0.5) + two[1].area(0.5) << std::endl;
+  }
 } // namespace
 
 
@@ -174,6 +219,27 @@ main()
           << ':' << std::endl;
   inscribed(wide);
   log_coverage_checks(wide);
+  two_piece_fit();
+  // Format 3 written and read back: the same region at and between the
+  // construction angles.
+  {
+    wide.write("wide_copy.json");
+    const MaterialMap copy = MaterialMap::read("wide_copy.json");
+    unsigned int      same = 0, n = 0;
+    for (double a = 60; a <= 90; a += 1.25)
+      for (const std::array<double, 2> m :
+           {std::array<double, 2>{{0.02, -0.2}},
+            std::array<double, 2>{{0.2, 0.3}},
+            std::array<double, 2>{{0.05, 0.5}}})
+        {
+          ++n;
+          same += std::abs(copy.coverage(a, 0.1).violation(m) -
+                           wide.coverage(a, 0.1).violation(m)) < 1e-12;
+        }
+    deallog << "  format 3 read back: " << same << " of " << n
+            << " violations the same, " << copy.polygons.size()
+            << " pieces, log axis " << copy.log_coverage << std::endl;
+  }
   deallog << "polygon coefficients over the angle (E_min, E_max, nu_min, "
              "nu_max, s_l at E_0, E_1, s_r at E_0, E_1):"
           << std::endl;

@@ -32,11 +32,12 @@ namespace forma
       /// The empty region: covers nothing.
       CoverageRegion() = default;
 
-      /// The union of `pieces`, each convex, as half-planes in (x, nu -
-      /// shear E), unit normals or not; empty pieces are left out.
+      /// The union of `pieces`, each convex and nonempty, as half-planes
+      /// in (x, nu - base_nu E), unit normals or not; pieces without
+      /// half-planes are left out.
       CoverageRegion(const std::vector<HalfPlaneRegion> &pieces,
                      const bool                          logarithmic,
-                     const double                        shear);
+                     const double                        base_nu);
 
       bool
       empty() const

@@ -21,7 +21,6 @@
 #include <forma/mesh/cut_grid_mesh.h>
 #include <forma/mesh/level_set_mesh.h>
 #include <forma/mesh/polygon_domain.h>
-#include <forma/rhombic/half_plane_region.h>
 #include <forma/rhombic/material_map.h>
 #include <forma/rhombic/tiling.h>
 
@@ -984,12 +983,16 @@ namespace forma
                         context.communicator());
           const std::string cut_file = context.path("cut_grid_mesh.msh");
           write_msh(cut_tria, cut_file, context.communicator());
-          ElasticityParameters cut  = parameters;
-          cut.mesh.file             = cut_file;
-          cut.mesh.file_as_given    = "cut_grid_mesh.msh";
-          cut.design.blocks         = {"material"};
-          cut.design.bodies         = "";
-          const Region       square = map.coverage(90, setup.base.nu);
+          ElasticityParameters cut = parameters;
+          cut.mesh.file            = cut_file;
+          cut.mesh.file_as_given   = "cut_grid_mesh.msh";
+          cut.design.blocks        = {"material"};
+          cut.design.bodies        = "";
+          const Region square      = map.coverage(90, setup.base.nu);
+          AssertThrow(!square.empty(),
+                      ExcMessage("Two-scale/Baselines: the cut grid's "
+                                 "squares need the map's coverage at 90 "
+                                 "degrees, which it does not have."));
           CoverageConstraint cut_coverage{"material",
                                           E_b,
                                           coverage_weight,

@@ -11,7 +11,6 @@
 #include <forma/base/run_context.h>
 #include <forma/optimization/optimizer.h>
 #include <forma/rhombic/grid_growth.h>
-#include <forma/rhombic/half_plane_region.h>
 #include <forma/rhombic/inverse_problem.h>
 #include <forma/rhombic/material_map.h>
 #include <forma/rhombic/transversal_map.h>
@@ -867,8 +866,10 @@ namespace forma
           if (!region.empty())
             {
               const auto q = region.closest_point({{E, nu}});
-              nearest      = "the nearest covered point is (E/E_b, nu) = (" +
-                        sig(q[0], 3) + ", " + sig(q[1], 3) + ")";
+              nearest =
+                "the nearest covered point is (E/E_b, nu) = (" + sig(q[0], 3) +
+                ", " + sig(q[1], 3) + ")" +
+                (region.logarithmic() ? ", nearest in (log E, nu)" : "");
               context.summary["nearest_covered_point"] = q;
             }
           context.print("query: the point lies outside the map's coverage "
