@@ -77,7 +77,7 @@ mkdir -p "$work/maps"
 "$bin/map_plots" "$root/contrib/rhombic/map.json" "$work/maps/shipped" 90 60
 "$bin/map_plots" "$root/contrib/rhombic/map_full.json" "$work/maps/full" 90
 "$bin/map_plots" "$root/contrib/rhombic/map_wide.json" "$work/maps/wide" \
-  --coverage=90,80,70,60,50 90 60
+  --coverage=90,80,70,60 90 60
 keep maps shipped_coverage rhombic_map_coverage
 keep maps shipped_parameters_90 rhombic_map_parameters_90
 keep maps shipped_parameters_60 rhombic_map_parameters_60
