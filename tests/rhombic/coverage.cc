@@ -102,32 +102,32 @@ namespace
     for (unsigned int i = 0; i < 6; ++i)
       for (unsigned int j = 0; j < 6; ++j)
         covered[i * 6 + j] = i <= 2 || (j == 2 || j == 3);
-    const auto one = fit_coverage_pieces(grid, grid, covered, 0, 1);
-    const auto two = fit_coverage_pieces(grid, grid, covered, 0, 2);
-    const auto held =
-      [&](const std::vector<CoveragePolygon> &pieces, bool &inscribed) {
-        unsigned int n = 0;
-        inscribed      = true;
-        for (unsigned int i = 0; i < 6; ++i)
-          for (unsigned int j = 0; j < 6; ++j)
-            {
-              bool in = false;
-              for (const auto &p : pieces)
-                {
-                  bool inside = p.E_min < p.E_max;
-                  for (const auto &h : p.half_planes())
-                    inside =
-                      inside && h[0] * grid[i] + h[1] * grid[j] <= h[2] + 1e-9;
-                  in = in || inside;
-                }
-              n += in && covered[i * 6 + j];
-              inscribed = inscribed && (!in || covered[i * 6 + j]);
-            }
-        return n;
-      };
-    bool         inscribed_one, inscribed_two;
-    const auto   n_one = held(one, inscribed_one);
-    const auto   n_two = held(two, inscribed_two);
+    const auto one  = fit_coverage_pieces(grid, grid, covered, 0, 1);
+    const auto two  = fit_coverage_pieces(grid, grid, covered, 0, 2);
+    const auto held = [&](const std::vector<CoveragePolygon> &pieces,
+                          bool                               &inscribed) {
+      unsigned int n = 0;
+      inscribed      = true;
+      for (unsigned int i = 0; i < 6; ++i)
+        for (unsigned int j = 0; j < 6; ++j)
+          {
+            bool in = false;
+            for (const auto &p : pieces)
+              {
+                bool inside = p.E_min < p.E_max;
+                for (const auto &h : p.half_planes())
+                  inside =
+                    inside && h[0] * grid[i] + h[1] * grid[j] <= h[2] + 1e-9;
+                in = in || inside;
+              }
+            n += in && covered[i * 6 + j];
+            inscribed = inscribed && (!in || covered[i * 6 + j]);
+          }
+      return n;
+    };
+    bool       inscribed_one, inscribed_two;
+    const auto n_one = held(one, inscribed_one);
+    const auto n_two = held(two, inscribed_two);
     deallog << "T-shaped coverage (24 nodes): one polygon holds " << n_one
             << (inscribed_one ? "" : " (NOT inscribed)") << ", two hold "
             << n_two << (inscribed_two ? "" : " (NOT inscribed)")
@@ -227,10 +227,9 @@ main()
     const MaterialMap copy = MaterialMap::read("wide_copy.json");
     unsigned int      same = 0, n = 0;
     for (double a = 60; a <= 90; a += 1.25)
-      for (const std::array<double, 2> m :
-           {std::array<double, 2>{{0.02, -0.2}},
-            std::array<double, 2>{{0.2, 0.3}},
-            std::array<double, 2>{{0.05, 0.5}}})
+      for (const std::array<double, 2> m : {std::array<double, 2>{{0.02, -0.2}},
+                                            std::array<double, 2>{{0.2, 0.3}},
+                                            std::array<double, 2>{{0.05, 0.5}}})
         {
           ++n;
           same += std::abs(copy.coverage(a, 0.1).violation(m) -
