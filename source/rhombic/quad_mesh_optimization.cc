@@ -37,6 +37,16 @@ namespace forma
                         "are not sharper than this; the smallest angle the "
                         "material-to-geometry map covers.");
       prm.declare_entry(
+        "Angle floor",
+        "0",
+        Patterns::Double(0, 89),
+        "The smallest rhombus angle alpha (degrees) the optimized quads may "
+        "have (0: none). Quads sharper than this after the continuation in "
+        "s are pushed up by a penalty on their fitted parallelogram's "
+        "angle, raised tenfold until every quad meets the floor: unlike a "
+        "larger Minimum angle, this leaves the quads above the floor "
+        "free to stay rhombic.");
+      prm.declare_entry(
         "Exponents",
         "1, 4, 16",
         Patterns::List(Patterns::Double(0)),
@@ -64,7 +74,8 @@ namespace forma
     void
     QuadMeshOptimizationParameters::parse(ParameterHandler &prm)
     {
-      min_angle = prm.get_double("Minimum angle") * M_PI / 180;
+      min_angle   = prm.get_double("Minimum angle") * M_PI / 180;
+      angle_floor = prm.get_double("Angle floor") * M_PI / 180;
       exponents.clear();
       for (const std::string &s :
            Utilities::split_string_list(prm.get("Exponents")))
@@ -179,6 +190,33 @@ namespace forma
               e += 0.25 * std::exp(s * (D - 4.));
             }
         return weight * e;
+      }
+
+      /// mu (A_Q / A) max(0, |cos phi| - cos(floor))^2, phi the angle of
+      /// the quad's least-squares parallelogram (eq. 4.12): zero while
+      /// its smaller angle alpha is at least `floor`.
+      template <typename N>
+      N
+      floor_energy(const std::array<Tensor<1, 2, N>, 4> &x,
+                   const double                          cos_floor,
+                   const double                          weight)
+      {
+        Tensor<1, 2, N> t1, t2; // T's columns; the centroid drops out
+        for (unsigned int i = 0; i < 4; ++i)
+          for (unsigned int a = 0; a < 2; ++a)
+            {
+              t1[a] += x[i][a] * q_corner[i][0];
+              t2[a] += x[i][a] * q_corner[i][1];
+            }
+        const N t12 = t1[0] * t2[0] + t1[1] * t2[1];
+        const N t11 = t1[0] * t1[0] + t1[1] * t1[1];
+        const N t22 = t2[0] * t2[0] + t2[1] * t2[1];
+        const N c   = t12 / std::sqrt(t11 * t22);
+        const N excess =
+          (Sacado::ScalarValue<N>::eval(c) < 0 ? -c : c) - cos_floor;
+        if (!(Sacado::ScalarValue<N>::eval(excess) > 0))
+          return N(0.);
+        return weight * excess * excess;
       }
 
       struct Segment
@@ -449,10 +487,15 @@ namespace forma
           f[v] = p[q[v]];
         return f;
       };
-      const auto total_energy = [&](const std::vector<Point<2>> &p,
+      // The angle floor's penalty weight (0 until the continuation in s
+      // has ended).
+      double       floor_mu     = 0;
+      const double cos_floor    = std::cos(prm.angle_floor);
+      const auto   total_energy = [&](const std::vector<Point<2>> &p,
                                     const double                 s,
                                     double                      &distortion) {
-        distortion = 0;
+        distortion       = 0;
+        double penalties = 0; // the angle floor's and the boundary's
         for (unsigned int c = 0; c < quads.size(); ++c)
           {
             const Quad f = quad_points(p, quads[c]);
@@ -463,17 +506,18 @@ namespace forma
             for (unsigned int v = 0; v < 4; ++v)
               xc[v] = f[v];
             distortion += quad_energy(xc, W_inverse[c], weight[c], s);
+            if (floor_mu > 0)
+              penalties += floor_energy(xc, cos_floor, floor_mu * weight[c]);
           }
-        double b = 0;
         for (unsigned int v = 0; v < n_vertices; ++v)
           if (on_boundary[v])
-            b += boundary_scale * (p[v] - y[v]).norm_square();
-        return distortion + b;
+            penalties += boundary_scale * (p[v] - y[v]).norm_square();
+        return distortion + penalties;
       };
 
-      using AD  = Sacado::Fad::SFad<double, 8>;
-      using AD2 = Sacado::Fad::SFad<AD, 8>;
-      for (const double s : prm.exponents)
+      using AD                = Sacado::Fad::SFad<double, 8>;
+      using AD2               = Sacado::Fad::SFad<AD, 8>;
+      const auto run_exponent = [&](const double s) {
         for (unsigned int it = 0; it < prm.max_iterations; ++it)
           {
             // Local step: target rhombi and boundary projections.
@@ -534,7 +578,9 @@ namespace forma
                       const unsigned int j = 2 * v + d;
                       xc[v][d] = AD2(8, j, AD(8, j, x[quads[c][v]][d]));
                     }
-                const AD2 e = quad_energy(xc, W_inverse[c], weight[c], s);
+                AD2 e = quad_energy(xc, W_inverse[c], weight[c], s);
+                if (floor_mu > 0)
+                  e += floor_energy(xc, cos_floor, floor_mu * weight[c]);
                 for (unsigned int i = 0; i < 8; ++i)
                   {
                     g(2 * quads[c][i / 2] + i % 2) += e.dx(i).val();
@@ -624,11 +670,37 @@ namespace forma
                 x.swap(trial);
               }
             total_energy(x, s, distortion);
-            result.history.push_back(
-              {s, it, distortion, deviation / h, max_move / h, halvings});
+            result.history.push_back({s,
+                                      it,
+                                      distortion,
+                                      deviation / h,
+                                      max_move / h,
+                                      halvings,
+                                      floor_mu});
             if (!accepted || max_move <= prm.tolerance * h)
               break;
           }
+      };
+      for (const double s : prm.exponents)
+        run_exponent(s);
+
+      // The angle floor: a penalty on the quads still sharper than it,
+      // ten times stronger each round, at the last exponent.
+      const auto smallest_alpha = [&]() {
+        double a = M_PI;
+        for (const auto &q : quads)
+          a = std::min(a, fit_rhombus(quad_points(x, q)).alpha);
+        return a;
+      };
+      if (prm.angle_floor > 0)
+        {
+          double distortion = 0;
+          floor_mu          = total_energy(x, prm.exponents.back(), distortion);
+          for (unsigned int round = 0;
+               round < 12 && smallest_alpha() < prm.angle_floor - 1e-4;
+               ++round, floor_mu *= 10)
+            run_exponent(prm.exponents.back());
+        }
 
       // The boundary deviation of the final mesh.
       result.boundary_deviation = 0;

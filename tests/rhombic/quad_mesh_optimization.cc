@@ -124,6 +124,29 @@ main()
             << (off < 0.02 ? "< 0.02" : std::to_string(off)) << std::endl;
   }
 
+  // The same disk with an angle floor of 66 degrees (the thesis's disk):
+  // every fitted angle reaches it, the boundary stays on the circle, and a
+  // floor below every quad's angle changes nothing.
+  {
+    Triangulation<2> tria;
+    GridGenerator::hyper_ball(tria);
+    tria.refine_global(2);
+    Triangulation<2> flat, same;
+    GridGenerator::flatten_triangulation(tria, flat);
+    same.copy_triangulation(flat);
+    QuadMeshOptimizationParameters floored = prm;
+    floored.angle_floor                    = 66 / degrees;
+    const auto r = optimize_rhombic_mesh(flat, floored);
+    report("disk, floor 66", r);
+    deallog << "disk, floor 66: every alpha at least 66 - 0.01 degrees: "
+            << (r.after.min_alpha * degrees > 66 - 0.01) << std::endl;
+    floored.angle_floor = 40 / degrees;
+    const auto r40      = optimize_rhombic_mesh(same, floored);
+    deallog << "disk, floor 40 (below every quad): alpha min "
+            << r40.after.min_alpha * degrees << ", rhombic error mean "
+            << r40.after.mean_error << std::endl;
+  }
+
   // Inverted input is refused.
   {
     Triangulation<2> tria;

@@ -24,6 +24,8 @@ namespace forma
       /// theta_m: target rhombi are not sharper than this (radians), the
       /// smallest angle the microstructure family covers.
       double min_angle = 0.25 * 3.141592653589793;
+      /// Smallest fitted angle alpha after optimization (radians; 0: none).
+      double angle_floor = 0;
       /// Continuation in s of the exponential energy (eq. 4.14).
       std::vector<double> exponents = {1, 4, 16};
       /// lambda of eq. 4.16 (weight of the boundary term against the
@@ -86,6 +88,7 @@ namespace forma
       double       deviation; ///< largest boundary distance / mean edge
       double       max_move;  ///< largest vertex move / mean edge
       unsigned int line_search_halvings;
+      double       floor_weight; ///< the angle floor's penalty (0: off)
     };
 
     struct QuadMeshOptimizationResult
@@ -116,8 +119,13 @@ namespace forma
      * edge length and n_Q the number of quads; s runs through `exponents`
      * (continuation: the larger s, the closer to minimizing the largest
      * distortion). Vertices flagged in `fixed` (by vertex index; empty: none)
-     * do not move. After each step the boundary vertices are put back onto
-     * the input boundary (the penalty alone lets a strongly distorted quad
+     * do not move. With an `angle_floor`, the continuation ends with
+     * rounds at the last s that add mu sum_Q (A_Q / A) max(0, |cos phi_Q|
+     * - cos(angle_floor))^2 (phi_Q the angle of the quad's least-squares
+     * parallelogram), mu ten times larger each round, until every quad's
+     * alpha reaches the floor (at most 12 rounds; the caller checks
+     * `after.min_alpha`). After each step the boundary vertices are put back
+     * onto the input boundary (the penalty alone lets a strongly distorted quad
      * pull them off by a fraction of an edge); vertices where the boundary
      * turns by more than 40 degrees stay at their corner. Throws (leaving
      * `tria` unchanged) if the input has

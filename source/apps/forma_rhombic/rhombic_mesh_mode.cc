@@ -13,6 +13,7 @@
 
 #include "modes.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -160,6 +161,7 @@ namespace forma
       for (const auto &h : r.history)
         {
           history.push_back({{"exponent", h.exponent},
+                             {"floor_weight", h.floor_weight},
                              {"iteration", h.iteration},
                              {"distortion", h.energy},
                              {"boundary_deviation", h.deviation},
@@ -172,17 +174,43 @@ namespace forma
                       sig(h.max_move, 3) + " h, line search halvings " +
                       std::to_string(h.line_search_halvings));
         }
+      // One line per exponent and per round of the angle floor.
+      unsigned int round = 0;
       for (unsigned int k = 0; k < r.history.size(); ++k)
         if (k + 1 == r.history.size() ||
-            r.history[k + 1].exponent != r.history[k].exponent)
+            r.history[k + 1].exponent != r.history[k].exponent ||
+            r.history[k + 1].floor_weight != r.history[k].floor_weight)
           {
-            context.log("s = " + sig(r.history[k].exponent) + ": " +
+            const std::string stage =
+              r.history[k].floor_weight > 0 ?
+                "angle floor round " + std::to_string(++round) :
+                "s = " + sig(r.history[k].exponent);
+            context.log(stage + ": " +
                         std::to_string(r.history[k].iteration + 1) +
                         " iterations");
-            context.print("s = " + sig(r.history[k].exponent) +
-                          ": distortion " + sig(r.history[k].energy, 3));
+            context.print(stage + ": distortion " +
+                          sig(r.history[k].energy, 3));
           }
       context.print("optimized: " + shape_line(r.after));
+      if (parameters.angle_floor > 0)
+        {
+          const auto low =
+            std::min_element(r.after.alpha.begin(), r.after.alpha.end());
+          const bool met = *low > parameters.angle_floor - 1e-4;
+          context.print(
+            "angle floor " + sig(parameters.angle_floor * degrees, 4) +
+            " degrees: " +
+            (met ?
+               std::string("met") :
+               "NOT met: quad " + std::to_string(low - r.after.alpha.begin()) +
+                 " stays at " + sig(*low * degrees, 4) +
+                 " degrees (its vertices' valence or the outline "
+                 "leave no room; refine the quad mesh or lower the "
+                 "floor)"));
+          context.summary["angle_floor_degrees"] =
+            parameters.angle_floor * degrees;
+          context.summary["angle_floor_met"] = met;
+        }
       context.print("boundary: largest distance from the input boundary " +
                     (r.boundary_deviation < 1e-9 ?
                        std::string("below 1e-9") :
