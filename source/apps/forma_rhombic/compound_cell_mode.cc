@@ -13,6 +13,8 @@
 
 #include "modes.h"
 
+#include <algorithm>
+#include <array>
 #include <fstream>
 #include <iomanip>
 
@@ -233,7 +235,13 @@ namespace forma
           for (const auto &r : rows)
             top = std::max(
               {top, double(r["error_family"]), double(r["error_squares"])});
-          PlotSeries f, q;
+          // Values in any order; a single one gets a little room.
+          const auto [lo, hi] =
+            std::minmax_element(values.begin(), values.end());
+          const double pad =
+            *hi > *lo ? 0. : std::max(0.05 * std::abs(*lo), 0.05);
+          const std::array<double, 2> x_range = {{*lo - pad, *hi + pad}};
+          PlotSeries                  f, q;
           f.points = family_points;
           f.line   = true;
           f.label  = "family P(E, ν, α)";
@@ -248,8 +256,8 @@ namespace forma
                         study == "twist" ? "turn of the cross (°)" :
                                            "center offset (quad sides)",
                         "relative error of C",
-                        {{values.front(), values.back()}},
-                        {{0, 1.1 * top}});
+                        x_range,
+                        {{0, top > 0 ? 1.1 * top : 1.}});
         }
     }
   } // namespace rhombic
