@@ -235,7 +235,10 @@ namespace forma
           for (const auto &r : rows)
             top = std::max(
               {top, double(r["error_family"]), double(r["error_squares"])});
-          // Values in any order; a single one gets a little room.
+          // Values in any order (the lines follow them sorted); a single
+          // one gets a little room.
+          std::sort(family_points.begin(), family_points.end());
+          std::sort(square_points.begin(), square_points.end());
           const auto [lo, hi] =
             std::minmax_element(values.begin(), values.end());
           const double pad =
