@@ -348,6 +348,548 @@ namespace forma
 
 
 
+    namespace
+    {
+      /// One optimize_rhombic_mesh() run: the mesh as vertex positions and
+      /// quads, its input boundary, and the local and global steps.
+      class RhombicMeshOptimizer
+      {
+      public:
+        RhombicMeshOptimizer(const Triangulation<2, 2>            &tria,
+                             const QuadMeshOptimizationParameters &prm,
+                             const std::vector<bool>              &fixed);
+
+        /// Local/global iterations at the exponent s until no vertex moves
+        /// by more than the tolerance (or the iteration cap).
+        void
+        run_exponent(const double                           s,
+                     std::vector<QuadMeshOptimizationStep> &history);
+
+        /// After the continuation: rounds at the last exponent with the
+        /// angle floor's penalty, ten times stronger each round, until every
+        /// quad's alpha reaches the floor (at most 12 rounds).
+        void
+        enforce_angle_floor(std::vector<QuadMeshOptimizationStep> &history);
+
+        /// The largest distance of a boundary vertex from the input
+        /// boundary, in mean edge lengths.
+        double
+        boundary_deviation() const;
+
+        /// The optimized positions into `tria` (the input mesh).
+        void
+        write(Triangulation<2, 2> &tria) const;
+
+        double
+        mean_edge() const
+        {
+          return h;
+        }
+
+      private:
+        void
+        read_mesh(const Triangulation<2, 2> &tria,
+                  const std::vector<bool>   &fixed);
+        void
+        find_corners();
+        void
+        find_slide_ranges();
+        void
+        make_sparsity();
+
+        Quad
+        quad_points(const std::vector<Point<2>>       &p,
+                    const std::array<unsigned int, 4> &q) const;
+        double
+        total_energy(const std::vector<Point<2>> &p,
+                     const double                 s,
+                     double                      &distortion) const;
+        double
+        smallest_alpha() const;
+
+        void
+        local_step(AffineConstraints<double> &sliding);
+        double
+        assemble_newton_system(const double s);
+        bool
+        line_search(const double           s,
+                    std::vector<Point<2>> &trial,
+                    unsigned int          &halvings) const;
+        double
+        accept(std::vector<Point<2>> &trial, const double s);
+
+        const QuadMeshOptimizationParameters &prm;
+        // Compact numbering of the used vertices: DoFs 2 v + d.
+        std::vector<unsigned int>                index;
+        std::vector<Point<2>>                    x, x_input, y;
+        std::vector<std::array<unsigned int, 4>> quads;
+        double                                   area = 0, h = 0;
+        double                                   boundary_scale = 0;
+        std::vector<Segment>                     boundary;
+        std::vector<bool>                        on_boundary, corner, held;
+        // Boundary neighbours and segments of each boundary vertex.
+        std::map<unsigned int, std::vector<unsigned int>> neighbours,
+          segments_at;
+        std::vector<std::vector<unsigned int>> slide;
+        SparsityPattern                        pattern;
+        SparseMatrix<double>                   H;
+        Vector<double>                         g, dx;
+        // The local step's targets: inverse edge matrices and area weights.
+        std::vector<Tensor<2, 2>> W_inverse;
+        std::vector<double>       weight;
+        // The angle floor's penalty weight (0 until the continuation in s
+        // has ended).
+        double       floor_mu = 0;
+        const double cos_floor;
+      };
+
+
+
+      RhombicMeshOptimizer::RhombicMeshOptimizer(
+        const Triangulation<2, 2>            &tria,
+        const QuadMeshOptimizationParameters &prm,
+        const std::vector<bool>              &fixed)
+        : prm(prm)
+        , cos_floor(std::cos(prm.angle_floor))
+      {
+        read_mesh(tria, fixed);
+        find_corners();
+        find_slide_ranges();
+        make_sparsity();
+        boundary_scale = prm.boundary_weight / (h * h * quads.size());
+        W_inverse.resize(quads.size());
+        weight.resize(quads.size());
+        y.resize(x.size());
+      }
+
+
+
+      void
+      RhombicMeshOptimizer::read_mesh(const Triangulation<2, 2> &tria,
+                                      const std::vector<bool>   &fixed)
+      {
+        const std::vector<Point<2>> &all  = tria.get_vertices();
+        const std::vector<bool>     &used = tria.get_used_vertices();
+        index.assign(all.size(), numbers::invalid_unsigned_int);
+        for (unsigned int v = 0; v < all.size(); ++v)
+          if (used[v])
+            {
+              index[v] = x.size();
+              x.push_back(all[v]);
+            }
+        on_boundary.assign(x.size(), false);
+        double       edges   = 0;
+        unsigned int n_edges = 0;
+        for (const auto &cell : tria.active_cell_iterators())
+          {
+            std::array<unsigned int, 4> q;
+            for (unsigned int v = 0; v < 4; ++v)
+              q[v] = index[cell->vertex_index(v)];
+            quads.push_back(q);
+            area += cell->measure();
+            for (const unsigned int f : cell->face_indices())
+              {
+                const auto face = cell->face(f);
+                edges += face->measure();
+                ++n_edges;
+                if (face->at_boundary())
+                  {
+                    const unsigned int a = index[face->vertex_index(0)],
+                                       b = index[face->vertex_index(1)];
+                    segments_at[a].push_back(boundary.size());
+                    segments_at[b].push_back(boundary.size());
+                    boundary.push_back({x[a], x[b]});
+                    on_boundary[a] = on_boundary[b] = true;
+                    neighbours[a].push_back(b);
+                    neighbours[b].push_back(a);
+                  }
+              }
+          }
+        h       = edges / n_edges;
+        x_input = x;
+        // Vertices the caller holds in place.
+        held.assign(x.size(), false);
+        if (!fixed.empty())
+          for (unsigned int v = 0; v < all.size(); ++v)
+            if (used[v] && fixed[v])
+              held[index[v]] = true;
+      }
+
+
+
+      // Boundary vertices at corners of the input outline (turning by more
+      // than 40 degrees) keep their place (sliding would cut the corner);
+      // the others slide along it.
+      void
+      RhombicMeshOptimizer::find_corners()
+      {
+        corner.assign(x.size(), false);
+        for (const auto &[v, nb] : neighbours)
+          if (nb.size() == 2)
+            {
+              const Tensor<1, 2> a = x[nb[0]] - x[v], b = x[nb[1]] - x[v];
+              corner[v] =
+                (a * b) / (a.norm() * b.norm()) > -std::cos(M_PI / 4.5);
+            }
+          else
+            corner[v] = true; // a vertex where the boundary touches itself
+      }
+
+
+
+      // A boundary vertex slides along the boundary near where it started
+      // (the segments up to 4 vertices away along the boundary): the
+      // closest point of the whole boundary may lie across a narrow slot.
+      void
+      RhombicMeshOptimizer::find_slide_ranges()
+      {
+        slide.resize(x.size());
+        for (const auto &[v, ignored] : neighbours)
+          {
+            std::vector<unsigned int> front = {v}, reached = {v};
+            for (unsigned int depth = 0; depth < 4; ++depth)
+              {
+                std::vector<unsigned int> next;
+                for (const unsigned int a : front)
+                  for (const unsigned int b : neighbours[a])
+                    if (std::find(reached.begin(), reached.end(), b) ==
+                        reached.end())
+                      {
+                        reached.push_back(b);
+                        next.push_back(b);
+                      }
+                front.swap(next);
+              }
+            for (const unsigned int a : reached)
+              for (const unsigned int k : segments_at[a])
+                if (std::find(slide[v].begin(), slide[v].end(), k) ==
+                    slide[v].end())
+                  slide[v].push_back(k);
+          }
+      }
+
+
+
+      void
+      RhombicMeshOptimizer::make_sparsity()
+      {
+        const unsigned int     n = 2 * x.size();
+        DynamicSparsityPattern dsp(n);
+        for (const auto &q : quads)
+          for (const unsigned int a : q)
+            for (const unsigned int b : q)
+              for (unsigned int d = 0; d < 2; ++d)
+                for (unsigned int e = 0; e < 2; ++e)
+                  dsp.add(2 * a + d, 2 * b + e);
+        for (unsigned int i = 0; i < n; ++i)
+          dsp.add(i, i);
+        pattern.copy_from(dsp);
+        H.reinit(pattern);
+        g.reinit(n);
+        dx.reinit(n);
+      }
+
+
+
+      Quad
+      RhombicMeshOptimizer::quad_points(
+        const std::vector<Point<2>>       &p,
+        const std::array<unsigned int, 4> &q) const
+      {
+        Quad f;
+        for (unsigned int v = 0; v < 4; ++v)
+          f[v] = p[q[v]];
+        return f;
+      }
+
+
+
+      /// E(p; W, y) with the angle floor's penalty; infinite if a quad
+      /// folds.
+      double
+      RhombicMeshOptimizer::total_energy(const std::vector<Point<2>> &p,
+                                         const double                 s,
+                                         double &distortion) const
+      {
+        distortion       = 0;
+        double penalties = 0; // the angle floor's and the boundary's
+        for (unsigned int c = 0; c < quads.size(); ++c)
+          {
+            const Quad f = quad_points(p, quads[c]);
+            for (unsigned int k = 0; k < 4; ++k)
+              if (!(corner_sine(f, k) > 0))
+                return std::numeric_limits<double>::infinity();
+            std::array<Tensor<1, 2, double>, 4> xc;
+            for (unsigned int v = 0; v < 4; ++v)
+              xc[v] = f[v];
+            distortion += quad_energy(xc, W_inverse[c], weight[c], s);
+            if (floor_mu > 0)
+              penalties += floor_energy(xc, cos_floor, floor_mu * weight[c]);
+          }
+        for (unsigned int v = 0; v < x.size(); ++v)
+          if (on_boundary[v])
+            penalties += boundary_scale * (p[v] - y[v]).norm_square();
+        return distortion + penalties;
+      }
+
+
+
+      double
+      RhombicMeshOptimizer::smallest_alpha() const
+      {
+        double a = M_PI;
+        for (const auto &q : quads)
+          a = std::min(a, fit_rhombus(quad_points(x, q)).alpha);
+        return a;
+      }
+
+
+
+      // Target rhombi (eq. 4.12-4.13) and boundary projections (eq. 4.15).
+      // Boundary vertices move along the boundary only: corners not at
+      // all, the others along the segment they are on (one coordinate
+      // follows the other), so that strong distortion (large s) cannot
+      // pull them off.
+      void
+      RhombicMeshOptimizer::local_step(AffineConstraints<double> &sliding)
+      {
+        for (unsigned int c = 0; c < quads.size(); ++c)
+          {
+            const RhombicFit r = fit_rhombus(quad_points(x, quads[c]));
+            const double     angle =
+              std::clamp(r.angle, prm.min_angle, M_PI - prm.min_angle);
+            W_inverse[c] = invert(rhombus_edges(angle, r.area, 1));
+            weight[c]    = r.area / area;
+          }
+        for (unsigned int v = 0; v < x.size(); ++v)
+          if (held[v])
+            {
+              y[v] = x_input[v]; // held: no boundary penalty either
+              for (unsigned int d = 0; d < 2; ++d)
+                sliding.add_line(2 * v + d);
+            }
+          else if (on_boundary[v])
+            {
+              unsigned int k = 0;
+              y[v]           = corner[v] ?
+                                 x_input[v] :
+                                 closest_on_segments(x[v], boundary, slide[v], &k);
+              if (corner[v])
+                for (unsigned int d = 0; d < 2; ++d)
+                  sliding.add_line(2 * v + d);
+              else
+                {
+                  const Tensor<1, 2> t = boundary[k].b - boundary[k].a;
+                  // n . dx = 0 with n = (-t1, t0): eliminate the
+                  // coordinate with the larger normal component.
+                  const unsigned int a =
+                    std::abs(t[1]) >= std::abs(t[0]) ? 0 : 1;
+                  const unsigned int b = 1 - a;
+                  sliding.add_line(2 * v + a);
+                  sliding.add_entry(2 * v + a, 2 * v + b, t[a] / t[b]);
+                }
+            }
+        sliding.close();
+      }
+
+
+
+      /// H and g of E(x; W, y) (per-quad Hessians by Sacado, made positive
+      /// semidefinite); returns the largest boundary deviation at x.
+      double
+      RhombicMeshOptimizer::assemble_newton_system(const double s)
+      {
+        using AD  = Sacado::Fad::SFad<double, 8>;
+        using AD2 = Sacado::Fad::SFad<AD, 8>;
+        H         = 0;
+        g         = 0;
+        FullMatrix<double> Hc(8, 8);
+        for (unsigned int c = 0; c < quads.size(); ++c)
+          {
+            std::array<Tensor<1, 2, AD2>, 4> xc;
+            for (unsigned int v = 0; v < 4; ++v)
+              for (unsigned int d = 0; d < 2; ++d)
+                {
+                  const unsigned int j = 2 * v + d;
+                  xc[v][d]             = AD2(8, j, AD(8, j, x[quads[c][v]][d]));
+                }
+            AD2 e = quad_energy(xc, W_inverse[c], weight[c], s);
+            if (floor_mu > 0)
+              e += floor_energy(xc, cos_floor, floor_mu * weight[c]);
+            for (unsigned int i = 0; i < 8; ++i)
+              {
+                g(2 * quads[c][i / 2] + i % 2) += e.dx(i).val();
+                for (unsigned int j = 0; j < 8; ++j)
+                  Hc(i, j) = e.dx(i).dx(j);
+              }
+            project_to_psd(Hc, "quad mesh optimization");
+            for (unsigned int i = 0; i < 8; ++i)
+              for (unsigned int j = 0; j < 8; ++j)
+                H.add(2 * quads[c][i / 2] + i % 2,
+                      2 * quads[c][j / 2] + j % 2,
+                      Hc(i, j));
+          }
+        double deviation = 0;
+        for (unsigned int v = 0; v < x.size(); ++v)
+          if (on_boundary[v])
+            {
+              for (unsigned int d = 0; d < 2; ++d)
+                {
+                  g(2 * v + d) += 2 * boundary_scale * (x[v][d] - y[v][d]);
+                  H.add(2 * v + d, 2 * v + d, 2 * boundary_scale);
+                }
+              deviation = std::max(
+                deviation,
+                closest_on_segments(x[v], boundary, slide[v]).distance(x[v]));
+            }
+        // A tiny shift keeps the system definite where the projected
+        // Hessian of a free mesh is only semidefinite.
+        double diagonal = 0;
+        for (unsigned int i = 0; i < H.m(); ++i)
+          diagonal = std::max(diagonal, H.diag_element(i));
+        for (unsigned int i = 0; i < H.m(); ++i)
+          H.add(i, i, 1e-10 * diagonal);
+        return deviation;
+      }
+
+
+
+      /// Backtracking along dx until the energy decreases enough without a
+      /// folded quad; `trial` holds the accepted positions.
+      bool
+      RhombicMeshOptimizer::line_search(const double           s,
+                                        std::vector<Point<2>> &trial,
+                                        unsigned int          &halvings) const
+      {
+        double       distortion = 0;
+        const double E0         = total_energy(x, s, distortion);
+        AssertThrow(std::isfinite(E0),
+                    ExcMessage("quad mesh optimization: the distortion "
+                               "energy overflows at s = " +
+                               std::to_string(s) +
+                               " (a quad far from its rhombus): use "
+                               "smaller Quad mesh/Exponents."));
+        const double slope = g * dx;
+        double       t     = 1;
+        trial.resize(x.size());
+        for (halvings = 0; halvings < 40; ++halvings, t *= 0.5)
+          {
+            for (unsigned int v = 0; v < x.size(); ++v)
+              trial[v] = x[v] + t * Tensor<1, 2>({dx(2 * v), dx(2 * v + 1)});
+            double d_trial = 0;
+            if (total_energy(trial, s, d_trial) <= E0 + 1e-4 * t * slope)
+              return true;
+          }
+        return false;
+      }
+
+
+
+      /// x = trial, with the boundary vertices put back onto the boundary
+      /// unless that folds a quad (the penalty leaves them slightly off
+      /// where distortion pulls hard, at large s); returns the largest move.
+      double
+      RhombicMeshOptimizer::accept(std::vector<Point<2>> &trial, const double s)
+      {
+        std::vector<Point<2>> projected = trial;
+        for (unsigned int v = 0; v < x.size(); ++v)
+          if (on_boundary[v] && !held[v])
+            projected[v] = corner[v] ?
+                             x_input[v] :
+                             closest_on_segments(trial[v], boundary, slide[v]);
+        double d_projected = 0;
+        if (std::isfinite(total_energy(projected, s, d_projected)))
+          trial.swap(projected);
+        double max_move = 0;
+        for (unsigned int v = 0; v < x.size(); ++v)
+          max_move = std::max(max_move, trial[v].distance(x[v]));
+        x.swap(trial);
+        return max_move;
+      }
+
+
+
+      void
+      RhombicMeshOptimizer::run_exponent(
+        const double                           s,
+        std::vector<QuadMeshOptimizationStep> &history)
+      {
+        std::vector<Point<2>> trial;
+        for (unsigned int it = 0; it < prm.max_iterations; ++it)
+          {
+            AffineConstraints<double> sliding;
+            local_step(sliding);
+            // Global step: one projected Newton step on E(x; W, y).
+            const double deviation = assemble_newton_system(s);
+            dx                     = g;
+            dx *= -1;
+            sliding.condense(H, dx);
+            SparseDirectUMFPACK solver;
+            solver.initialize(H);
+            solver.solve(dx);
+            sliding.distribute(dx);
+
+            unsigned int halvings   = 0;
+            const bool   accepted   = line_search(s, trial, halvings);
+            const double max_move   = accepted ? accept(trial, s) : 0.;
+            double       distortion = 0;
+            total_energy(x, s, distortion);
+            history.push_back({s,
+                               it,
+                               distortion,
+                               deviation / h,
+                               max_move / h,
+                               halvings,
+                               floor_mu});
+            if (!accepted || max_move <= prm.tolerance * h)
+              break;
+          }
+      }
+
+
+
+      void
+      RhombicMeshOptimizer::enforce_angle_floor(
+        std::vector<QuadMeshOptimizationStep> &history)
+      {
+        if (!(prm.angle_floor > 0))
+          return;
+        const double s          = prm.exponents.back();
+        double       distortion = 0;
+        floor_mu                = total_energy(x, s, distortion);
+        for (unsigned int round = 0;
+             round < 12 && smallest_alpha() < prm.angle_floor - 1e-4;
+             ++round, floor_mu *= 10)
+          run_exponent(s, history);
+      }
+
+
+
+      double
+      RhombicMeshOptimizer::boundary_deviation() const
+      {
+        double deviation = 0;
+        for (unsigned int v = 0; v < x.size(); ++v)
+          if (on_boundary[v])
+            deviation = std::max(
+              deviation,
+              closest_on_segments(x[v], boundary, slide[v]).distance(x[v]) / h);
+        return deviation;
+      }
+
+
+
+      void
+      RhombicMeshOptimizer::write(Triangulation<2, 2> &tria) const
+      {
+        for (const auto &cell : tria.active_cell_iterators())
+          for (unsigned int v = 0; v < 4; ++v)
+            cell->vertex(v) = x[index[cell->vertex_index(v)]];
+      }
+    } // namespace
+
+
+
     QuadMeshOptimizationResult
     optimize_rhombic_mesh(Triangulation<2, 2>                  &tria,
                           const QuadMeshOptimizationParameters &prm,
@@ -364,354 +906,13 @@ namespace forma
                   ExcMessage("quad mesh: the input has an inverted or "
                              "degenerate quad (a corner angle of 180 degrees "
                              "or more)."));
-
-      // Compact numbering of the used vertices: DoFs 2 v + d.
-      const std::vector<Point<2>> &all  = tria.get_vertices();
-      const std::vector<bool>     &used = tria.get_used_vertices();
-      std::vector<unsigned int>    index(all.size(),
-                                      numbers::invalid_unsigned_int);
-      std::vector<Point<2>>        x;
-      for (unsigned int v = 0; v < all.size(); ++v)
-        if (used[v])
-          {
-            index[v] = x.size();
-            x.push_back(all[v]);
-          }
-      const unsigned int                       n_vertices = x.size();
-      std::vector<std::array<unsigned int, 4>> quads;
-      double                                   area = 0, edges = 0;
-      unsigned int                             n_edges = 0;
-      std::vector<Segment>                     boundary;
-      std::vector<bool>                        on_boundary(n_vertices, false);
-      // Boundary neighbours of each boundary vertex, to find corners.
-      std::map<unsigned int, std::vector<unsigned int>> neighbours, segments_at;
-      for (const auto &cell : tria.active_cell_iterators())
-        {
-          std::array<unsigned int, 4> q;
-          for (unsigned int v = 0; v < 4; ++v)
-            q[v] = index[cell->vertex_index(v)];
-          quads.push_back(q);
-          area += cell->measure();
-          for (const unsigned int f : cell->face_indices())
-            {
-              const auto face = cell->face(f);
-              edges += face->measure();
-              ++n_edges;
-              if (face->at_boundary())
-                {
-                  const unsigned int a = index[face->vertex_index(0)],
-                                     b = index[face->vertex_index(1)];
-                  segments_at[a].push_back(boundary.size());
-                  segments_at[b].push_back(boundary.size());
-                  boundary.push_back({x[a], x[b]});
-                  on_boundary[a] = on_boundary[b] = true;
-                  neighbours[a].push_back(b);
-                  neighbours[b].push_back(a);
-                }
-            }
-        }
-      const double h   = edges / n_edges;
-      result.mean_edge = h;
-
-      // Boundary vertices at corners of the input outline (turning by more
-      // than 40 degrees) keep their place (sliding would cut the corner);
-      // the others slide along it.
-      std::vector<bool> corner(n_vertices, false);
-      for (const auto &[v, nb] : neighbours)
-        if (nb.size() == 2)
-          {
-            const Tensor<1, 2> a = x[nb[0]] - x[v], b = x[nb[1]] - x[v];
-            corner[v] = (a * b) / (a.norm() * b.norm()) > -std::cos(M_PI / 4.5);
-          }
-        else
-          corner[v] = true; // a vertex where the boundary touches itself
-      const std::vector<Point<2>> x_input = x;
-      // Vertices the caller holds in place.
-      std::vector<bool> held(n_vertices, false);
-      if (!fixed.empty())
-        for (unsigned int v = 0; v < all.size(); ++v)
-          if (used[v] && fixed[v])
-            held[index[v]] = true;
-
-      // A boundary vertex slides along the boundary near where it started
-      // (the segments up to 4 vertices away along the boundary): the
-      // closest point of the whole boundary may lie across a narrow slot.
-      std::vector<std::vector<unsigned int>> slide(n_vertices);
-      for (const auto &[v, ignored] : neighbours)
-        {
-          std::vector<unsigned int> front = {v}, reached = {v};
-          for (unsigned int depth = 0; depth < 4; ++depth)
-            {
-              std::vector<unsigned int> next;
-              for (const unsigned int a : front)
-                for (const unsigned int b : neighbours[a])
-                  if (std::find(reached.begin(), reached.end(), b) ==
-                      reached.end())
-                    {
-                      reached.push_back(b);
-                      next.push_back(b);
-                    }
-              front.swap(next);
-            }
-          for (const unsigned int a : reached)
-            for (const unsigned int k : segments_at[a])
-              if (std::find(slide[v].begin(), slide[v].end(), k) ==
-                  slide[v].end())
-                slide[v].push_back(k);
-        }
-
-      DynamicSparsityPattern dsp(2 * n_vertices);
-      for (const auto &q : quads)
-        for (const unsigned int a : q)
-          for (const unsigned int b : q)
-            for (unsigned int d = 0; d < 2; ++d)
-              for (unsigned int e = 0; e < 2; ++e)
-                dsp.add(2 * a + d, 2 * b + e);
-      for (unsigned int i = 0; i < 2 * n_vertices; ++i)
-        dsp.add(i, i);
-      SparsityPattern pattern;
-      pattern.copy_from(dsp);
-      SparseMatrix<double> H(pattern);
-      Vector<double>       g(2 * n_vertices), dx(2 * n_vertices);
-
-      const double boundary_scale =
-        prm.boundary_weight / (h * h * quads.size());
-      std::vector<Tensor<2, 2>> W_inverse(quads.size());
-      std::vector<double>       weight(quads.size());
-      std::vector<Point<2>>     y(n_vertices);
-
-      const auto quad_points = [&](const std::vector<Point<2>>       &p,
-                                   const std::array<unsigned int, 4> &q) {
-        Quad f;
-        for (unsigned int v = 0; v < 4; ++v)
-          f[v] = p[q[v]];
-        return f;
-      };
-      // The angle floor's penalty weight (0 until the continuation in s
-      // has ended).
-      double       floor_mu     = 0;
-      const double cos_floor    = std::cos(prm.angle_floor);
-      const auto   total_energy = [&](const std::vector<Point<2>> &p,
-                                    const double                 s,
-                                    double                      &distortion) {
-        distortion       = 0;
-        double penalties = 0; // the angle floor's and the boundary's
-        for (unsigned int c = 0; c < quads.size(); ++c)
-          {
-            const Quad f = quad_points(p, quads[c]);
-            for (unsigned int k = 0; k < 4; ++k)
-              if (!(corner_sine(f, k) > 0))
-                return std::numeric_limits<double>::infinity();
-            std::array<Tensor<1, 2, double>, 4> xc;
-            for (unsigned int v = 0; v < 4; ++v)
-              xc[v] = f[v];
-            distortion += quad_energy(xc, W_inverse[c], weight[c], s);
-            if (floor_mu > 0)
-              penalties += floor_energy(xc, cos_floor, floor_mu * weight[c]);
-          }
-        for (unsigned int v = 0; v < n_vertices; ++v)
-          if (on_boundary[v])
-            penalties += boundary_scale * (p[v] - y[v]).norm_square();
-        return distortion + penalties;
-      };
-
-      using AD                = Sacado::Fad::SFad<double, 8>;
-      using AD2               = Sacado::Fad::SFad<AD, 8>;
-      const auto run_exponent = [&](const double s) {
-        for (unsigned int it = 0; it < prm.max_iterations; ++it)
-          {
-            // Local step: target rhombi and boundary projections.
-            for (unsigned int c = 0; c < quads.size(); ++c)
-              {
-                const Quad       f = quad_points(x, quads[c]);
-                const RhombicFit r = fit_rhombus(f);
-                const double     angle =
-                  std::clamp(r.angle, prm.min_angle, M_PI - prm.min_angle);
-                W_inverse[c] = invert(rhombus_edges(angle, r.area, 1));
-                weight[c]    = r.area / area;
-              }
-            // Boundary vertices move along the boundary only: corners not
-            // at all, the others along the segment they are on (one
-            // coordinate follows the other), so that strong distortion
-            // (large s) cannot pull them off.
-            AffineConstraints<double> sliding;
-            for (unsigned int v = 0; v < n_vertices; ++v)
-              if (held[v])
-                {
-                  y[v] = x_input[v]; // held: no boundary penalty either
-                  for (unsigned int d = 0; d < 2; ++d)
-                    sliding.add_line(2 * v + d);
-                }
-              else if (on_boundary[v])
-                {
-                  unsigned int k = 0;
-                  y[v]           = corner[v] ?
-                                     x_input[v] :
-                                     closest_on_segments(x[v], boundary, slide[v], &k);
-                  if (corner[v])
-                    for (unsigned int d = 0; d < 2; ++d)
-                      sliding.add_line(2 * v + d);
-                  else
-                    {
-                      const Tensor<1, 2> t = boundary[k].b - boundary[k].a;
-                      // n . dx = 0 with n = (-t1, t0): eliminate the
-                      // coordinate with the larger normal component.
-                      const unsigned int a =
-                        std::abs(t[1]) >= std::abs(t[0]) ? 0 : 1;
-                      const unsigned int b = 1 - a;
-                      sliding.add_line(2 * v + a);
-                      sliding.add_entry(2 * v + a, 2 * v + b, t[a] / t[b]);
-                    }
-                }
-            sliding.close();
-
-            // Global step: one projected Newton step on E(x; W, y).
-            H = 0;
-            g = 0;
-            FullMatrix<double> Hc(8, 8);
-            for (unsigned int c = 0; c < quads.size(); ++c)
-              {
-                std::array<Tensor<1, 2, AD2>, 4> xc;
-                for (unsigned int v = 0; v < 4; ++v)
-                  for (unsigned int d = 0; d < 2; ++d)
-                    {
-                      const unsigned int j = 2 * v + d;
-                      xc[v][d] = AD2(8, j, AD(8, j, x[quads[c][v]][d]));
-                    }
-                AD2 e = quad_energy(xc, W_inverse[c], weight[c], s);
-                if (floor_mu > 0)
-                  e += floor_energy(xc, cos_floor, floor_mu * weight[c]);
-                for (unsigned int i = 0; i < 8; ++i)
-                  {
-                    g(2 * quads[c][i / 2] + i % 2) += e.dx(i).val();
-                    for (unsigned int j = 0; j < 8; ++j)
-                      Hc(i, j) = e.dx(i).dx(j);
-                  }
-                project_to_psd(Hc, "quad mesh optimization");
-                for (unsigned int i = 0; i < 8; ++i)
-                  for (unsigned int j = 0; j < 8; ++j)
-                    H.add(2 * quads[c][i / 2] + i % 2,
-                          2 * quads[c][j / 2] + j % 2,
-                          Hc(i, j));
-              }
-            double deviation = 0;
-            for (unsigned int v = 0; v < n_vertices; ++v)
-              if (on_boundary[v])
-                {
-                  for (unsigned int d = 0; d < 2; ++d)
-                    {
-                      g(2 * v + d) += 2 * boundary_scale * (x[v][d] - y[v][d]);
-                      H.add(2 * v + d, 2 * v + d, 2 * boundary_scale);
-                    }
-                  deviation =
-                    std::max(deviation,
-                             closest_on_segments(x[v], boundary, slide[v])
-                               .distance(x[v]));
-                }
-            // A tiny shift keeps the system definite where the projected
-            // Hessian of a free mesh is only semidefinite.
-            double diagonal = 0;
-            for (unsigned int i = 0; i < 2 * n_vertices; ++i)
-              diagonal = std::max(diagonal, H.diag_element(i));
-            for (unsigned int i = 0; i < 2 * n_vertices; ++i)
-              H.add(i, i, 1e-10 * diagonal);
-            dx = g;
-            dx *= -1;
-            sliding.condense(H, dx);
-            SparseDirectUMFPACK solver;
-            solver.initialize(H);
-            solver.solve(dx);
-            sliding.distribute(dx);
-
-            double       distortion = 0;
-            const double E0         = total_energy(x, s, distortion);
-            AssertThrow(std::isfinite(E0),
-                        ExcMessage("quad mesh optimization: the distortion "
-                                   "energy overflows at s = " +
-                                   std::to_string(s) +
-                                   " (a quad far from its rhombus): use "
-                                   "smaller Quad mesh/Exponents."));
-            const double          slope    = g * dx;
-            double                t        = 1;
-            unsigned int          halvings = 0;
-            std::vector<Point<2>> trial(n_vertices);
-            bool                  accepted = false;
-            for (; halvings < 40; ++halvings, t *= 0.5)
-              {
-                for (unsigned int v = 0; v < n_vertices; ++v)
-                  trial[v] =
-                    x[v] + t * Tensor<1, 2>({dx(2 * v), dx(2 * v + 1)});
-                double     d_trial = 0;
-                const auto E1      = total_energy(trial, s, d_trial);
-                if (E1 <= E0 + 1e-4 * t * slope)
-                  {
-                    accepted = true;
-                    break;
-                  }
-              }
-            double max_move = 0;
-            if (accepted)
-              {
-                // The penalty leaves the boundary vertices slightly off the
-                // boundary where distortion pulls hard (large s): put them
-                // back on it, unless that folds a quad.
-                std::vector<Point<2>> projected = trial;
-                for (unsigned int v = 0; v < n_vertices; ++v)
-                  if (on_boundary[v] && !held[v])
-                    projected[v] =
-                      corner[v] ?
-                        x_input[v] :
-                        closest_on_segments(trial[v], boundary, slide[v]);
-                double d_projected = 0;
-                if (std::isfinite(total_energy(projected, s, d_projected)))
-                  trial.swap(projected);
-                for (unsigned int v = 0; v < n_vertices; ++v)
-                  max_move = std::max(max_move, trial[v].distance(x[v]));
-                x.swap(trial);
-              }
-            total_energy(x, s, distortion);
-            result.history.push_back({s,
-                                      it,
-                                      distortion,
-                                      deviation / h,
-                                      max_move / h,
-                                      halvings,
-                                      floor_mu});
-            if (!accepted || max_move <= prm.tolerance * h)
-              break;
-          }
-      };
+      RhombicMeshOptimizer optimizer(tria, prm, fixed);
+      result.mean_edge = optimizer.mean_edge();
       for (const double s : prm.exponents)
-        run_exponent(s);
-
-      // The angle floor: a penalty on the quads still sharper than it,
-      // ten times stronger each round, at the last exponent.
-      const auto smallest_alpha = [&]() {
-        double a = M_PI;
-        for (const auto &q : quads)
-          a = std::min(a, fit_rhombus(quad_points(x, q)).alpha);
-        return a;
-      };
-      if (prm.angle_floor > 0)
-        {
-          double distortion = 0;
-          floor_mu          = total_energy(x, prm.exponents.back(), distortion);
-          for (unsigned int round = 0;
-               round < 12 && smallest_alpha() < prm.angle_floor - 1e-4;
-               ++round, floor_mu *= 10)
-            run_exponent(prm.exponents.back());
-        }
-
-      // The boundary deviation of the final mesh.
-      result.boundary_deviation = 0;
-      for (unsigned int v = 0; v < n_vertices; ++v)
-        if (on_boundary[v])
-          result.boundary_deviation = std::max(
-            result.boundary_deviation,
-            closest_on_segments(x[v], boundary, slide[v]).distance(x[v]) / h);
-      for (const auto &cell : tria.active_cell_iterators())
-        for (unsigned int v = 0; v < 4; ++v)
-          cell->vertex(v) = x[index[cell->vertex_index(v)]];
+        optimizer.run_exponent(s, result.history);
+      optimizer.enforce_angle_floor(result.history);
+      result.boundary_deviation = optimizer.boundary_deviation();
+      optimizer.write(tria);
       result.after = quad_mesh_shape(tria);
       return result;
     }
