@@ -380,6 +380,131 @@ namespace forma
         return materials;
       }
 
+      /// The Two-scale section, read once; file names relative to the
+      /// parameter file's directory.
+      struct TwoScaleSettings
+      {
+        std::string           macro_file, macro_settings, constant_material;
+        std::string           table_file;
+        double                coverage_weight = 0;
+        bool                  fine_check = true, check_moduli = false;
+        bool                  fine_simulation = true, merge = true;
+        double                fine_size = 0, fine_boundary_size = 0;
+        int                   compared_boundary = -1;
+        unsigned int          refinement        = 0;
+        std::set<std::string> baselines;
+
+        static TwoScaleSettings
+        parse(ParameterHandler &prm, const std::string &prm_directory)
+        {
+          const auto resolved = [&](const std::string &file) {
+            return file.empty() || file[0] == '/' ? file :
+                                                    prm_directory + "/" + file;
+          };
+          TwoScaleSettings s;
+          prm.enter_subsection("Two-scale");
+          s.macro_file         = resolved(prm.get("Macro problem"));
+          s.macro_settings     = prm.get("Macro settings");
+          s.coverage_weight    = prm.get_double("Coverage weight");
+          s.fine_check         = prm.get_bool("Fine-scale check");
+          s.fine_size          = prm.get_double("Fine element size");
+          s.fine_boundary_size = prm.get_double("Fine boundary element size");
+          s.compared_boundary  = prm.get_integer("Compared boundary");
+          s.constant_material  = prm.get("Constant material");
+          s.check_moduli       = prm.get_bool("Check cell moduli");
+          s.fine_simulation    = prm.get_bool("Fine-scale simulation");
+          for (const auto &b :
+               Utilities::split_string_list(prm.get("Baselines")))
+            s.baselines.insert(b);
+          s.table_file = resolved(prm.get("Pointwise table"));
+          s.merge      = prm.get_bool("Merge joints");
+          s.refinement = prm.get_integer("Fine-scale refinement");
+          prm.leave_subsection();
+          return s;
+        }
+      };
+
+      /**
+       * The cells' structures homogenized: how far the map's structures are
+       * from their targets (identical structures are homogenized once). A
+       * structure the cell mesher cannot mesh is reported and left out:
+       * this is a diagnosis, the tiling does not use the cell meshes.
+       */
+      void
+      check_cell_moduli(const std::vector<RhombicStructure> &structures,
+                        const std::vector<double>           &E,
+                        const std::vector<double>           &nu,
+                        const Setup                         &setup,
+                        RunContext                          &context)
+      {
+        const unsigned int n_cells = structures.size();
+        std::map<std::vector<double>, std::optional<Sample>> done;
+        double       mean_E = 0, max_E = 0, mean_nu = 0, max_nu = 0, mean_a = 0;
+        unsigned int n_checked = 0;
+        std::string  first_failure;
+        for (unsigned int c = 0; c < n_cells; ++c)
+          {
+            // Rounded: the same structure from round-off-different fits.
+            std::vector<double> key;
+            for (const double v : structures[c].p)
+              key.push_back(std::round(v * 1e9));
+            key.push_back(std::round(structures[c].alpha * 1e9));
+            if (!done.count(key))
+              try
+                {
+                  done[key] =
+                    evaluate(structures[c], setup, context.communicator());
+                }
+              catch (const std::exception &e)
+                {
+                  done[key] = std::nullopt;
+                  if (first_failure.empty())
+                    first_failure = "cell " + std::to_string(c) + " (E/E_b " +
+                                    sig(E[c], 3) + ", nu " + sig(nu[c], 3) +
+                                    ", " +
+                                    sig(structures[c].alpha * 180 / M_PI, 4) +
+                                    " degrees): " + error_message(e);
+                }
+            if (!done.at(key))
+              continue;
+            const Sample &r  = *done.at(key);
+            const double  eE = std::abs(r.fit.E / setup.base.E / E[c] - 1);
+            const double  en = std::abs(r.fit.nu - nu[c]);
+            ++n_checked;
+            mean_E += eE;
+            mean_nu += en;
+            max_E  = std::max(max_E, eE);
+            max_nu = std::max(max_nu, en);
+            mean_a += std::max(r.anisotropy.a1, r.anisotropy.a2);
+          }
+        if (n_checked > 0)
+          mean_E /= n_checked, mean_nu /= n_checked, mean_a /= n_checked;
+        const unsigned int n_failed = n_cells - n_checked;
+        const unsigned int n_failed_distinct =
+          std::count_if(done.begin(), done.end(), [](const auto &d) {
+            return !d.second.has_value();
+          });
+        if (n_failed > 0)
+          context.print(
+            "cell structures homogenized: " + std::to_string(n_failed) +
+            " cells not homogenized (left out below), the first " +
+            first_failure);
+        context.print("cell structures homogenized (" +
+                      std::to_string(done.size() - n_failed_distinct) +
+                      " distinct): |E/E* - 1| mean " + sig(mean_E, 3) +
+                      ", max " + sig(max_E, 3) + "; |nu - nu*| mean " +
+                      sig(mean_nu, 3) + ", max " + sig(max_nu, 3) +
+                      "; anisotropy max(a1, a2) mean " + sig(mean_a, 3));
+        context.summary["cell_moduli"] = {{"distinct_structures",
+                                           done.size() - n_failed_distinct},
+                                          {"cells_not_homogenized", n_failed},
+                                          {"mean_relative_E_error", mean_E},
+                                          {"max_relative_E_error", max_E},
+                                          {"mean_nu_error", mean_nu},
+                                          {"max_nu_error", max_nu},
+                                          {"mean_anisotropy", mean_a}};
+      }
+
       /// The macro problem solved for the design q.
       std::unique_ptr<LoadCases<2>>
       solved(const ElasticityParameters &parameters,
@@ -404,39 +529,18 @@ namespace forma
                           const Setup       &setup,
                           RunContext        &context)
     {
-      prm.enter_subsection("Two-scale");
-      std::string       macro_file      = prm.get("Macro problem");
-      const std::string macro_settings  = prm.get("Macro settings");
-      const double      coverage_weight = prm.get_double("Coverage weight");
-      const bool        fine_check      = prm.get_bool("Fine-scale check");
-      const double      fine_size       = prm.get_double("Fine element size");
-      const double      fine_boundary_size =
-        prm.get_double("Fine boundary element size");
-      const int compared_boundary = prm.get_integer("Compared boundary");
-      const std::string constant_material = prm.get("Constant material");
-      const bool        check_moduli      = prm.get_bool("Check cell moduli");
-      const bool        fine_simulation = prm.get_bool("Fine-scale simulation");
-      std::set<std::string> baselines;
-      for (const auto &b : Utilities::split_string_list(prm.get("Baselines")))
-        baselines.insert(b);
-      std::string        table_file = prm.get("Pointwise table");
-      const bool         merge      = prm.get_bool("Merge joints");
-      const unsigned int refinement = prm.get_integer("Fine-scale refinement");
-      prm.leave_subsection();
-      if (!macro_file.empty() && macro_file[0] != '/')
-        macro_file = prm_directory + "/" + macro_file;
+      const TwoScaleSettings settings =
+        TwoScaleSettings::parse(prm, prm_directory);
       // The baselines' table first: a bad file must not cost a design.
       PointwiseTable table;
-      if (baselines.count("pointwise table"))
+      if (settings.baselines.count("pointwise table"))
         {
-          AssertThrow(!table_file.empty(),
+          AssertThrow(!settings.table_file.empty(),
                       ExcMessage("Two-scale/Baselines: 'pointwise table' "
                                  "needs Two-scale/Pointwise table (a "
                                  "pointwise_table.json of Mode = pointwise "
                                  "table)."));
-          if (table_file[0] != '/')
-            table_file = prm_directory + "/" + table_file;
-          table = PointwiseTable::read(table_file);
+          table = PointwiseTable::read(settings.table_file);
           AssertThrow(std::abs(table.base_nu - setup.base.nu) < 1e-12,
                       ExcMessage("Two-scale/Pointwise table: the table was "
                                  "built for a base Poisson's ratio of " +
@@ -491,7 +595,7 @@ namespace forma
       // 2. Per-cell materials for the macro problem (ch. 4.8).
       ParameterHandler     macro;
       ElasticityParameters parameters =
-        read_macro_problem(macro_file, macro_settings, macro);
+        read_macro_problem(settings.macro_file, settings.macro_settings, macro);
       AssertThrow(parameters.dim == 2 && parameters.plane_stress,
                   ExcMessage("Two-scale/Macro problem: the homogenized "
                              "moduli are 2D; set Dimension = 2 and "
@@ -519,7 +623,7 @@ namespace forma
       CoverageConstraint coverage{
         "cell material",
         E_b,
-        coverage_weight,
+        settings.coverage_weight,
         box,
         [&](const std::vector<Point<2>> &simulator_centers) {
           AssertThrow(simulator_centers.size() == n_cells,
@@ -549,16 +653,22 @@ namespace forma
         },
         0,
         {}};
-      if (constant_material.empty())
+      if (settings.constant_material.empty())
         context.print("material optimization on the rhombic mesh (" +
                       std::to_string(n_cells) + " cells)");
       std::vector<double> q;
       Projection          projection;
-      const auto          materials = design_materials(
-        coverage, parameters, macro, context, constant_material, q, projection);
-      if (!constant_material.empty())
+      const auto          materials = design_materials(coverage,
+                                              parameters,
+                                              macro,
+                                              context,
+                                              settings.constant_material,
+                                              q,
+                                              projection);
+      if (!settings.constant_material.empty())
         {
-          const auto m = Utilities::split_string_list(constant_material);
+          const auto m =
+            Utilities::split_string_list(settings.constant_material);
           context.print("constant material E/E_b = " + m[0] + ", nu = " + m[1] +
                         " in all " + std::to_string(n_cells) + " cells");
         }
@@ -589,78 +699,10 @@ namespace forma
 
       lap("map");
 
-      // The cells' structures homogenized: how far the map's structures are
-      // from their targets (identical structures are homogenized once). A
-      // structure the cell mesher cannot mesh is reported and left out: this
-      // is a diagnosis, the tiling does not use the cell meshes.
-      if (check_moduli)
+      if (settings.check_moduli)
         {
-          std::map<std::vector<double>, std::optional<Sample>> done;
-          double mean_E = 0, max_E = 0, mean_nu = 0, max_nu = 0, mean_a = 0;
-          unsigned int n_checked = 0;
-          std::string  first_failure;
-          for (unsigned int c = 0; c < n_cells; ++c)
-            {
-              // Rounded: the same structure from round-off-different fits.
-              std::vector<double> key;
-              for (const double v : structures[c].p)
-                key.push_back(std::round(v * 1e9));
-              key.push_back(std::round(structures[c].alpha * 1e9));
-              if (!done.count(key))
-                try
-                  {
-                    done[key] =
-                      evaluate(structures[c], setup, context.communicator());
-                  }
-                catch (const std::exception &e)
-                  {
-                    done[key] = std::nullopt;
-                    if (first_failure.empty())
-                      first_failure = "cell " + std::to_string(c) + " (E/E_b " +
-                                      sig(E[c], 3) + ", nu " + sig(nu[c], 3) +
-                                      ", " +
-                                      sig(structures[c].alpha * 180 / M_PI, 4) +
-                                      " degrees): " + error_message(e);
-                  }
-              if (!done.at(key))
-                continue;
-              const Sample &r  = *done.at(key);
-              const double  eE = std::abs(r.fit.E / setup.base.E / E[c] - 1);
-              const double  en = std::abs(r.fit.nu - nu[c]);
-              ++n_checked;
-              mean_E += eE;
-              mean_nu += en;
-              max_E  = std::max(max_E, eE);
-              max_nu = std::max(max_nu, en);
-              mean_a += std::max(r.anisotropy.a1, r.anisotropy.a2);
-            }
-          if (n_checked > 0)
-            mean_E /= n_checked, mean_nu /= n_checked, mean_a /= n_checked;
-          const unsigned int n_failed = n_cells - n_checked;
-          const unsigned int n_failed_distinct =
-            std::count_if(done.begin(), done.end(), [](const auto &d) {
-              return !d.second.has_value();
-            });
-          if (n_failed > 0)
-            context.print(
-              "cell structures homogenized: " + std::to_string(n_failed) +
-              " cells not homogenized (left out below), the first " +
-              first_failure);
-          context.print("cell structures homogenized (" +
-                        std::to_string(done.size() - n_failed_distinct) +
-                        " distinct): |E/E* - 1| mean " + sig(mean_E, 3) +
-                        ", max " + sig(max_E, 3) + "; |nu - nu*| mean " +
-                        sig(mean_nu, 3) + ", max " + sig(max_nu, 3) +
-                        "; anisotropy max(a1, a2) mean " + sig(mean_a, 3));
+          check_cell_moduli(structures, E, nu, setup, context);
           lap("cell moduli");
-          context.summary["cell_moduli"] = {{"distinct_structures",
-                                             done.size() - n_failed_distinct},
-                                            {"cells_not_homogenized", n_failed},
-                                            {"mean_relative_E_error", mean_E},
-                                            {"max_relative_E_error", max_E},
-                                            {"mean_nu_error", mean_nu},
-                                            {"max_nu_error", max_nu},
-                                            {"mean_anisotropy", mean_a}};
         }
 
       // 4. Fine-scale check (ch. 4.8): the tiled geometry meshed and
@@ -689,12 +731,12 @@ namespace forma
       };
 
       // Tilings, optionally of subdivided cells (Fig. 4.21).
-      const unsigned int n_sub  = 1u << refinement;
+      const unsigned int n_sub  = 1u << settings.refinement;
       const double       h_tile = h / n_sub;
       const auto         tile = [&](const std::vector<Quad>             &quads,
                             const std::vector<RhombicStructure> &tiles) {
         if (n_sub == 1)
-          return TiledObject(quads, tiles, {}, merge);
+          return TiledObject(quads, tiles, {}, settings.merge);
         // Children keep their parent's orientation.
         std::vector<Quad> oriented;
         for (const Quad &q : quads)
@@ -704,7 +746,7 @@ namespace forma
         std::vector<RhombicStructure> inherited;
         for (const unsigned int c : parent)
           inherited.push_back(tiles[c]);
-        return TiledObject(children, inherited, {}, merge, false);
+        return TiledObject(children, inherited, {}, settings.merge, false);
       };
       const auto fine_scale =
         [&](const std::function<double(const Point<2> &)> &object,
@@ -713,8 +755,8 @@ namespace forma
             const std::string                             &name,
             LoadCases<2>                                  &homogenized) {
           LevelSetMeshParameters fine;
-          fine.size          = fine_size * h_tile;
-          fine.boundary_size = fine_boundary_size * h_tile;
+          fine.size          = settings.fine_size * h_tile;
+          fine.boundary_size = settings.fine_boundary_size * h_tile;
           // Where neighbouring structures meet in a sliver thinner than
           // the boundary elements, thicken it there rather than fail.
           fine.max_thickenings = 20;
@@ -757,7 +799,7 @@ namespace forma
                   // cell for the fine solution; the homogenized one is
                   // evaluated just inside the outline next to them (the
                   // fine mesh cuts the outline's corners).
-                  if (static_cast<int>(id) == compared_boundary)
+                  if (static_cast<int>(id) == settings.compared_boundary)
                     for (unsigned int v = 0; v < 2; ++v)
                       {
                         const Point<2> x = cell->face(f)->vertex(v);
@@ -768,7 +810,8 @@ namespace forma
           AssertThrow(!compared_points.empty(),
                       ExcMessage("Two-scale/Compared boundary: no part of "
                                  "the fine-scale geometry lies on boundary " +
-                                 std::to_string(compared_boundary) + "."));
+                                 std::to_string(settings.compared_boundary) +
+                                 "."));
           const std::string fine_file =
             context.path("fine_mesh_" + name + ".msh");
           write_msh(fine_tria, fine_file, context.communicator());
@@ -800,7 +843,7 @@ namespace forma
                           "dropped " +
                           std::to_string(info.dropped_islands) +
                           " loose piece(s)");
-          if (!fine_simulation)
+          if (!settings.fine_simulation)
             {
               context.log("fine scale, " + name + ": " +
                           std::to_string(fine_tria.n_active_cells()) +
@@ -867,7 +910,7 @@ namespace forma
             }
           AssertThrow(largest > 0,
                       ExcMessage("Two-scale/Compared boundary " +
-                                 std::to_string(compared_boundary) +
+                                 std::to_string(settings.compared_boundary) +
                                  " does not move in the homogenized "
                                  "solution: compare where it deforms."));
           // Mesh sizes and the third digit change with round-off in the
@@ -879,7 +922,7 @@ namespace forma
                       sig(worst_error / largest, 4));
           context.print(
             "fine scale, " + name + ": on boundary " +
-            std::to_string(compared_boundary) +
+            std::to_string(settings.compared_boundary) +
             " |u_fine - u_homogenized| / max |u_homogenized|: mean " +
             sig(mean / largest, 2) + ", max " + sig(worst_error / largest, 2));
           lap("fine solve, " + name);
@@ -888,7 +931,7 @@ namespace forma
             {"dofs", fine_simulator.n_dofs()},
             {"dropped_islands", info.dropped_islands},
             {"thickened_slivers", info.thickenings},
-            {"compared_boundary", compared_boundary},
+            {"compared_boundary", settings.compared_boundary},
             {"compared_points", compared_points.size()},
             {"max_homogenized_displacement", largest},
             {"mean_relative_error", mean / largest},
@@ -896,14 +939,14 @@ namespace forma
         };
       const TiledObject tiled = tile(quads_of(tria), structures);
       const auto tiled_phi = [&tiled](const Point<2> &x) { return tiled(x); };
-      if (fine_check)
+      if (settings.fine_check)
         {
           // The family, then the baselines of ch. 4.8, each against its own
           // homogenized solution.
           const auto homogenized =
             solved(parameters, q, context.communicator());
           fine_scale(tiled_phi, tiled.lo, tiled.hi, "family", *homogenized);
-          if (baselines.count("remapped square"))
+          if (settings.baselines.count("remapped square"))
             baseline("remapped_square", [&]() {
               // Fig. 4.22: structures made for squares on the same quads.
               std::vector<RhombicStructure> squares(n_cells);
@@ -920,7 +963,7 @@ namespace forma
                          "remapped_square",
                          *homogenized);
             });
-          if (baselines.count("pointwise table"))
+          if (settings.baselines.count("pointwise table"))
             baseline("pointwise_table", [&]() {
               // Fig. 4.23: the same quads and materials, each quad given the
               // table's structure nearest to its material, mapped onto it.
@@ -947,7 +990,7 @@ namespace forma
               context.print("pointwise table: joint radii p5 of neighbours "
                             "differ by up to " +
                             sig(pointwise.largest_joint_mismatch, 2) +
-                            (merge ? " (merged)" : "") +
+                            (settings.merge ? " (merged)" : "") +
                             "; the family's by up to " +
                             sig(tiled.largest_joint_mismatch, 2));
               context.summary["pointwise_table"] = {
@@ -958,7 +1001,7 @@ namespace forma
                 {"mean_lookup_nu_error", dnu}};
             });
         }
-      if (fine_check && baselines.count("cut grid"))
+      if (settings.fine_check && settings.baselines.count("cut grid"))
         baseline("cut_grid", [&]() {
           // Fig. 4.20: a regular grid of squares with the rhombic mesh's
           // mean edge, cut by the outline; its materials optimized for the
@@ -995,7 +1038,7 @@ namespace forma
                                  "degrees, which it does not have."));
           CoverageConstraint cut_coverage{"material",
                                           E_b,
-                                          coverage_weight,
+                                          settings.coverage_weight,
                                           box,
                                           [&](const std::vector<Point<2>> &) {
                                             return std::vector<const Region *>(
@@ -1003,11 +1046,12 @@ namespace forma
                                           },
                                           0,
                                           {}};
-          context.print(
-            "cut grid: " + std::to_string(corners.size()) +
-            " squares of side " + sig(edge, 3) +
-            " (the rhombic mesh's mean edge)" +
-            (constant_material.empty() ? "; materials optimized on them" : ""));
+          context.print("cut grid: " + std::to_string(corners.size()) +
+                        " squares of side " + sig(edge, 3) +
+                        " (the rhombic mesh's mean edge)" +
+                        (settings.constant_material.empty() ?
+                           "; materials optimized on them" :
+                           ""));
           std::vector<double>                q_cut;
           Projection                         cut_projection;
           std::vector<std::array<double, 2>> cut_materials;
@@ -1026,7 +1070,7 @@ namespace forma
                                              cut,
                                              macro,
                                              cut_context,
-                                             constant_material,
+                                             settings.constant_material,
                                              q_cut,
                                              cut_projection);
             macro.enter_subsection("Optimization");
