@@ -505,6 +505,284 @@ namespace forma
                                           {"mean_anisotropy", mean_a}};
       }
 
+      /// A tiling's fine-scale mesh: boundary ids from the outline and the
+      /// compared boundary's vertices.
+      struct FineMesh
+      {
+        Triangulation<2>                 tria;
+        LevelSetMeshInfo                 info;
+        std::map<unsigned int, Point<2>> compared_points;
+        std::string                      file;
+      };
+
+      /**
+       * The fine-scale check of one tiling (ch. 4.8): the tiled geometry
+       * meshed and simulated in the base material with the macro problem's
+       * supports and loads, against the homogenized solution on the
+       * compared boundary.
+       */
+      class FineScaleCheck
+      {
+      public:
+        FineScaleCheck(const TwoScaleSettings     &settings,
+                       const PolygonDomain        &domain,
+                       const ElasticityParameters &parameters,
+                       const Setup                &setup,
+                       RunContext                 &context,
+                       const double                h,
+                       const double                h_tile,
+                       const std::function<void(const std::string &)> &lap)
+          : settings(settings)
+          , domain(domain)
+          , parameters(parameters)
+          , setup(setup)
+          , context(context)
+          , h(h)
+          , h_tile(h_tile)
+          , lap(lap)
+        {}
+
+        void
+        operator()(const std::function<double(const Point<2> &)> &object,
+                   const Point<2>                                &object_lo,
+                   const Point<2>                                &object_hi,
+                   const std::string                             &name,
+                   LoadCases<2> &homogenized) const
+        {
+          FineMesh fine;
+          mesh(object, object_lo, object_hi, name, fine);
+          if (!settings.fine_simulation)
+            {
+              context.log("fine scale, " + name + ": " +
+                          std::to_string(fine.tria.n_active_cells()) +
+                          " triangles (not simulated)");
+              return;
+            }
+          const auto fine_simulator = simulate(fine, name, homogenized);
+          compare(fine, *fine_simulator, name, homogenized);
+        }
+
+      private:
+        /// The geometry meshed, written as .msh and its outline as SVG and
+        /// DXF (for fabrication).
+        void
+        mesh(const std::function<double(const Point<2> &)> &object,
+             const Point<2>                                &object_lo,
+             const Point<2>                                &object_hi,
+             const std::string                             &name,
+             FineMesh                                      &result) const
+        {
+          LevelSetMeshParameters fine;
+          fine.size          = settings.fine_size * h_tile;
+          fine.boundary_size = settings.fine_boundary_size * h_tile;
+          // Where neighbouring structures meet in a sliver thinner than
+          // the boundary elements, thicken it there rather than fail.
+          fine.max_thickenings = 20;
+          // Slivers cut off where structures meet would float.
+          fine.largest_piece_only = true;
+          const Tensor<1, 2> pad = Tensor<1, 2>({0.25 * h_tile, 0.25 * h_tile});
+          const Point<2>     lower = object_lo - pad, upper = object_hi + pad;
+          fine.grid = std::min<unsigned int>(
+            8192,
+            static_cast<unsigned int>(
+              std::ceil(std::max(upper[0] - lower[0], upper[1] - lower[1]) /
+                        (0.02 * h_tile))));
+          Triangulation<2> &fine_tria = result.tria;
+          LevelSetMeshInfo &info      = result.info;
+          level_set_mesh(object,
+                         lower,
+                         upper,
+                         fine,
+                         fine_tria,
+                         context.communicator(),
+                         &info,
+                         "fine-scale geometry (" + name + ")");
+          // Boundary ids from the outline; holes get an id it does not use:
+          // free.
+          types::boundary_id free_id = 0;
+          for (const auto &loop : domain.loops)
+            for (const types::boundary_id i : loop.ids)
+              free_id = std::max<types::boundary_id>(free_id, i + 1);
+          auto &compared_points = result.compared_points;
+          for (const auto &cell : fine_tria.active_cell_iterators())
+            for (const unsigned int f : cell->face_indices())
+              if (cell->face(f)->at_boundary())
+                {
+                  const types::boundary_id id =
+                    domain.boundary_id(cell->face(f)->center(),
+                                       1e-3 * h,
+                                       free_id);
+                  cell->face(f)->set_boundary_id(id);
+                  // Vertices of the compared boundary, nudged into their
+                  // cell for the fine solution; the homogenized one is
+                  // evaluated just inside the outline next to them (the
+                  // fine mesh cuts the outline's corners).
+                  if (static_cast<int>(id) == settings.compared_boundary)
+                    for (unsigned int v = 0; v < 2; ++v)
+                      {
+                        const Point<2> x = cell->face(f)->vertex(v);
+                        compared_points[cell->face(f)->vertex_index(v)] =
+                          x + 1e-6 * (cell->center() - x);
+                      }
+                }
+          AssertThrow(!compared_points.empty(),
+                      ExcMessage("Two-scale/Compared boundary: no part of "
+                                 "the fine-scale geometry lies on boundary " +
+                                 std::to_string(settings.compared_boundary) +
+                                 "."));
+          result.file = context.path("fine_mesh_" + name + ".msh");
+          write_msh(fine_tria, result.file, context.communicator());
+          on_root(context.communicator(), [&]() {
+            // The outline for fabrication (e.g. a laser cutter).
+            std::vector<std::vector<std::array<double, 2>>> outline;
+            for (const auto &loop :
+                 PolygonDomain::boundary_of(fine_tria, false).loops)
+              {
+                outline.emplace_back();
+                for (const Point<2> &v : loop.vertices)
+                  outline.back().push_back({{v[0], v[1]}});
+              }
+            write_polygons_svg(context.path("geometry_" + name + ".svg"),
+                               outline,
+                               1e-3 * h);
+            write_polygons_dxf(context.path("geometry_" + name + ".dxf"),
+                               outline);
+          });
+          lap("fine mesh, " + name);
+          context.summary["fine_scale"][name] = {
+            {"triangles", fine_tria.n_active_cells()},
+            {"dropped_islands", info.dropped_islands},
+            {"thickened_slivers", info.thickenings}};
+          if (info.thickenings + info.dropped_islands > 0)
+            context.print("fine scale, " + name + ": thickened " +
+                          std::to_string(info.thickenings) +
+                          " sliver(s) thinner than the boundary elements, "
+                          "dropped " +
+                          std::to_string(info.dropped_islands) +
+                          " loose piece(s)");
+        }
+
+        /// The base material in the fine mesh under the macro problem's
+        /// supports and first load case (loads scaled to the fine
+        /// boundary's lengths); its VTU in fine_scale_<name>/.
+        std::unique_ptr<ElasticitySimulator<2>>
+        simulate(const FineMesh    &fine,
+                 const std::string &name,
+                 LoadCases<2>      &homogenized) const
+        {
+          const Triangulation<2> &fine_tria = fine.tria;
+          const std::string      &fine_file = fine.file;
+          ElasticityParameters    fp        = parameters;
+          fp.mesh.file                      = fine_file;
+          fp.mesh.file_as_given             = "fine_mesh_" + name + ".msh";
+          fp.bodies = "* : E = " + Utilities::to_string(setup.base.E, 17) +
+                      ", nu = " + Utilities::to_string(setup.base.nu, 17);
+          {
+            std::map<types::boundary_id, double> fine_length;
+            for (const auto &cell : fine_tria.active_cell_iterators())
+              for (const unsigned int f : cell->face_indices())
+                if (cell->face(f)->at_boundary())
+                  fine_length[cell->face(f)->boundary_id()] +=
+                    cell->face(f)->measure();
+            std::map<types::boundary_id, double> factor;
+            for (const auto &[id, l] : fine_length)
+              if (domain.length(id) > 0)
+                factor[id] = domain.length(id) / l;
+            // The check uses the first load case (what homogenized[0] has).
+            if (!fp.load_cases.empty())
+              fp.traction = Utilities::split_string_list(fp.load_cases, '|')[0];
+            fp.load_cases.clear();
+            fp.traction = scale_boundary_records(fp.traction, factor);
+            fp.pressure = scale_boundary_records(fp.pressure, factor);
+          }
+          fp.design.blocks.clear();
+          fp.objective.terms = "";
+          fp.write_vtu       = true;
+          fp.points          = "";
+          auto simulator =
+            std::make_unique<ElasticitySimulator<2>>(fp,
+                                                     context.communicator());
+          ElasticitySimulator<2> &fine_simulator = *simulator;
+          {
+            // Its VTU, PVD and summary in a subdirectory of the results.
+            RunContext fine_context(context.communicator(),
+                                    context.path("fine_scale_" + name));
+            fine_context.quiet = true;
+            fine_simulator.run(&fine_context);
+            fine_context.commit();
+          }
+          // Collective: every rank gathers, the root draws.
+          const DeformedCells fine_cells =
+            fine_simulator.cell_vertex_displacements();
+          const DeformedCells homogenized_cells =
+            homogenized[0].cell_vertex_displacements();
+          on_root(context.communicator(), [&]() {
+            write_deformation_png(context.path("fine_scale_" + name + ".png"),
+                                  fine_cells,
+                                  homogenized_cells);
+          });
+          return simulator;
+        }
+
+        /// Fine against homogenized displacements on the compared boundary.
+        void
+        compare(const FineMesh               &fine,
+                const ElasticitySimulator<2> &fine_simulator,
+                const std::string            &name,
+                LoadCases<2>                 &homogenized) const
+        {
+          const Triangulation<2> &fine_tria       = fine.tria;
+          const LevelSetMeshInfo &info            = fine.info;
+          const auto             &compared_points = fine.compared_points;
+          double                  mean = 0, worst_error = 0, largest = 0;
+          for (const auto &[v, x] : compared_points)
+            {
+              const Tensor<1, 2> uf = fine_simulator.point_displacement(x);
+              const Tensor<1, 2> uh = homogenized[0].point_displacement(
+                domain.point_inside_near(x, 1e-4 * h));
+              mean += (uf - uh).norm() / compared_points.size();
+              worst_error = std::max(worst_error, (uf - uh).norm());
+              largest     = std::max(largest, uh.norm());
+            }
+          AssertThrow(largest > 0,
+                      ExcMessage("Two-scale/Compared boundary " +
+                                 std::to_string(settings.compared_boundary) +
+                                 " does not move in the homogenized "
+                                 "solution: compare where it deforms."));
+          // Mesh sizes and the third digit change with round-off in the
+          // contours: the log has them, stdout two digits.
+          context.log("fine scale, " + name + ": " +
+                      std::to_string(fine_tria.n_active_cells()) +
+                      " triangles, " + std::to_string(fine_simulator.n_dofs()) +
+                      " dofs, mean error " + sig(mean / largest, 4) + ", max " +
+                      sig(worst_error / largest, 4));
+          context.print(
+            "fine scale, " + name + ": on boundary " +
+            std::to_string(settings.compared_boundary) +
+            " |u_fine - u_homogenized| / max |u_homogenized|: mean " +
+            sig(mean / largest, 2) + ", max " + sig(worst_error / largest, 2));
+          lap("fine solve, " + name);
+          context.summary["fine_scale"][name] = {
+            {"triangles", fine_tria.n_active_cells()},
+            {"dofs", fine_simulator.n_dofs()},
+            {"dropped_islands", info.dropped_islands},
+            {"thickened_slivers", info.thickenings},
+            {"compared_boundary", settings.compared_boundary},
+            {"compared_points", compared_points.size()},
+            {"max_homogenized_displacement", largest},
+            {"mean_relative_error", mean / largest},
+            {"max_relative_error", worst_error / largest}};
+        }
+
+        const TwoScaleSettings                         &settings;
+        const PolygonDomain                            &domain;
+        const ElasticityParameters                     &parameters;
+        const Setup                                    &setup;
+        RunContext                                     &context;
+        const double                                    h, h_tile;
+        const std::function<void(const std::string &)> &lap;
+      };
+
       /// The macro problem solved for the design q.
       std::unique_ptr<LoadCases<2>>
       solved(const ElasticityParameters &parameters,
@@ -748,195 +1026,9 @@ namespace forma
           inherited.push_back(tiles[c]);
         return TiledObject(children, inherited, {}, settings.merge, false);
       };
-      const auto fine_scale =
-        [&](const std::function<double(const Point<2> &)> &object,
-            const Point<2>                                &object_lo,
-            const Point<2>                                &object_hi,
-            const std::string                             &name,
-            LoadCases<2>                                  &homogenized) {
-          LevelSetMeshParameters fine;
-          fine.size          = settings.fine_size * h_tile;
-          fine.boundary_size = settings.fine_boundary_size * h_tile;
-          // Where neighbouring structures meet in a sliver thinner than
-          // the boundary elements, thicken it there rather than fail.
-          fine.max_thickenings = 20;
-          // Slivers cut off where structures meet would float.
-          fine.largest_piece_only = true;
-          const Tensor<1, 2> pad = Tensor<1, 2>({0.25 * h_tile, 0.25 * h_tile});
-          const Point<2>     lower = object_lo - pad, upper = object_hi + pad;
-          fine.grid = std::min<unsigned int>(
-            8192,
-            static_cast<unsigned int>(
-              std::ceil(std::max(upper[0] - lower[0], upper[1] - lower[1]) /
-                        (0.02 * h_tile))));
-          Triangulation<2> fine_tria;
-          LevelSetMeshInfo info;
-          level_set_mesh(object,
-                         lower,
-                         upper,
-                         fine,
-                         fine_tria,
-                         context.communicator(),
-                         &info,
-                         "fine-scale geometry (" + name + ")");
-          // Boundary ids from the outline; holes get an id it does not use:
-          // free.
-          types::boundary_id free_id = 0;
-          for (const auto &loop : domain.loops)
-            for (const types::boundary_id i : loop.ids)
-              free_id = std::max<types::boundary_id>(free_id, i + 1);
-          std::map<unsigned int, Point<2>> compared_points;
-          for (const auto &cell : fine_tria.active_cell_iterators())
-            for (const unsigned int f : cell->face_indices())
-              if (cell->face(f)->at_boundary())
-                {
-                  const types::boundary_id id =
-                    domain.boundary_id(cell->face(f)->center(),
-                                       1e-3 * h,
-                                       free_id);
-                  cell->face(f)->set_boundary_id(id);
-                  // Vertices of the compared boundary, nudged into their
-                  // cell for the fine solution; the homogenized one is
-                  // evaluated just inside the outline next to them (the
-                  // fine mesh cuts the outline's corners).
-                  if (static_cast<int>(id) == settings.compared_boundary)
-                    for (unsigned int v = 0; v < 2; ++v)
-                      {
-                        const Point<2> x = cell->face(f)->vertex(v);
-                        compared_points[cell->face(f)->vertex_index(v)] =
-                          x + 1e-6 * (cell->center() - x);
-                      }
-                }
-          AssertThrow(!compared_points.empty(),
-                      ExcMessage("Two-scale/Compared boundary: no part of "
-                                 "the fine-scale geometry lies on boundary " +
-                                 std::to_string(settings.compared_boundary) +
-                                 "."));
-          const std::string fine_file =
-            context.path("fine_mesh_" + name + ".msh");
-          write_msh(fine_tria, fine_file, context.communicator());
-          on_root(context.communicator(), [&]() {
-            // The outline for fabrication (e.g. a laser cutter).
-            std::vector<std::vector<std::array<double, 2>>> outline;
-            for (const auto &loop :
-                 PolygonDomain::boundary_of(fine_tria, false).loops)
-              {
-                outline.emplace_back();
-                for (const Point<2> &v : loop.vertices)
-                  outline.back().push_back({{v[0], v[1]}});
-              }
-            write_polygons_svg(context.path("geometry_" + name + ".svg"),
-                               outline,
-                               1e-3 * h);
-            write_polygons_dxf(context.path("geometry_" + name + ".dxf"),
-                               outline);
-          });
-          lap("fine mesh, " + name);
-          context.summary["fine_scale"][name] = {
-            {"triangles", fine_tria.n_active_cells()},
-            {"dropped_islands", info.dropped_islands},
-            {"thickened_slivers", info.thickenings}};
-          if (info.thickenings + info.dropped_islands > 0)
-            context.print("fine scale, " + name + ": thickened " +
-                          std::to_string(info.thickenings) +
-                          " sliver(s) thinner than the boundary elements, "
-                          "dropped " +
-                          std::to_string(info.dropped_islands) +
-                          " loose piece(s)");
-          if (!settings.fine_simulation)
-            {
-              context.log("fine scale, " + name + ": " +
-                          std::to_string(fine_tria.n_active_cells()) +
-                          " triangles (not simulated)");
-              return;
-            }
-
-          ElasticityParameters fp = parameters;
-          fp.mesh.file            = fine_file;
-          fp.mesh.file_as_given   = "fine_mesh_" + name + ".msh";
-          fp.bodies = "* : E = " + Utilities::to_string(setup.base.E, 17) +
-                      ", nu = " + Utilities::to_string(setup.base.nu, 17);
-          {
-            std::map<types::boundary_id, double> fine_length;
-            for (const auto &cell : fine_tria.active_cell_iterators())
-              for (const unsigned int f : cell->face_indices())
-                if (cell->face(f)->at_boundary())
-                  fine_length[cell->face(f)->boundary_id()] +=
-                    cell->face(f)->measure();
-            std::map<types::boundary_id, double> factor;
-            for (const auto &[id, l] : fine_length)
-              if (domain.length(id) > 0)
-                factor[id] = domain.length(id) / l;
-            // The check uses the first load case (what homogenized[0] has).
-            if (!fp.load_cases.empty())
-              fp.traction = Utilities::split_string_list(fp.load_cases, '|')[0];
-            fp.load_cases.clear();
-            fp.traction = scale_boundary_records(fp.traction, factor);
-            fp.pressure = scale_boundary_records(fp.pressure, factor);
-          }
-          fp.design.blocks.clear();
-          fp.objective.terms = "";
-          fp.write_vtu       = true;
-          fp.points          = "";
-          ElasticitySimulator<2> fine_simulator(fp, context.communicator());
-          {
-            // Its VTU, PVD and summary in a subdirectory of the results.
-            RunContext fine_context(context.communicator(),
-                                    context.path("fine_scale_" + name));
-            fine_context.quiet = true;
-            fine_simulator.run(&fine_context);
-            fine_context.commit();
-          }
-          // Collective: every rank gathers, the root draws.
-          const DeformedCells fine_cells =
-            fine_simulator.cell_vertex_displacements();
-          const DeformedCells homogenized_cells =
-            homogenized[0].cell_vertex_displacements();
-          on_root(context.communicator(), [&]() {
-            write_deformation_png(context.path("fine_scale_" + name + ".png"),
-                                  fine_cells,
-                                  homogenized_cells);
-          });
-
-          double mean = 0, worst_error = 0, largest = 0;
-          for (const auto &[v, x] : compared_points)
-            {
-              const Tensor<1, 2> uf = fine_simulator.point_displacement(x);
-              const Tensor<1, 2> uh = homogenized[0].point_displacement(
-                domain.point_inside_near(x, 1e-4 * h));
-              mean += (uf - uh).norm() / compared_points.size();
-              worst_error = std::max(worst_error, (uf - uh).norm());
-              largest     = std::max(largest, uh.norm());
-            }
-          AssertThrow(largest > 0,
-                      ExcMessage("Two-scale/Compared boundary " +
-                                 std::to_string(settings.compared_boundary) +
-                                 " does not move in the homogenized "
-                                 "solution: compare where it deforms."));
-          // Mesh sizes and the third digit change with round-off in the
-          // contours: the log has them, stdout two digits.
-          context.log("fine scale, " + name + ": " +
-                      std::to_string(fine_tria.n_active_cells()) +
-                      " triangles, " + std::to_string(fine_simulator.n_dofs()) +
-                      " dofs, mean error " + sig(mean / largest, 4) + ", max " +
-                      sig(worst_error / largest, 4));
-          context.print(
-            "fine scale, " + name + ": on boundary " +
-            std::to_string(settings.compared_boundary) +
-            " |u_fine - u_homogenized| / max |u_homogenized|: mean " +
-            sig(mean / largest, 2) + ", max " + sig(worst_error / largest, 2));
-          lap("fine solve, " + name);
-          context.summary["fine_scale"][name] = {
-            {"triangles", fine_tria.n_active_cells()},
-            {"dofs", fine_simulator.n_dofs()},
-            {"dropped_islands", info.dropped_islands},
-            {"thickened_slivers", info.thickenings},
-            {"compared_boundary", settings.compared_boundary},
-            {"compared_points", compared_points.size()},
-            {"max_homogenized_displacement", largest},
-            {"mean_relative_error", mean / largest},
-            {"max_relative_error", worst_error / largest}};
-        };
+      const std::function<void(const std::string &)> lap_function = lap;
+      const FineScaleCheck                           fine_scale(
+        settings, domain, parameters, setup, context, h, h_tile, lap_function);
       const TiledObject tiled = tile(quads_of(tria), structures);
       const auto tiled_phi = [&tiled](const Point<2> &x) { return tiled(x); };
       if (settings.fine_check)
