@@ -783,6 +783,63 @@ namespace forma
         const std::function<void(const std::string &)> &lap;
       };
 
+      /// The design's pictures (materials per cell, the tiled geometry)
+      /// and design.vtu (per cell: E, nu, alpha, p1..p8), on the root.
+      void
+      write_design_outputs(const Triangulation<2, 2>           &tria,
+                           const std::vector<double>           &E,
+                           const std::vector<double>           &nu,
+                           const std::vector<double>           &alpha,
+                           const std::vector<RhombicStructure> &structures,
+                           const MaterialMap                   &map,
+                           const std::array<double, 4>         &box,
+                           const TiledObject                   &tiled,
+                           RunContext                          &context)
+      {
+        const unsigned int n_cells = structures.size();
+        const auto tiled_phi = [&tiled](const Point<2> &x) { return tiled(x); };
+        on_root(context.communicator(), [&]() {
+          // PNG previews, and SVG with real strokes for papers.
+          for (const std::string extension : {".png", ".svg"})
+            {
+              write_cell_field(context.path("material_E" + extension),
+                               tria,
+                               E,
+                               {{map.E.front(), map.E.back()}},
+                               "E / E_b (cell materials)");
+              write_cell_field(context.path("material_nu" + extension),
+                               tria,
+                               nu,
+                               {{box[2], box[3]}},
+                               "Poisson's ratio ν (cell materials)");
+            }
+          write_level_set_picture(context.path("geometry.png"),
+                                  tiled_phi,
+                                  tiled.lo,
+                                  tiled.hi);
+          Vector<double> vE(E.begin(), E.end()), vnu(nu.begin(), nu.end()),
+            va(alpha.begin(), alpha.end());
+          DataOut<2> out;
+          out.attach_triangulation(tria);
+          out.add_data_vector(vE, "E_relative", DataOut<2>::type_cell_data);
+          out.add_data_vector(vnu, "nu", DataOut<2>::type_cell_data);
+          out.add_data_vector(va, "alpha", DataOut<2>::type_cell_data);
+          std::vector<Vector<double>> pv(RhombicStructure::n_parameters,
+                                         Vector<double>(n_cells));
+          for (unsigned int i = 0; i < RhombicStructure::n_parameters; ++i)
+            {
+              for (unsigned int c = 0; c < n_cells; ++c)
+                pv[i][c] = structures[c].p[i];
+              out.add_data_vector(pv[i],
+                                  "p" + std::to_string(i + 1),
+                                  DataOut<2>::type_cell_data);
+            }
+          out.build_patches();
+          std::ofstream f(context.path("design.vtu"));
+          out.write_vtu(f);
+        });
+      }
+
       /// The macro problem solved for the design q.
       std::unique_ptr<LoadCases<2>>
       solved(const ElasticityParameters &parameters,
@@ -1237,46 +1294,8 @@ namespace forma
                                       {"projected_cells", projection.outside},
                                       {"largest_coverage_violation",
                                        projection.worst}};
-      on_root(context.communicator(), [&]() {
-        // PNG previews, and SVG with real strokes for papers.
-        for (const std::string extension : {".png", ".svg"})
-          {
-            write_cell_field(context.path("material_E" + extension),
-                             tria,
-                             E,
-                             {{map.E.front(), map.E.back()}},
-                             "E / E_b (cell materials)");
-            write_cell_field(context.path("material_nu" + extension),
-                             tria,
-                             nu,
-                             {{box[2], box[3]}},
-                             "Poisson's ratio ν (cell materials)");
-          }
-        write_level_set_picture(context.path("geometry.png"),
-                                tiled_phi,
-                                tiled.lo,
-                                tiled.hi);
-        Vector<double> vE(E.begin(), E.end()), vnu(nu.begin(), nu.end()),
-          va(alpha.begin(), alpha.end());
-        DataOut<2> out;
-        out.attach_triangulation(tria);
-        out.add_data_vector(vE, "E_relative", DataOut<2>::type_cell_data);
-        out.add_data_vector(vnu, "nu", DataOut<2>::type_cell_data);
-        out.add_data_vector(va, "alpha", DataOut<2>::type_cell_data);
-        std::vector<Vector<double>> pv(RhombicStructure::n_parameters,
-                                       Vector<double>(n_cells));
-        for (unsigned int i = 0; i < RhombicStructure::n_parameters; ++i)
-          {
-            for (unsigned int c = 0; c < n_cells; ++c)
-              pv[i][c] = structures[c].p[i];
-            out.add_data_vector(pv[i],
-                                "p" + std::to_string(i + 1),
-                                DataOut<2>::type_cell_data);
-          }
-        out.build_patches();
-        std::ofstream f(context.path("design.vtu"));
-        out.write_vtu(f);
-      });
+      write_design_outputs(
+        tria, E, nu, alpha, structures, map, box, tiled, context);
     }
   } // namespace rhombic
 } // namespace forma
