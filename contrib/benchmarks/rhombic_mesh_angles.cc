@@ -11,6 +11,7 @@
 #include <forma/rhombic/quad_mesh_optimization.h>
 
 #include <gmsh.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
@@ -34,6 +35,14 @@ namespace
              const std::string &msh)
   {
     gmsh::initialize();
+    // gmsh::finalize() also when Gmsh throws (a bad geometry).
+    struct Finalize
+    {
+      ~Finalize()
+      {
+        gmsh::finalize();
+      }
+    } finalize;
     gmsh::option::setNumber("General.Terminal", 0);
     gmsh::open(geo);
     gmsh::option::setNumber("Mesh.MeshSizeMax", size);
@@ -49,7 +58,6 @@ namespace
       quads = quads && t == 3;
     gmsh::option::setNumber("Mesh.MshFileVersion", 2.2);
     gmsh::write(msh);
-    gmsh::finalize();
     return quads;
   }
 } // namespace
@@ -69,7 +77,8 @@ main(int argc, char **argv)
       const int         algorithm = argc == 7 ? std::stoi(argv[5]) : 6;
       const int         recombine = argc == 7 ? std::stoi(argv[6]) : 1;
       const std::string msh =
-        (std::filesystem::temp_directory_path() / "rhombic_mesh_angles.msh")
+        (std::filesystem::temp_directory_path() /
+         ("rhombic_mesh_angles_" + std::to_string(getpid()) + ".msh"))
           .string();
       if (!gmsh_quads(argv[1], std::stod(argv[2]), algorithm, recombine, msh))
         {
@@ -80,6 +89,7 @@ main(int argc, char **argv)
       GridIn<2>        in(tria);
       std::ifstream    f(msh);
       in.read_msh(f);
+      std::filesystem::remove(msh);
       QuadMeshOptimizationParameters p;
       p.min_angle      = std::stod(argv[3]) / degrees;
       p.angle_floor    = std::stod(argv[4]) / degrees;

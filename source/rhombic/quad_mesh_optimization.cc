@@ -43,9 +43,11 @@ namespace forma
         "The smallest rhombus angle alpha (degrees) the optimized quads may "
         "have (0: none). Quads sharper than this after the continuation in "
         "s are pushed up by a penalty on their fitted parallelogram's "
-        "angle, raised tenfold until every quad meets the floor: unlike a "
-        "larger Minimum angle, this leaves the quads above the floor "
-        "free to stay rhombic.");
+        "angle, ten times stronger each round (at most 12 rounds) until "
+        "every quad meets the floor; where the mesh's vertex valences leave "
+        "no room it is not met and the run says which quad stays below. "
+        "Unlike a larger Minimum angle, this leaves the quads above the "
+        "floor free to stay rhombic.");
       prm.declare_entry(
         "Exponents",
         "1, 4, 16",
@@ -367,8 +369,9 @@ namespace forma
 
         /// After the continuation: rounds at the last exponent with the
         /// angle floor's penalty, ten times stronger each round, until every
-        /// quad's alpha reaches the floor (at most 12 rounds).
-        void
+        /// quad's alpha reaches the floor (at most angle_floor_rounds);
+        /// whether it does.
+        bool
         enforce_angle_floor(std::vector<QuadMeshOptimizationStep> &history);
 
         /// The largest distance of a boundary vertex from the input
@@ -848,19 +851,21 @@ namespace forma
 
 
 
-      void
+      bool
       RhombicMeshOptimizer::enforce_angle_floor(
         std::vector<QuadMeshOptimizationStep> &history)
       {
         if (!(prm.angle_floor > 0))
-          return;
+          return true;
         const double s          = prm.exponents.back();
         double       distortion = 0;
         floor_mu                = total_energy(x, s, distortion);
+        const double target     = prm.angle_floor - prm.angle_floor_tolerance;
         for (unsigned int round = 0;
-             round < 12 && smallest_alpha() < prm.angle_floor - 1e-4;
+             round < prm.angle_floor_rounds && smallest_alpha() < target;
              ++round, floor_mu *= 10)
           run_exponent(s, history);
+        return smallest_alpha() >= target;
       }
 
 
@@ -906,11 +911,14 @@ namespace forma
                   ExcMessage("quad mesh: the input has an inverted or "
                              "degenerate quad (a corner angle of 180 degrees "
                              "or more)."));
+      AssertThrow(!prm.exponents.empty(),
+                  ExcMessage("quad mesh optimization: give at least one "
+                             "exponent s (Quad mesh/Exponents)."));
       RhombicMeshOptimizer optimizer(tria, prm, fixed);
       result.mean_edge = optimizer.mean_edge();
       for (const double s : prm.exponents)
         optimizer.run_exponent(s, result.history);
-      optimizer.enforce_angle_floor(result.history);
+      result.angle_floor_met    = optimizer.enforce_angle_floor(result.history);
       result.boundary_deviation = optimizer.boundary_deviation();
       optimizer.write(tria);
       result.after = quad_mesh_shape(tria);

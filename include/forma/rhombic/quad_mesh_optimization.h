@@ -26,6 +26,12 @@ namespace forma
       double min_angle = 0.25 * 3.141592653589793;
       /// Smallest fitted angle alpha after optimization (radians; 0: none).
       double angle_floor = 0;
+      /// A penalty reaches the floor from below: alpha within this
+      /// (radians, 0.006 degrees) of the floor counts as meeting it.
+      static constexpr double angle_floor_tolerance = 1e-4;
+      /// Rounds of the floor's penalty at most (mu up to 1e11 times the
+      /// energy).
+      static constexpr unsigned int angle_floor_rounds = 12;
       /// Continuation in s of the exponential energy (eq. 4.14).
       std::vector<double> exponents = {1, 4, 16};
       /// lambda of eq. 4.16 (weight of the boundary term against the
@@ -88,11 +94,14 @@ namespace forma
       double       deviation; ///< largest boundary distance / mean edge
       double       max_move;  ///< largest vertex move / mean edge
       unsigned int line_search_halvings;
-      double       floor_weight; ///< the angle floor's penalty (0: off)
+      double       floor_weight = 0; ///< the angle floor's penalty (0: off)
     };
 
     struct QuadMeshOptimizationResult
     {
+      /// Every quad's alpha at least the angle floor, to
+      /// angle_floor_tolerance (true without a floor).
+      bool                                  angle_floor_met = true;
       QuadMeshShape                         before, after;
       std::vector<QuadMeshOptimizationStep> history;
       /// Largest distance of a boundary vertex from the input boundary,

@@ -37,6 +37,7 @@
 #include <optional>
 #include <set>
 #include <tuple>
+#include <utility>
 
 namespace forma
 {
@@ -524,14 +525,14 @@ namespace forma
       class FineScaleCheck
       {
       public:
-        FineScaleCheck(const TwoScaleSettings     &settings,
-                       const PolygonDomain        &domain,
-                       const ElasticityParameters &parameters,
-                       const Setup                &setup,
-                       RunContext                 &context,
-                       const double                h,
-                       const double                h_tile,
-                       const std::function<void(const std::string &)> &lap)
+        FineScaleCheck(const TwoScaleSettings                  &settings,
+                       const PolygonDomain                     &domain,
+                       const ElasticityParameters              &parameters,
+                       const Setup                             &setup,
+                       RunContext                              &context,
+                       const double                             h,
+                       const double                             h_tile,
+                       std::function<void(const std::string &)> lap)
           : settings(settings)
           , domain(domain)
           , parameters(parameters)
@@ -539,7 +540,7 @@ namespace forma
           , context(context)
           , h(h)
           , h_tile(h_tile)
-          , lap(lap)
+          , lap(std::move(lap))
         {}
 
         void
@@ -774,13 +775,15 @@ namespace forma
             {"max_relative_error", worst_error / largest}};
         }
 
-        const TwoScaleSettings                         &settings;
-        const PolygonDomain                            &domain;
-        const ElasticityParameters                     &parameters;
-        const Setup                                    &setup;
-        RunContext                                     &context;
-        const double                                    h, h_tile;
-        const std::function<void(const std::string &)> &lap;
+        const TwoScaleSettings     &settings;
+        const PolygonDomain        &domain;
+        const ElasticityParameters &parameters;
+        const Setup                &setup;
+        RunContext                 &context;
+        const double                h, h_tile;
+        // By value: it may be a lambda converted at the call (it captures
+        // the caller's timer by reference).
+        const std::function<void(const std::string &)> lap;
       };
 
       /// The design's pictures (materials per cell, the tiled geometry)
@@ -1083,9 +1086,8 @@ namespace forma
           inherited.push_back(tiles[c]);
         return TiledObject(children, inherited, {}, settings.merge, false);
       };
-      const std::function<void(const std::string &)> lap_function = lap;
-      const FineScaleCheck                           fine_scale(
-        settings, domain, parameters, setup, context, h, h_tile, lap_function);
+      const FineScaleCheck fine_scale(
+        settings, domain, parameters, setup, context, h, h_tile, lap);
       const TiledObject tiled = tile(quads_of(tria), structures);
       const auto tiled_phi = [&tiled](const Point<2> &x) { return tiled(x); };
       if (settings.fine_check)

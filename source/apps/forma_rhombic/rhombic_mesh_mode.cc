@@ -156,8 +156,8 @@ namespace forma
       const QuadMeshOptimizationResult r =
         optimize_rhombic_mesh(tria, parameters);
       context.print("input:     " + shape_line(r.before));
-      double         last_exponent = -1;
-      nlohmann::json history       = nlohmann::json::array();
+      double         last_exponent = -1, last_weight = 0;
+      nlohmann::json history = nlohmann::json::array();
       for (const auto &h : r.history)
         {
           history.push_back({{"exponent", h.exponent},
@@ -166,9 +166,14 @@ namespace forma
                              {"distortion", h.energy},
                              {"boundary_deviation", h.deviation},
                              {"max_move", h.max_move}});
-          if (h.exponent != last_exponent)
-            context.log("s = " + sig(h.exponent) + ":");
+          if (h.exponent != last_exponent || h.floor_weight != last_weight)
+            context.log("s = " + sig(h.exponent) +
+                        (h.floor_weight > 0 ?
+                           ", angle floor weight " + sig(h.floor_weight, 3) :
+                           std::string()) +
+                        ":");
           last_exponent = h.exponent;
+          last_weight   = h.floor_weight;
           context.log("  iteration " + std::to_string(h.iteration) +
                       ": distortion " + sig(h.energy, 6) + ", max move " +
                       sig(h.max_move, 3) + " h, line search halvings " +
@@ -196,7 +201,7 @@ namespace forma
         {
           const auto low =
             std::min_element(r.after.alpha.begin(), r.after.alpha.end());
-          const bool met = *low > parameters.angle_floor - 1e-4;
+          const bool met = r.angle_floor_met;
           context.print(
             "angle floor " + sig(parameters.angle_floor * degrees, 4) +
             " degrees: " +
