@@ -857,6 +857,176 @@ namespace forma
         cases->solve_design();
         return cases;
       }
+
+
+
+      /// Tilings, optionally of cells subdivided n_sub x n_sub (Fig. 4.21).
+      struct Tiler
+      {
+        unsigned int n_sub;
+        bool         merge;
+
+        TiledObject
+        operator()(const std::vector<Quad>             &quads,
+                   const std::vector<RhombicStructure> &tiles) const
+        {
+          if (n_sub == 1)
+            return TiledObject(quads, tiles, {}, merge);
+          // Children keep their parent's orientation.
+          std::vector<Quad> oriented;
+          for (const Quad &q : quads)
+            oriented.push_back(acute_first(q));
+          std::vector<unsigned int> parent;
+          const std::vector<Quad> children = subdivide(oriented, n_sub, parent);
+          std::vector<RhombicStructure> inherited;
+          for (const unsigned int c : parent)
+            inherited.push_back(tiles[c]);
+          return TiledObject(children, inherited, {}, merge, false);
+        }
+      };
+
+      /**
+       * The cut grid baseline (Fig. 4.20): a regular grid of squares with
+       * the rhombic mesh's mean edge, cut by the outline; its materials
+       * optimized for the same macro problem, each square given its square
+       * structure, the geometry cropped by the outline and checked at the
+       * fine scale against its own homogenized solution.
+       */
+      void
+      cut_grid_baseline(const Triangulation<2, 2>   &tria,
+                        const PolygonDomain         &domain,
+                        const ElasticityParameters  &parameters,
+                        const MaterialMap           &map,
+                        const Setup                 &setup,
+                        const TwoScaleSettings      &settings,
+                        const std::array<double, 4> &box,
+                        ParameterHandler            &macro,
+                        RunContext                  &context,
+                        const std::function<void(const std::string &)> &lap,
+                        const Tiler                                    &tile,
+                        const FineScaleCheck &fine_scale)
+      {
+        const double E_b     = setup.base.E;
+        double       edge    = 0;
+        unsigned int n_edges = 0;
+        for (const auto &face : tria.active_face_iterators())
+          {
+            edge += face->measure();
+            ++n_edges;
+          }
+        edge /= n_edges;
+        Triangulation<2>      cut_tria;
+        std::vector<Point<2>> corners;
+        cut_grid_mesh(domain,
+                      domain.lo,
+                      edge,
+                      0.5 * edge,
+                      cut_tria,
+                      corners,
+                      context.communicator());
+        const std::string cut_file = context.path("cut_grid_mesh.msh");
+        write_msh(cut_tria, cut_file, context.communicator());
+        ElasticityParameters cut = parameters;
+        cut.mesh.file            = cut_file;
+        cut.mesh.file_as_given   = "cut_grid_mesh.msh";
+        cut.design.blocks        = {"material"};
+        cut.design.bodies        = "";
+        const Region square      = map.coverage(90, setup.base.nu);
+        AssertThrow(!square.empty(),
+                    ExcMessage("Two-scale/Baselines: the cut grid's "
+                               "squares need the map's coverage at 90 "
+                               "degrees, which it does not have."));
+        CoverageConstraint cut_coverage{"material",
+                                        E_b,
+                                        settings.coverage_weight,
+                                        box,
+                                        [&](const std::vector<Point<2>> &) {
+                                          return std::vector<const Region *>(
+                                            corners.size(), &square);
+                                        },
+                                        0,
+                                        {}};
+        context.print("cut grid: " + std::to_string(corners.size()) +
+                      " squares of side " + sig(edge, 3) +
+                      " (the rhombic mesh's mean edge)" +
+                      (settings.constant_material.empty() ?
+                         "; materials optimized on them" :
+                         ""));
+        std::vector<double>                q_cut;
+        Projection                         cut_projection;
+        std::vector<std::array<double, 2>> cut_materials;
+        nlohmann::json                     cut_summary;
+        {
+          // Its optimization history, VTU and convergence plot apart.
+          RunContext cut_context(context.communicator(),
+                                 context.path("cut_grid"));
+          cut_context.quiet = true;
+          // Optimization/Resume means the main design's checkpoint.
+          macro.enter_subsection("Optimization");
+          const bool resume = macro.get_bool("Resume");
+          macro.set("Resume", false);
+          macro.leave_subsection();
+          cut_materials = design_materials(cut_coverage,
+                                           cut,
+                                           macro,
+                                           cut_context,
+                                           settings.constant_material,
+                                           q_cut,
+                                           cut_projection);
+          macro.enter_subsection("Optimization");
+          macro.set("Resume", resume);
+          macro.leave_subsection();
+          cut_summary = cut_context.summary;
+          cut_context.commit();
+        }
+        context.log(
+          "cut grid: " + std::to_string(cut_tria.n_active_cells()) +
+          " triangles; " +
+          cut_projection.describe("squares", [](const unsigned int k) {
+            return "square " + std::to_string(k);
+          }));
+        lap("cut grid materials");
+        std::vector<Quad>             quads;
+        std::vector<RhombicStructure> tiles;
+        for (unsigned int k = 0; k < corners.size(); ++k)
+          {
+            const Point<2> &o = corners[k];
+            quads.push_back({{o,
+                              o + Tensor<1, 2>({edge, 0.}),
+                              o + Tensor<1, 2>({0., edge}),
+                              o + Tensor<1, 2>({edge, edge})}});
+            bool inside = false;
+            tiles.push_back(map.query(cut_materials[k][0],
+                                      cut_materials[k][1],
+                                      90,
+                                      setup.base.nu,
+                                      inside));
+          }
+        const TiledObject grid    = tile(quads, tiles);
+        const auto        cropped = [&](const Point<2> &x) {
+          return std::max(grid(x), domain.signed_distance(x));
+        };
+        fine_scale(cropped,
+                   domain.lo,
+                   domain.hi,
+                   "cut_grid",
+                   *solved(cut, q_cut, context.communicator()));
+        context.summary["cut_grid"] = {
+          {"squares", corners.size()},
+          {"side", edge},
+          {"triangles", cut_tria.n_active_cells()},
+          {"projected_squares", cut_projection.outside},
+          {"largest_coverage_violation", cut_projection.worst}};
+        if (cut_summary.count("final_objective"))
+          context.summary["cut_grid"]["final_objective"] =
+            cut_summary["final_objective"];
+        on_root(context.communicator(), [&]() {
+          write_level_set_picture(context.path("cut_grid_geometry.png"),
+                                  cropped,
+                                  domain.lo,
+                                  domain.hi);
+        });
+      }
     } // namespace
 
 
@@ -1069,23 +1239,9 @@ namespace forma
       };
 
       // Tilings, optionally of subdivided cells (Fig. 4.21).
-      const unsigned int n_sub  = 1u << settings.refinement;
-      const double       h_tile = h / n_sub;
-      const auto         tile = [&](const std::vector<Quad>             &quads,
-                            const std::vector<RhombicStructure> &tiles) {
-        if (n_sub == 1)
-          return TiledObject(quads, tiles, {}, settings.merge);
-        // Children keep their parent's orientation.
-        std::vector<Quad> oriented;
-        for (const Quad &q : quads)
-          oriented.push_back(acute_first(q));
-        std::vector<unsigned int> parent;
-        const std::vector<Quad>   children = subdivide(oriented, n_sub, parent);
-        std::vector<RhombicStructure> inherited;
-        for (const unsigned int c : parent)
-          inherited.push_back(tiles[c]);
-        return TiledObject(children, inherited, {}, settings.merge, false);
-      };
+      const unsigned int   n_sub  = 1u << settings.refinement;
+      const double         h_tile = h / n_sub;
+      const Tiler          tile{n_sub, settings.merge};
       const FineScaleCheck fine_scale(
         settings, domain, parameters, setup, context, h, h_tile, lap);
       const TiledObject tiled = tile(quads_of(tria), structures);
@@ -1154,129 +1310,18 @@ namespace forma
         }
       if (settings.fine_check && settings.baselines.count("cut grid"))
         baseline("cut_grid", [&]() {
-          // Fig. 4.20: a regular grid of squares with the rhombic mesh's
-          // mean edge, cut by the outline; its materials optimized for the
-          // same macro problem, each square given its square structure, the
-          // geometry cropped by the outline.
-          double       edge    = 0;
-          unsigned int n_edges = 0;
-          for (const auto &face : tria.active_face_iterators())
-            {
-              edge += face->measure();
-              ++n_edges;
-            }
-          edge /= n_edges;
-          Triangulation<2>      cut_tria;
-          std::vector<Point<2>> corners;
-          cut_grid_mesh(domain,
-                        domain.lo,
-                        edge,
-                        0.5 * edge,
-                        cut_tria,
-                        corners,
-                        context.communicator());
-          const std::string cut_file = context.path("cut_grid_mesh.msh");
-          write_msh(cut_tria, cut_file, context.communicator());
-          ElasticityParameters cut = parameters;
-          cut.mesh.file            = cut_file;
-          cut.mesh.file_as_given   = "cut_grid_mesh.msh";
-          cut.design.blocks        = {"material"};
-          cut.design.bodies        = "";
-          const Region square      = map.coverage(90, setup.base.nu);
-          AssertThrow(!square.empty(),
-                      ExcMessage("Two-scale/Baselines: the cut grid's "
-                                 "squares need the map's coverage at 90 "
-                                 "degrees, which it does not have."));
-          CoverageConstraint cut_coverage{"material",
-                                          E_b,
-                                          settings.coverage_weight,
-                                          box,
-                                          [&](const std::vector<Point<2>> &) {
-                                            return std::vector<const Region *>(
-                                              corners.size(), &square);
-                                          },
-                                          0,
-                                          {}};
-          context.print("cut grid: " + std::to_string(corners.size()) +
-                        " squares of side " + sig(edge, 3) +
-                        " (the rhombic mesh's mean edge)" +
-                        (settings.constant_material.empty() ?
-                           "; materials optimized on them" :
-                           ""));
-          std::vector<double>                q_cut;
-          Projection                         cut_projection;
-          std::vector<std::array<double, 2>> cut_materials;
-          nlohmann::json                     cut_summary;
-          {
-            // Its optimization history, VTU and convergence plot apart.
-            RunContext cut_context(context.communicator(),
-                                   context.path("cut_grid"));
-            cut_context.quiet = true;
-            // Optimization/Resume means the main design's checkpoint.
-            macro.enter_subsection("Optimization");
-            const bool resume = macro.get_bool("Resume");
-            macro.set("Resume", false);
-            macro.leave_subsection();
-            cut_materials = design_materials(cut_coverage,
-                                             cut,
-                                             macro,
-                                             cut_context,
-                                             settings.constant_material,
-                                             q_cut,
-                                             cut_projection);
-            macro.enter_subsection("Optimization");
-            macro.set("Resume", resume);
-            macro.leave_subsection();
-            cut_summary = cut_context.summary;
-            cut_context.commit();
-          }
-          context.log(
-            "cut grid: " + std::to_string(cut_tria.n_active_cells()) +
-            " triangles; " +
-            cut_projection.describe("squares", [](const unsigned int k) {
-              return "square " + std::to_string(k);
-            }));
-          lap("cut grid materials");
-          std::vector<Quad>             quads;
-          std::vector<RhombicStructure> tiles;
-          for (unsigned int k = 0; k < corners.size(); ++k)
-            {
-              const Point<2> &o = corners[k];
-              quads.push_back({{o,
-                                o + Tensor<1, 2>({edge, 0.}),
-                                o + Tensor<1, 2>({0., edge}),
-                                o + Tensor<1, 2>({edge, edge})}});
-              bool inside = false;
-              tiles.push_back(map.query(cut_materials[k][0],
-                                        cut_materials[k][1],
-                                        90,
-                                        setup.base.nu,
-                                        inside));
-            }
-          const TiledObject grid    = tile(quads, tiles);
-          const auto        cropped = [&](const Point<2> &x) {
-            return std::max(grid(x), domain.signed_distance(x));
-          };
-          fine_scale(cropped,
-                     domain.lo,
-                     domain.hi,
-                     "cut_grid",
-                     *solved(cut, q_cut, context.communicator()));
-          context.summary["cut_grid"] = {
-            {"squares", corners.size()},
-            {"side", edge},
-            {"triangles", cut_tria.n_active_cells()},
-            {"projected_squares", cut_projection.outside},
-            {"largest_coverage_violation", cut_projection.worst}};
-          if (cut_summary.count("final_objective"))
-            context.summary["cut_grid"]["final_objective"] =
-              cut_summary["final_objective"];
-          on_root(context.communicator(), [&]() {
-            write_level_set_picture(context.path("cut_grid_geometry.png"),
-                                    cropped,
-                                    domain.lo,
-                                    domain.hi);
-          });
+          cut_grid_baseline(tria,
+                            domain,
+                            parameters,
+                            map,
+                            setup,
+                            settings,
+                            box,
+                            macro,
+                            context,
+                            lap,
+                            tile,
+                            fine_scale);
         });
       context.summary["seconds"] = seconds;
 
