@@ -132,13 +132,13 @@ namespace forma
      * rounds at the last s that add mu sum_Q (A_Q / A) max(0, |cos phi_Q|
      * - cos(angle_floor))^2 (phi_Q the angle of the quad's least-squares
      * parallelogram), mu ten times larger each round, until every quad's
-     * alpha reaches the floor (at most 12 rounds; the caller checks
-     * `after.min_alpha`). After each step the boundary vertices are put back
-     * onto the input boundary (the penalty alone lets a strongly distorted quad
-     * pull them off by a fraction of an edge); vertices where the boundary
-     * turns by more than 40 degrees stay at their corner. Throws (leaving
-     * `tria` unchanged) if the input has
-     * non-quad or inverted cells or hanging vertices.
+     * alpha reaches the floor (at most angle_floor_rounds;
+     * `angle_floor_met` says whether it does). After each step the boundary
+     * vertices are put back onto the input boundary (the penalty alone lets a
+     * strongly distorted quad pull them off by a fraction of an edge); vertices
+     * where the boundary turns by more than 40 degrees stay at their corner.
+     * Throws (leaving `tria` unchanged) if the input has non-quad or inverted
+     * cells or hanging vertices.
      */
     QuadMeshOptimizationResult
     optimize_rhombic_mesh(dealii::Triangulation<2, 2>          &tria,
