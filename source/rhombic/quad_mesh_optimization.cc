@@ -104,15 +104,18 @@ namespace forma
       // The vertices in cyclic order around the quad.
       constexpr unsigned int cyclic[4] = {0, 1, 3, 2};
 
-      /// The least-squares parallelogram T Q (eq. 4.12): T's columns t1, t2.
-      Tensor<2, 2>
-      parallelogram_fit(const Quad &f)
+      /// The least-squares parallelogram T Q (eq. 4.12): T's columns t1, t2
+      /// (N: double, or a Sacado type for the angle floor's derivatives).
+      template <typename N, typename Vertex>
+      Tensor<2, 2, N>
+      parallelogram_fit(const std::array<Vertex, 4> &f)
       {
-        Point<2> c;
-        for (const Point<2> &p : f)
-          c += 0.25 * p;
+        Tensor<1, 2, N> c;
+        for (const Vertex &p : f)
+          for (unsigned int a = 0; a < 2; ++a)
+            c[a] += 0.25 * p[a];
         // sum_i q_i q_i^T = I for the corners +-1/2.
-        Tensor<2, 2> T;
+        Tensor<2, 2, N> T;
         for (unsigned int i = 0; i < 4; ++i)
           for (unsigned int a = 0; a < 2; ++a)
             for (unsigned int b = 0; b < 2; ++b)
@@ -203,18 +206,12 @@ namespace forma
                    const double                          cos_floor,
                    const double                          weight)
       {
-        Tensor<1, 2, N> t1, t2; // T's columns; the centroid drops out
-        for (unsigned int i = 0; i < 4; ++i)
-          for (unsigned int a = 0; a < 2; ++a)
-            {
-              t1[a] += x[i][a] * q_corner[i][0];
-              t2[a] += x[i][a] * q_corner[i][1];
-            }
-        const N t12 = t1[0] * t2[0] + t1[1] * t2[1];
-        const N t11 = t1[0] * t1[0] + t1[1] * t1[1];
-        const N t22 = t2[0] * t2[0] + t2[1] * t2[1];
-        const N c   = t12 / std::sqrt(t11 * t22);
-        const N excess =
+        const Tensor<2, 2, N> T   = parallelogram_fit<N>(x);
+        const N               t12 = T[0][0] * T[0][1] + T[1][0] * T[1][1];
+        const N               t11 = T[0][0] * T[0][0] + T[1][0] * T[1][0];
+        const N               t22 = T[0][1] * T[0][1] + T[1][1] * T[1][1];
+        const N               c   = t12 / std::sqrt(t11 * t22);
+        const N               excess =
           (Sacado::ScalarValue<N>::eval(c) < 0 ? -c : c) - cos_floor;
         if (!(Sacado::ScalarValue<N>::eval(excess) > 0))
           return N(0.);
@@ -259,7 +256,7 @@ namespace forma
     RhombicFit
     fit_rhombus(const Quad &f)
     {
-      const Tensor<2, 2> T = parallelogram_fit(f);
+      const Tensor<2, 2> T = parallelogram_fit<double>(f);
       const Tensor<1, 2> t1({T[0][0], T[1][0]}), t2({T[0][1], T[1][1]});
       RhombicFit         r;
       const double       cross = t1[0] * t2[1] - t1[1] * t2[0];
