@@ -134,6 +134,20 @@ namespace forma
       return w;
     }
 
+    /// A range of one value (a study of one point, data all equal) gets
+    /// room around it; any other range is left as it is.
+    std::array<double, 2>
+    widened(const std::array<double, 2> &range, const bool logarithmic)
+    {
+      const double v = range[0];
+      if (!(range[1] == v) || !std::isfinite(v) || (logarithmic && !(v > 0)))
+        return range;
+      if (logarithmic)
+        return {{v / 1.1, v * 1.1}};
+      const double pad = std::max(0.05 * std::abs(v), 0.05);
+      return {{v - pad, v + pad}};
+    }
+
     void
     check_range(const std::string           &file_name,
                 const std::array<double, 2> &range,
@@ -160,11 +174,13 @@ namespace forma
             const std::string                                      &title,
             const std::string                                      &x_label,
             const std::string                                      &y_label,
-            const std::array<double, 2>                            &x_range,
-            const std::array<double, 2>                            &y_range,
+            const std::array<double, 2>                            &x_given,
+            const std::array<double, 2>                            &y_given,
             const std::array<bool, 2>                              &logarithmic,
             const std::vector<std::pair<std::string, std::string>> &extra)
     {
+      const std::array<double, 2> x_range = widened(x_given, logarithmic[0]);
+      const std::array<double, 2> y_range = widened(y_given, logarithmic[1]);
       check_range(file_name, x_range, logarithmic[0]);
       check_range(file_name, y_range, logarithmic[1]);
       const double          width = 820 + legend_width(series), height = 640;

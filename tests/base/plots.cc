@@ -118,6 +118,19 @@ main()
   check("the legend widens the canvas", png_size("coverage.png")[0] > 820);
   for (const std::string &r : rows("coverage.plot.csv"))
     deallog << "  coverage.plot.csv: " << r << std::endl;
+  // A range of one value (a study of one point) gets room around it.
+  write_xy_plot("single.png",
+                {bound},
+                "one value",
+                "x",
+                "y",
+                {{10, 10}},
+                {{0.5, 0.5}},
+                {{false, true}});
+  check("a range of one value is widened",
+        read_file("single.plot.csv").find("# x range: 9.5 10.5") !=
+            std::string::npos &&
+          starts_with("single.png", "\x89PNG"));
 
   // A field on two unit squares, y up: the low value at the bottom.
   const std::vector<std::vector<std::array<double, 2>>> squares = {

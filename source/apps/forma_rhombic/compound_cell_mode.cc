@@ -235,16 +235,12 @@ namespace forma
           for (const auto &r : rows)
             top = std::max(
               {top, double(r["error_family"]), double(r["error_squares"])});
-          // Values in any order (the lines follow them sorted); a single
-          // one gets a little room.
+          // Values in any order: the lines follow them sorted.
           std::sort(family_points.begin(), family_points.end());
           std::sort(square_points.begin(), square_points.end());
-          const auto [lo, hi] =
-            std::minmax_element(values.begin(), values.end());
-          const double pad =
-            *hi > *lo ? 0. : std::max(0.05 * std::abs(*lo), 0.05);
-          const std::array<double, 2> x_range = {{*lo - pad, *hi + pad}};
-          PlotSeries                  f, q;
+          const std::array<double, 2> x_range = {
+            {family_points.front()[0], family_points.back()[0]}};
+          PlotSeries f, q;
           f.points = family_points;
           f.line   = true;
           f.label  = "family P(E, ν, α)";
