@@ -31,6 +31,11 @@ PROBLEMS = [
      os.path.join(ROOT, "tests", "transient_ipc", "neo_hookean_dynamic.prm"),
      ["Time/End time=2", "Output/Write vtu=false"],
      [0.02, 0.01, 0.005], [1e-3, 3e-4, 1e-4, 3e-5, 1e-5], 0.005, 2.5e-4, 5),
+    ("swinging strip, BDF damping rate",
+     os.path.join(ROOT, "tests", "transient_ipc", "neo_hookean_dynamic.prm"),
+     ["Time/End time=2", "Output/Write vtu=false",
+      "Material/Damping rate=bdf"],
+     [0.02, 0.01, 0.005], [1e-3, 3e-4, 1e-4, 3e-5, 1e-5], 0.005, 2.5e-4, 5),
     ("damped oscillator (linear, Kelvin-Voigt)",
      os.path.join(HERE, "damped_oscillator.prm"),
      [],
@@ -47,6 +52,14 @@ PROBLEMS = [
      os.path.join(HERE, "struck_cantilever.prm"),
      ["Material/Damping rate=bdf"],
      [0.04, 0.02, 0.01], [1e-3, 3e-4, 1e-4, 3e-5, 1e-5], 0.001, 5e-4, 1),
+]
+
+
+# Adaptive integrators: name, settings.
+INTEGRATORS = [
+    ("adaptive BDF2", ["Time/BDF order=2"]),
+    ("adaptive BDF1-3", ["Time/BDF order=3", "Time/Variable order=true"]),
+    ("adaptive BDF1-5", ["Time/BDF order=5", "Time/Variable order=true"]),
 ]
 
 
@@ -86,9 +99,12 @@ def errors(run_, ref):
 
 def main():
     rows = []
+    only = os.environ.get("PROBLEMS")  # e.g. "0,1": a subset, for trials
+    problems = [PROBLEMS[int(k)] for k in only.split(",")] if only \
+        else PROBLEMS
     with tempfile.TemporaryDirectory() as tmp:
         for name, prm, extra, steps, tols, first, ref_step, scale in \
-                PROBLEMS:
+                problems:
             ref = run(prm, extra + ["Time/Time step=%g" % ref_step],
                       os.path.join(tmp, "ref"))
             for dt in steps:
@@ -97,16 +113,17 @@ def main():
                 e = errors(r, ref)
                 rows.append([name, "fixed BDF2", "dt = %g" % dt,
                              len(r[0]) - 1, 0, e[0], e[1]])
-            for tol in tols:
-                r = run(prm, extra + ["Time/Integrator=adaptive",
-                                      "Time/Tolerance=%g" % tol,
-                                      "Time/Absolute tolerance=%g" % (
-                                          tol * scale),
-                                      "Time/Time step=%g" % first],
+            for integrator, settings in INTEGRATORS:
+                for tol in tols:
+                    r = run(prm, extra + settings + [
+                        "Time/Integrator=adaptive",
+                        "Time/Tolerance=%g" % tol,
+                        "Time/Absolute tolerance=%g" % (tol * scale),
+                        "Time/Time step=%g" % first],
                         os.path.join(tmp, "adaptive"))
-                e = errors(r, ref)
-                rows.append([name, "adaptive BDF2", "tol = %g" % tol,
-                             len(r[0]) - 1, r[2], e[0], e[1]])
+                    e = errors(r, ref)
+                    rows.append([name, integrator, "tol = %g" % tol,
+                                 len(r[0]) - 1, r[2], e[0], e[1]])
     header = ["problem", "integrator", "setting", "steps", "rejected",
               "max error", "final error"]
     os.makedirs(os.path.join(HERE, "results"), exist_ok=True)

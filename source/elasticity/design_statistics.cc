@@ -178,6 +178,7 @@ namespace forma
         s["time_steps"]         = m.time_grid.n_steps();
         s["smallest_time_step"] = smallest;
         s["largest_time_step"]  = largest;
+        s["steps_per_order"]    = m.time_grid.steps_per_order(m.p.bdf_order);
       }
     return s;
   }

@@ -122,6 +122,14 @@ namespace
           std::to_string(a["time_steps"].get<unsigned int>()) + " steps from " +
           significant(a["smallest_time_step"].get<double>(), 3) + " to " +
           significant(a["largest_time_step"].get<double>(), 3));
+        if (parameters.variable_order)
+          {
+            std::string counts;
+            for (const auto &n : a["steps_per_order"])
+              counts += " " + std::to_string(n.get<unsigned int>());
+            context.print("steps per BDF order (1 to " +
+                          std::to_string(parameters.bdf_order) + "):" + counts);
+          }
       }
     AssertThrow(pass,
                 dealii::ExcMessage("the Taylor test failed: min rate " +

@@ -1,5 +1,6 @@
 #include <forma/adjoint/form.h>
 #include <forma/elasticity/parameters.h>
+#include <forma/physics/time_grid.h>
 
 namespace forma
 {
@@ -164,12 +165,20 @@ namespace forma
       "fixed",
       Patterns::Selection("fixed|adaptive"),
       "fixed: BDF with the constant Time step. adaptive: "
-      "variable-step BDF1/BDF2 whose steps are accepted when "
+      "variable-step BDF (order BDF order, 1-5, or chosen per step with "
+      "Variable order) whose steps are accepted when "
       "the estimated local displacement error (Milne's "
       "device, max norm) is below Absolute tolerance + "
       "Tolerance * (largest |u|_max so far); gradients are those of the "
       "accepted steps. With IPC, the CCD bound of the free "
       "flight caps each step.");
+    prm.declare_entry("Variable order",
+                      "false",
+                      Patterns::Bool(),
+                      "adaptive: choose each step's BDF order between 1 and "
+                      "BDF order from the local error estimates of the "
+                      "neighbouring orders (as SUNDIALS' IDA does): "
+                      "smooth stretches run at high order with long steps.");
     prm.declare_entry("Tolerance",
                       "1e-4",
                       Patterns::Double(0),
@@ -311,6 +320,7 @@ namespace forma
     bdf_order               = prm.get_integer("BDF order");
     load_steps              = prm.get_integer("Load steps");
     time_integrator         = prm.get("Integrator");
+    variable_order          = prm.get_bool("Variable order");
     time_tolerance          = prm.get_double("Tolerance");
     absolute_time_tolerance = prm.get_double("Absolute tolerance");
     minimum_time_step       = prm.get_double("Minimum time step");
@@ -345,10 +355,16 @@ namespace forma
     AssertThrow(time_integrator == "fixed" || problem == "transient",
                 ExcMessage("Time/Integrator = adaptive is for transient "
                            "problems (Time/Problem = transient)."));
-    AssertThrow(time_integrator == "fixed" || bdf_order <= 2,
-                ExcMessage("Time/Integrator = adaptive steps with BDF1 or "
-                           "BDF2; set Time/BDF order to 1 or 2 (got " +
+    AssertThrow(time_integrator == "fixed" ||
+                  bdf_order <= TimeGrid::max_variable_order,
+                ExcMessage("Time/Integrator = adaptive steps with BDF orders "
+                           "1 to " +
+                           std::to_string(TimeGrid::max_variable_order) +
+                           "; set Time/BDF order to at most that (got " +
                            std::to_string(bdf_order) + ")."));
+    AssertThrow(!variable_order || time_integrator == "adaptive",
+                ExcMessage("Time/Variable order needs Time/Integrator = "
+                           "adaptive."));
     AssertThrow(time_integrator == "fixed" || time_tolerance > 0,
                 ExcMessage("Time/Integrator = adaptive needs a positive "
                            "Time/Tolerance."));

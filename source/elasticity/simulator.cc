@@ -656,9 +656,15 @@ namespace forma
       }
     s["steps"] = steps;
     if (impl->p.time_integrator == "adaptive")
-      s["time_integration"] = {{"integrator", "adaptive"},
-                               {"accepted_steps", impl->time_grid.n_steps()},
-                               {"rejected_steps", impl->rejected_steps}};
+      {
+        // Accepted steps per order, index 0: BDF1.
+        const auto per_order =
+          impl->time_grid.steps_per_order(impl->p.bdf_order);
+        s["time_integration"] = {{"integrator", "adaptive"},
+                                 {"accepted_steps", impl->time_grid.n_steps()},
+                                 {"rejected_steps", impl->rejected_steps},
+                                 {"steps_per_order", per_order}};
+      }
     nlohmann::json cycles = nlohmann::json::array();
     for (const auto &c : impl->cycles)
       {

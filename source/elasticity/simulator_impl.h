@@ -300,9 +300,18 @@ namespace forma
     /// Time/Integrator = adaptive: error-controlled steps to End time.
     void
     solve_adaptive();
-    /// Estimated local error of step i in units of the tolerance.
+    /// Estimated local error of step i in units of the tolerance, for
+    /// BDF-q; `own_order`: u^i was computed with order q.
     double
-    local_error(const unsigned int i) const;
+    local_error(const unsigned int i,
+                const unsigned int q,
+                const bool         own_order) const;
+    /// Variable order: the next step's order after step i at order q with
+    /// error err, and its step factor.
+    std::pair<unsigned int, double>
+    next_order(const unsigned int i,
+               const unsigned int q,
+               const double       err) const;
     /// IPC: h capped by the CCD bound of the free flight from the last step.
     double
     cap_step_by_contact(const double h, const double h_min);

@@ -236,9 +236,10 @@ namespace forma
   {
     u_history.push_front(u);
     v_history.push_front(v);
-    // Adaptive steps keep one more level for the error estimate.
+    // Adaptive steps keep two more levels for the error estimates (the
+    // next order's needs q + 2).
     const unsigned int keep =
-      p.bdf_order + (p.time_integrator == "adaptive" ? 1 : 0);
+      p.bdf_order + (p.time_integrator == "adaptive" ? 2 : 0);
     while (u_history.size() > keep)
       {
         u_history.pop_back();
@@ -260,10 +261,13 @@ namespace forma
       write_output(i, t);
     const std::string count =
       time_grid.is_uniform() ? "/" + std::to_string(time_grid.n_steps()) : "";
-    print_progress("[step " + std::to_string(i) + count + "] t = " + fmt(t) +
-                   (time_grid.is_uniform() ? "" : ", dt = " + fmt(dt)) +
-                   ", Newton iterations: " + std::to_string(its.first) +
-                   contacts);
+    print_progress(
+      "[step " + std::to_string(i) + count + "] t = " + fmt(t) +
+      (time_grid.is_uniform() ? "" : ", dt = " + fmt(dt)) +
+      (p.variable_order ?
+         ", BDF" + std::to_string(time_grid.order(i, p.bdf_order)) :
+         "") +
+      ", Newton iterations: " + std::to_string(its.first) + contacts);
   }
 
 
@@ -276,6 +280,9 @@ namespace forma
     // estimated local error is within the tolerance; the next step size
     // follows from the error as h (0.9 / err)^(1/(q+1)), limited to
     // [h/5, 2h] after an acceptance and [h/10, h/2] after a rejection.
+    // Variable order (as IDA): after q + 1 steps at order q, the next
+    // order is the one among q - 1, q, q + 1 allowing the longest step;
+    // two rejections in a row lower it.
     const double end = p.end_time;
     const double h_min =
       p.minimum_time_step > 0 ? p.minimum_time_step : 1e-10 * end;
@@ -299,6 +306,8 @@ namespace forma
                                2);
         absolute_tolerance = 1e-2 * p.time_tolerance * std::sqrt(diagonal);
       }
+    unsigned int order      = p.variable_order ? 1 : p.bdf_order;
+    unsigned int same_order = 0, failures = 0;
     for (unsigned int i = 1; time_grid.time(i - 1) < end; ++i)
       {
         const double t0 = time_grid.time(i - 1);
@@ -308,7 +317,7 @@ namespace forma
             // Land on the end time instead of leaving a sliver.
             const double step =
               t0 + 1.1 * h >= end && end - t0 <= h_max ? end - t0 : h;
-            time_grid.push(step == end - t0 ? end : t0 + step);
+            time_grid.push(step == end - t0 ? end : t0 + step, order);
             // A rejected attempt's residual must not loosen later Newton
             // tolerances (force_scale is the largest one seen).
             const double                          scale = force_scale;
@@ -317,7 +326,7 @@ namespace forma
             try
               {
                 its = take_step(i);
-                err = local_error(i);
+                err = local_error(i, time_grid.order(i, order), true);
               }
             catch (const std::exception &)
               {
@@ -328,11 +337,20 @@ namespace forma
                   }
                 err = std::numeric_limits<double>::infinity();
               }
-            const unsigned int q      = std::min(i, p.bdf_order);
-            const double       factor = 0.9 * std::pow(err, -1. / (q + 1));
+            const unsigned int q      = time_grid.order(i, order);
+            double             factor = 0.9 * std::pow(err, -1. / (q + 1));
             if (err <= 1 || step <= h_min)
               {
-                u_scale = std::max(u_scale, u.linfty_norm());
+                u_scale  = std::max(u_scale, u.linfty_norm());
+                failures = 0;
+                if (p.variable_order && ++same_order > q)
+                  {
+                    const auto next = next_order(i, q, err);
+                    if (next.first != q)
+                      same_order = 0;
+                    order  = next.first;
+                    factor = next.second;
+                  }
                 accept_step(i, its);
                 h =
                   std::clamp(step * std::clamp(factor, 0.2, 2.), h_min, h_max);
@@ -341,6 +359,11 @@ namespace forma
             time_grid.pop();
             force_scale = scale;
             ++rejected_steps;
+            if (p.variable_order && ++failures >= 2 && q > 1)
+              {
+                order      = q - 1;
+                same_order = 0;
+              }
             h = std::max(h_min, step * std::clamp(factor, 0.1, 0.5));
           }
       }
@@ -350,45 +373,25 @@ namespace forma
 
   template <int dim>
   double
-  ElasticitySimulator<dim>::Impl::local_error(const unsigned int i) const
+  ElasticitySimulator<dim>::Impl::local_error(const unsigned int i,
+                                              const unsigned int q,
+                                              const bool own_order) const
   {
-    // Milne's device: the BDF local error is E = beta h_i h_i (h_i +
-    // h_{i-1}) u'''/6 and a quadratic extrapolation P of earlier levels
-    // misses by u - P = h_i (h_i + h_{i-1}) H u'''/6 (H: t_i minus the
-    // oldest level P uses), so E = beta h_i / (beta h_i + H) (u^i - P).
-    // BDF1 from the linear predictor P = u^{i-1} + h v^{i-1}: E = (u^i -
-    // P) / 2 with the exact v^0, h / (2 h + h_{i-1}) (u^i - P) after (v^{i-1}
-    // is the backward difference, so P extrapolates u^{i-2}, u^{i-1}).
-    const double h = time_grid.step(i);
-    Vector_t     e(u);
-    double       c = i == 1 ? 0.5 : h / (2 * h + time_grid.step(i - 1));
-    if (i == 1 || p.bdf_order == 1)
-      e.add(-1., u_history[0], -h, v_history[0]);
-    else
-      {
-        const double t = time_grid.time(i), t1 = time_grid.time(i - 1),
-                     t2 = time_grid.time(i - 2);
-        double oldest   = t2;
-        if (i == 2)
-          {
-            // Hermite: u^0 and v^0 at t2 = 0, u^1 at t1.
-            const double s = t - t2, s1 = t1 - t2, a = (s / s1) * (s / s1);
-            e.add(-(1 - a), u_history[1], -a, u_history[0]);
-            e.add(-(s - a * s1), v_history[1]);
-          }
-        else
-          {
-            const double t3 = time_grid.time(i - 3);
-            oldest          = t3;
-            e.add(-(t - t2) * (t - t3) / ((t1 - t2) * (t1 - t3)),
-                  u_history[0],
-                  -(t - t1) * (t - t3) / ((t2 - t1) * (t2 - t3)),
-                  u_history[1]);
-            e.add(-(t - t1) * (t - t2) / ((t3 - t1) * (t3 - t2)), u_history[2]);
-          }
-        const double bh = time_grid.bdf(i, p.bdf_order).beta * h;
-        c               = bh / (bh + t - oldest);
-      }
+    // Milne's device: BDF-q's local error is E = beta h_i pi_q K, with
+    // pi_q = prod_{j=1..q} (t_i - t_{i-j}) and K = u^(q+1) / (q+1)!, and the
+    // degree-q extrapolation P of the earlier levels misses by u - P =
+    // span pi_q K. When u^i was computed with order q it carries E itself,
+    // so u^i - P = (beta h_i + span) pi_q K; another order's error is read
+    // off the same difference without it (u^i's error is of higher order
+    // for q - 1; for q + 1 the estimate is pessimistic, as in DASSL).
+    const auto P = time_grid.extrapolation(i, q);
+    Vector_t   e(u);
+    for (unsigned int j = 1; j <= P.u.size(); ++j)
+      e.add(-P.u[j - 1], u_history[j - 1]);
+    if (P.v0 != 0)
+      e.add(-P.v0, v_history[i - 1]); // Hermite: the exact v^0
+    const double bh = time_grid.coefficients(i, q).beta * time_grid.step(i);
+    const double c  = bh / ((own_order ? bh : 0.) + P.span);
     // Relative to the largest displacement so far, not the present one:
     // an oscillation's zero crossings would otherwise ask for tiny steps.
     const double scale = absolute_tolerance +
@@ -397,6 +400,33 @@ namespace forma
     // drive the step down.
     constraints_zero.set_zero(e);
     return c * e.linfty_norm() / scale;
+  }
+
+
+
+  template <int dim>
+  std::pair<unsigned int, double>
+  ElasticitySimulator<dim>::Impl::next_order(const unsigned int i,
+                                             const unsigned int q,
+                                             const double       err) const
+  {
+    // The order whose estimated error allows the longest next step, among
+    // q - 1, q, q + 1 (the step ratio is (1 / err)^(1/(order+1))).
+    unsigned int best       = q;
+    double       best_ratio = std::pow(err, -1. / (q + 1));
+    const auto   consider   = [&](const unsigned int r) {
+      const double ratio = std::pow(local_error(i, r, false), -1. / (r + 1));
+      if (ratio > best_ratio)
+        {
+          best       = r;
+          best_ratio = ratio;
+        }
+    };
+    if (q > 1)
+      consider(q - 1);
+    if (q < p.bdf_order && q + 1 <= i)
+      consider(q + 1);
+    return {best, 0.9 * best_ratio};
   }
 
 

@@ -1,7 +1,10 @@
 // TimeGrid: uniform grids reproduce the fixed-step BDF tables bit for bit;
-// variable-step BDF2 differentiates quadratics exactly for any step ratio;
-// the scheme the simulator runs (BDF applied to u and to v, thesis eq.
-// 3.12) converges at rate 2 on non-uniform grids for u'' = -u.
+// variable-step BDF2 differentiates quadratics exactly for any step ratio,
+// BDF3-5 polynomials of their degree on smoothly varying steps; the
+// extrapolations of the error estimates (Hermite start included) are exact
+// for polynomials of their degree; the scheme the simulator runs (BDF
+// applied to u and to v, thesis eq. 3.12) converges at rate q for u'' = -u
+// on non-uniform grids, for q = 2 to 5.
 
 #include <forma/physics/time_grid.h>
 
@@ -66,15 +69,77 @@ check_variable_exactness()
           << (err < 1e-13 ? "yes" : "no") << std::endl;
 }
 
+// Steps varying smoothly by up to 40% (BDF3-5 need bounded step ratios).
+forma::TimeGrid
+smooth(const double end, const unsigned int n)
+{
+  auto                g = forma::TimeGrid::variable();
+  std::vector<double> t{0.};
+  for (unsigned int k = 1; k <= n; ++k)
+    t.push_back(t.back() + 1 + 0.4 * std::sin(0.7 * k));
+  for (unsigned int k = 1; k <= n; ++k)
+    g.push(end * t[k] / t[n]);
+  return g;
+}
+
+// Largest miss of BDF-q's derivative (beta h udot = u^i + sum alpha u^{i-j})
+// and of the degree-q extrapolation on monomials up to degree q.
+void
+check_higher_orders()
+{
+  const auto g   = smooth(1., 12);
+  double     err = 0, extrapolation_err = 0;
+  for (unsigned int q = 3; q <= 5; ++q)
+    for (unsigned int i = q; i <= g.n_steps(); ++i)
+      {
+        const auto c = g.coefficients(i, q);
+        const auto P = g.extrapolation(i, q);
+        for (unsigned int p = 0; p <= q; ++p)
+          {
+            const auto u    = [&](const double t) { return std::pow(t, p); };
+            const auto udot = [&](const double t) {
+              return p == 0 ? 0. : p * std::pow(t, p - 1.);
+            };
+            double lhs = u(g.time(i)), extrapolated = P.v0 * udot(0.);
+            for (unsigned int j = 1; j <= q; ++j)
+              lhs += c.alpha[j - 1] * u(g.time(i - j));
+            for (unsigned int j = 1; j <= P.u.size(); ++j)
+              extrapolated += P.u[j - 1] * u(g.time(i - j));
+            err =
+              std::max(err,
+                       std::abs(lhs - c.beta * g.step(i) * udot(g.time(i))));
+            extrapolation_err = std::max(extrapolation_err,
+                                         std::abs(extrapolated - u(g.time(i))));
+          }
+      }
+  deallog << "variable-step BDF3-5 exact for their degree: "
+          << (err < 1e-12 ? "yes" : "no")
+          << "; extrapolations (Hermite at i = q) exact: "
+          << (extrapolation_err < 1e-12 ? "yes" : "no") << std::endl;
+  const auto counts = g.steps_per_order(3);
+  deallog << "steps per order of a BDF3 run on 12 steps: " << counts[0] << ' '
+          << counts[1] << ' ' << counts[2] << std::endl;
+}
+
 // u'' = -u, u(0) = 1, v(0) = 0 with the simulator's inertia form:
 // (u^i + w) / (beta h)^2 = -u^i, w = sum_j alpha_j (u^{i-j} + beta h v^{i-j}).
+// `exact_start`: levels 1..order-1 take the exact solution, so that the
+// lower-order start does not hide the order.
 double
-oscillator_error(const forma::TimeGrid &g)
+oscillator_error(const forma::TimeGrid &g,
+                 const unsigned int     order       = 2,
+                 const bool             exact_start = false)
 {
   std::vector<double> u{1.}, v{0.};
   for (unsigned int i = 1; i <= g.n_steps(); ++i)
     {
-      const auto   c  = g.bdf(i, 2);
+      if (exact_start && i < order)
+        {
+          u.push_back(std::cos(g.time(i)));
+          v.push_back(-std::sin(g.time(i)));
+          continue;
+        }
+      const auto   c  = g.bdf(i, order);
       const double bh = c.beta * g.step(i);
       double       w = 0, s = 0;
       for (unsigned int j = 1; j <= c.alpha.size(); ++j)
@@ -104,11 +169,26 @@ check_convergence()
     }
 }
 
+// Orders 3-5 on smooth grids, from exact starting levels.
+void
+check_higher_order_convergence()
+{
+  for (unsigned int q = 3; q <= 5; ++q)
+    {
+      const double coarse = oscillator_error(smooth(2., 80), q, true),
+                   fine   = oscillator_error(smooth(2., 160), q, true);
+      deallog << "BDF" << q << " on 80 -> 160 smooth steps: rate "
+              << std::log2(coarse / fine) << std::endl;
+    }
+}
+
 int
 main()
 {
   initlog(3);
   check_uniform();
   check_variable_exactness();
+  check_higher_orders();
   check_convergence();
+  check_higher_order_convergence();
 }

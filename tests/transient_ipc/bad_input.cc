@@ -173,9 +173,13 @@ main()
   expect_failure("adaptive_static",
                  base + "subsection Time\n set Integrator = adaptive\nend\n",
                  good);
-  expect_failure("adaptive_bdf3",
+  expect_failure("adaptive_bdf6",
                  base + "subsection Time\n set Problem = transient\n"
-                        " set Integrator = adaptive\n set BDF order = 3\nend\n",
+                        " set Integrator = adaptive\n set BDF order = 6\nend\n",
+                 good);
+  expect_failure("variable_order_fixed_steps",
+                 base + "subsection Time\n set Problem = transient\n"
+                        " set Variable order = true\nend\n",
                  good);
   // The matrix-free solver where it does not apply: Q1, simplices, IPC.
   const std::string mg = "subsection Solver\n set Linear solver = cg-mg\nend\n";

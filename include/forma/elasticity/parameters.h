@@ -61,6 +61,7 @@ namespace forma
     unsigned int bdf_order               = 2;
     unsigned int load_steps              = 1;
     std::string  time_integrator         = "fixed"; ///< fixed | adaptive
+    bool         variable_order          = false;   ///< adaptive: per step
     double       time_tolerance          = 1e-4;    ///< adaptive: relative
     double       absolute_time_tolerance = 0;       ///< 0: from the mesh
     double       minimum_time_step       = 0;       ///< 0: 1e-10 End time
