@@ -29,6 +29,7 @@
 #include "simulator_impl.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <deque>
 #include <fstream>
@@ -352,8 +353,17 @@ namespace forma
                     factor = next.second;
                   }
                 accept_step(i, its);
+                // Variable-step BDF3-5 are zero-stable only for bounded step
+                // ratios (BDF2: below 1 + sqrt 2): the higher the order the
+                // slower the growth.
+                constexpr std::array<double, 6> growth{
+                  {2., 2., 2., 1.5, 1.25, 1.15}};
                 h =
-                  std::clamp(step * std::clamp(factor, 0.2, 2.), h_min, h_max);
+                  std::clamp(step * std::clamp(factor,
+                                               0.2,
+                                               growth[std::min(i + 1, order)]),
+                             h_min,
+                             h_max);
                 break;
               }
             time_grid.pop();

@@ -146,7 +146,7 @@ namespace forma
     for (unsigned int j = 1; j <= n_u; ++j)
       s[j - 1] = (times[i - j] - times[i]) / h;
     if (hermite)
-      s[q] = -times[i] / h; // the slope at t_0
+      s[q] = (times[0] - times[i]) / h; // the slope at t_0
     auto          w = polynomial_weights(s, hermite, 0);
     Extrapolation e{std::vector<double>(w.begin(), w.begin() + n_u),
                     hermite ? w[q] * h : 0., // d/dt = (1/h) d/ds

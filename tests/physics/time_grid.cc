@@ -10,7 +10,9 @@
 
 #include "../tests.h"
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 
 using namespace dealii;
 
@@ -88,7 +90,7 @@ void
 check_higher_orders()
 {
   const auto g   = smooth(1., 12);
-  double     err = 0, extrapolation_err = 0;
+  double     err = 0, extrapolation_err = 0, constant_err = 0;
   for (unsigned int q = 3; q <= 5; ++q)
     for (unsigned int i = q; i <= g.n_steps(); ++i)
       {
@@ -111,14 +113,53 @@ check_higher_orders()
             extrapolation_err = std::max(extrapolation_err,
                                          std::abs(extrapolated - u(g.time(i))));
           }
+        // On t^(q+1) (whose u^(q+1)/(q+1)! is 1) the misses are the error
+        // terms the estimates assume: -beta h pi_q and span pi_q (the
+        // initial velocity of the Hermite start is 0 there).
+        const auto u  = [&](const double t) { return std::pow(t, q + 1.); };
+        double     pi = 1, lhs = u(g.time(i)), extrapolated = 0;
+        for (unsigned int j = 1; j <= q; ++j)
+          {
+            pi *= g.time(i) - g.time(i - j);
+            lhs += c.alpha[j - 1] * u(g.time(i - j));
+          }
+        for (unsigned int j = 1; j <= P.u.size(); ++j)
+          extrapolated += P.u[j - 1] * u(g.time(i - j));
+        const double bh = c.beta * g.step(i);
+        constant_err    = std::max(
+          {constant_err,
+              std::abs(lhs - bh * (q + 1) * std::pow(g.time(i), q) + bh * pi),
+              std::abs(u(g.time(i)) - extrapolated - P.span * pi)});
       }
   deallog << "variable-step BDF3-5 exact for their degree: "
           << (err < 1e-12 ? "yes" : "no")
           << "; extrapolations (Hermite at i = q) exact: "
           << (extrapolation_err < 1e-12 ? "yes" : "no") << std::endl;
-  const auto counts = g.steps_per_order(3);
-  deallog << "steps per order of a BDF3 run on 12 steps: " << counts[0] << ' '
-          << counts[1] << ' ' << counts[2] << std::endl;
+  deallog << "error terms -beta h pi_q and span pi_q on t^(q+1): "
+          << (constant_err < 1e-12 ? "yes" : "no") << std::endl;
+}
+
+// Each step keeps the order it was pushed with (capped by the run's order
+// and by i); a popped step's order goes with it.
+void
+check_stored_orders()
+{
+  auto g = forma::TimeGrid::variable();
+  g.push(0.1, 1);
+  g.push(0.2, 3); // capped by i = 2
+  g.push(0.3, 3);
+  g.push(0.45, 4);
+  g.pop(); // rejected
+  g.push(0.4, 2);
+  g.push(0.5, 5);
+  std::string orders;
+  for (unsigned int i = 1; i <= g.n_steps(); ++i)
+    orders += std::to_string(g.order(i, 4)) + ' ';
+  const auto counts = g.steps_per_order(4);
+  deallog << "orders " << orders << "(cap 4); steps per order " << counts[0]
+          << ' ' << counts[1] << ' ' << counts[2] << ' ' << counts[3]
+          << "; step 4 reads " << g.bdf(4, 4).alpha.size()
+          << " levels; last time " << g.time(g.n_steps()) << std::endl;
 }
 
 // u'' = -u, u(0) = 1, v(0) = 0 with the simulator's inertia form:
@@ -189,6 +230,7 @@ main()
   check_uniform();
   check_variable_exactness();
   check_higher_orders();
+  check_stored_orders();
   check_convergence();
   check_higher_order_convergence();
 }
