@@ -23,8 +23,10 @@
 #include <forma/solvers/matrix_free_elasticity.h>
 #include <forma/solvers/rigid_body_modes.h>
 
+#include <array>
 #include <atomic>
 #include <functional>
+#include <optional>
 
 namespace forma
 {
@@ -36,7 +38,9 @@ namespace forma
     using VA         = VectorizedArray<double>;
 
     /// Tangents of one cell batch at its quadrature points; stride 0: the
-    /// same at every point; no source: no zeroth-order term.
+    /// same at every point; no source: no zeroth-order term. `lame`
+    /// (lambda, mu) in place of `flux`: the isotropic tangent
+    /// lambda I x I + 2 mu sym, the same at every point.
     template <int dim>
     struct BatchTangent
     {
@@ -44,7 +48,28 @@ namespace forma
       unsigned int              flux_stride   = 0;
       const VA                 *source        = nullptr;
       unsigned int              source_stride = 0;
+      const VA                 *lame          = nullptr;
     };
+
+    /// (lambda, mu) if A = lambda I x I + mu (d_ik d_jl + d_il d_jk) to
+    /// round-off (linear isotropic elasticity), else nothing.
+    template <int dim>
+    std::optional<std::array<double, 2>>
+    isotropic_moduli(const Tensor<4, dim> &A)
+    {
+      const double   lambda = A[0][0][1][1], mu = A[0][1][0][1];
+      Tensor<4, dim> B;
+      for (unsigned int i = 0; i < dim; ++i)
+        for (unsigned int j = 0; j < dim; ++j)
+          {
+            B[i][i][j][j] += lambda;
+            B[i][j][i][j] += mu;
+            B[i][j][j][i] += mu;
+          }
+      if ((A - B).norm() <= 1e-13 * A.norm())
+        return std::array<double, 2>{{lambda, mu}};
+      return {};
+    }
 
     /// phi <- the cell integral of (A : grad u, grad v) + (s u, v) for the
     /// DoF values in phi: the Jacobian of the forms' flux and source.
@@ -58,14 +83,29 @@ namespace forma
       phi.evaluate(flags);
       for (unsigned int q = 0; q < phi.n_q_points; ++q)
         {
-          const Tensor<4, dim, VA> &A = t.flux[q * t.flux_stride];
-          const Tensor<2, dim, VA>  g = phi.get_gradient(q);
-          Tensor<2, dim, VA>        f;
-          for (unsigned int i = 0; i < dim; ++i)
-            for (unsigned int J = 0; J < dim; ++J)
-              for (unsigned int k = 0; k < dim; ++k)
-                for (unsigned int l = 0; l < dim; ++l)
-                  f[i][J] += A[i][J][k][l] * g[k][l];
+          const Tensor<2, dim, VA> g = phi.get_gradient(q);
+          Tensor<2, dim, VA>       f;
+          if (t.lame)
+            {
+              // lambda tr(g) I + mu (g + g^T): a tenth of the work of the
+              // general contraction below.
+              const VA lambda_trace = dealii::trace(g) * t.lame[0];
+              for (unsigned int i = 0; i < dim; ++i)
+                {
+                  for (unsigned int J = 0; J < dim; ++J)
+                    f[i][J] = t.lame[1] * (g[i][J] + g[J][i]);
+                  f[i][i] += lambda_trace;
+                }
+            }
+          else
+            {
+              const Tensor<4, dim, VA> &A = t.flux[q * t.flux_stride];
+              for (unsigned int i = 0; i < dim; ++i)
+                for (unsigned int J = 0; J < dim; ++J)
+                  for (unsigned int k = 0; k < dim; ++k)
+                    for (unsigned int l = 0; l < dim; ++l)
+                      f[i][J] += A[i][J][k][l] * g[k][l];
+            }
           phi.submit_gradient(f, q);
           if (t.source)
             phi.submit_value(t.source[q * t.source_stride] * phi.get_value(q),
@@ -135,11 +175,22 @@ namespace forma
                       const AffineConstraints<double> &caller_constraints);
     void
     build_index_map(const DoFHandler<dim> &caller);
-    void
+    /// The batch's tangents appended to `flux` and `source`, or to `lame`
+    /// when every lane's is isotropic; returns whether it was.
+    bool
     gather(const MatrixFree<dim, double>   &data,
            const unsigned int               batch,
            std::vector<Tensor<4, dim, VA>> &flux,
-           std::vector<VA>                 &source) const;
+           std::vector<VA>                 &source,
+           std::vector<VA>                 &lame) const;
+    /// The tangent of a cell at point q.
+    Tensor<4, dim>
+    cell_tangent(const unsigned int cell, const unsigned int q) const;
+    bool
+    has_tangent(const unsigned int cell) const
+    {
+      return !cell_flux[cell].empty() || cell_lame[cell];
+    }
     void
     setup_preconditioner();
     void
@@ -161,10 +212,13 @@ namespace forma
     BatchTangent<dim>
     batch_tangent(const unsigned int b) const
     {
-      return {&batch_flux[flux_offset[b]],
+      return {batch_flux.data() + flux_offset[b],
               flux_stride[b],
               has_source ? &batch_source[source_offset[b]] : nullptr,
-              source_stride[b]};
+              source_stride[b],
+              lame_offset[b] == numbers::invalid_unsigned_int ?
+                nullptr :
+                &batch_lame[lame_offset[b]]};
     }
 
     const LinearSolver::Parameters parameters;
@@ -178,13 +232,16 @@ namespace forma
     std::vector<types::global_dof_index> own_index;
 
     std::vector<std::vector<Tensor<4, dim>>> cell_flux;
-    std::vector<std::vector<double>>         cell_source;
-    std::atomic<bool>                        tangent_changed{true};
-    std::atomic<bool>                        unsymmetric{false};
+    /// Isotropic cells keep (lambda, mu) here instead of a cell_flux entry.
+    std::vector<std::optional<std::array<double, 2>>> cell_lame;
+    std::vector<std::vector<double>>                  cell_source;
+    std::atomic<bool>                                 tangent_changed{true};
+    std::atomic<bool>                                 unsymmetric{false};
 
     std::vector<Tensor<4, dim, VA>> batch_flux;
     std::vector<VA>                 batch_source;
-    std::vector<unsigned int>       flux_offset, flux_stride;
+    std::vector<VA>                 batch_lame;
+    std::vector<unsigned int>       flux_offset, flux_stride, lame_offset;
     std::vector<unsigned int>       source_offset, source_stride;
     bool                            has_source = false;
 
@@ -290,36 +347,70 @@ namespace forma
 
 
   template <int dim>
-  void
+  Tensor<4, dim>
+  MatrixFreeElasticity<dim>::Impl::cell_tangent(const unsigned int cell,
+                                                const unsigned int q) const
+  {
+    if (const auto &m = cell_lame[cell])
+      {
+        Tensor<4, dim> A;
+        for (unsigned int i = 0; i < dim; ++i)
+          for (unsigned int j = 0; j < dim; ++j)
+            {
+              A[i][i][j][j] += (*m)[0];
+              A[i][j][i][j] += (*m)[1];
+              A[i][j][j][i] += (*m)[1];
+            }
+        return A;
+      }
+    const auto &c = cell_flux[cell];
+    return c[c.size() == 1 ? 0 : q];
+  }
+
+
+
+  template <int dim>
+  bool
   MatrixFreeElasticity<dim>::Impl::gather(const MatrixFree<dim, double> &data,
                                           const unsigned int             batch,
                                           std::vector<Tensor<4, dim, VA>> &flux,
-                                          std::vector<VA> &source) const
+                                          std::vector<VA> &source,
+                                          std::vector<VA> &lame) const
   {
     // The cells of the batch's lanes (empty lanes repeat the first), then
-    // one tangent per point, or one for all if every lane's is constant.
+    // (lambda, mu) if every lane's tangent is isotropic, else one tangent
+    // per point, or one for all if every lane's is constant.
     const unsigned int n_lanes = data.n_active_entries_per_cell_batch(batch);
     std::array<unsigned int, VA::size()> cell;
+    bool                                 isotropic = true;
     for (unsigned int v = 0; v < VA::size(); ++v)
       {
         cell[v] = data.get_cell_iterator(batch, v < n_lanes ? v : 0)
                     ->active_cell_index();
-        Assert(!cell_flux[cell[v]].empty(), ExcInternalError());
+        Assert(has_tangent(cell[v]), ExcInternalError());
+        isotropic &= cell_lame[cell[v]].has_value();
       }
+    if (isotropic)
+      for (unsigned int k = 0; k < 2; ++k)
+        {
+          VA m;
+          for (unsigned int v = 0; v < VA::size(); ++v)
+            m[v] = (*cell_lame[cell[v]])[k];
+          lame.push_back(m);
+        }
     const auto entries = [&](const auto &per_cell) {
       unsigned int n = 1;
       for (unsigned int v = 0; v < VA::size(); ++v)
         n = std::max<unsigned int>(n, per_cell[cell[v]].size());
       return n;
     };
-    const unsigned int n_flux = entries(cell_flux);
+    const unsigned int n_flux = isotropic ? 0 : entries(cell_flux);
     for (unsigned int q = 0; q < n_flux; ++q)
       {
         Tensor<4, dim, VA> A;
         for (unsigned int v = 0; v < VA::size(); ++v)
           {
-            const auto &c = cell_flux[cell[v]];
-            const auto &a = c[c.size() == 1 ? 0 : q];
+            const Tensor<4, dim> a = cell_tangent(cell[v], q);
             for (unsigned int i = 0;
                  i < Tensor<4, dim>::n_independent_components;
                  ++i)
@@ -332,7 +423,7 @@ namespace forma
         flux.push_back(A);
       }
     if (!has_source)
-      return;
+      return isotropic;
     const unsigned int n_source = entries(cell_source);
     for (unsigned int q = 0; q < n_source; ++q)
       {
@@ -344,6 +435,7 @@ namespace forma
           }
         source.push_back(s);
       }
+    return isotropic;
   }
 
 
@@ -424,8 +516,10 @@ namespace forma
         {
           fv.reinit(cell);
           cell->get_dof_indices(indices);
-          const auto &flux   = cell_flux[cell->active_cell_index()];
-          const auto &source = cell_source[cell->active_cell_index()];
+          const unsigned int index  = cell->active_cell_index();
+          const auto        &source = cell_source[index];
+          const auto        &lame   = cell_lame[index];
+          const auto        &flux   = cell_flux[index];
           for (unsigned int i = 0; i < indices.size(); ++i)
             {
               if (constraints.is_constrained(indices[i]))
@@ -434,12 +528,18 @@ namespace forma
               double             d = 0;
               for (unsigned int q = 0; q < fv.n_quadrature_points; ++q)
                 {
-                  const auto &A = flux[flux.size() == 1 ? 0 : q];
                   const auto &g = fv.shape_grad(i, q);
                   double      a = 0;
-                  for (unsigned int J = 0; J < dim; ++J)
-                    for (unsigned int L = 0; L < dim; ++L)
-                      a += A[c][J][c][L] * g[J] * g[L];
+                  if (lame) // A_cJcL g_J g_L, A isotropic
+                    a = ((*lame)[0] + (*lame)[1]) * g[c] * g[c] +
+                        (*lame)[1] * g.norm_square();
+                  else
+                    {
+                      const auto &A = flux[flux.size() == 1 ? 0 : q];
+                      for (unsigned int J = 0; J < dim; ++J)
+                        for (unsigned int L = 0; L < dim; ++L)
+                          a += A[c][J][c][L] * g[J] * g[L];
+                    }
                   if (!source.empty())
                     a += source[source.size() == 1 ? 0 : q] *
                          fv.shape_value(i, q) * fv.shape_value(i, q);
@@ -477,8 +577,9 @@ namespace forma
 
     // Q1 from the same tangents at the same points.
     std::vector<Tensor<4, dim, VA>> flux;
-    std::vector<VA>                 source;
-    unsigned int                    gathered = numbers::invalid_unsigned_int;
+    std::vector<VA>                 source, lame;
+    unsigned int                    gathered  = numbers::invalid_unsigned_int;
+    bool                            isotropic = false;
     MatrixFreeTools::compute_matrix<dim, 1, degree + 1, dim, double, VA>(
       mf_q1,
       constraints_q1,
@@ -490,13 +591,15 @@ namespace forma
             gathered = phi.get_current_cell_index();
             flux.clear();
             source.clear();
-            gather(mf_q1, gathered, flux, source);
+            lame.clear();
+            isotropic = gather(mf_q1, gathered, flux, source, lame);
           }
         apply_tangent<dim>(phi,
                            {flux.data(),
                             flux.size() == 1 ? 0u : 1u,
                             has_source ? source.data() : nullptr,
-                            source.size() == 1 ? 0u : 1u});
+                            source.size() == 1 ? 0u : 1u,
+                            isotropic ? lame.data() : nullptr});
       });
   }
 
@@ -510,7 +613,7 @@ namespace forma
     bool  complete = true;
     for (const auto &cell : dofs.active_cell_iterators())
       if (cell->is_locally_owned())
-        complete &= !cell_flux[cell->active_cell_index()].empty();
+        complete &= has_tangent(cell->active_cell_index());
     AssertThrow(Utilities::MPI::min(complete ? 1u : 0u,
                                     dofs.get_communicator()) == 1u,
                 ExcMessage("matrix-free solver: a cell has no tangent "
@@ -523,16 +626,20 @@ namespace forma
 
     batch_flux.clear();
     batch_source.clear();
+    batch_lame.clear();
     const unsigned int n_batches = mf.n_cell_batches();
     flux_offset.resize(n_batches);
     flux_stride.resize(n_batches);
+    lame_offset.resize(n_batches);
     source_offset.resize(n_batches);
     source_stride.resize(n_batches);
     for (unsigned int b = 0; b < n_batches; ++b)
       {
         flux_offset[b]   = batch_flux.size();
         source_offset[b] = batch_source.size();
-        gather(mf, b, batch_flux, batch_source);
+        lame_offset[b]   = batch_lame.size();
+        if (!gather(mf, b, batch_flux, batch_source, batch_lame))
+          lame_offset[b] = numbers::invalid_unsigned_int;
         flux_stride[b]   = batch_flux.size() - flux_offset[b] == 1 ? 0 : 1;
         source_stride[b] = batch_source.size() - source_offset[b] == 1 ? 0 : 1;
       }
@@ -632,6 +739,7 @@ namespace forma
     m.mf_q1.initialize_dof_vector(m.coarse_correction);
     m.cell_flux.assign(dof_handler.get_triangulation().n_active_cells(), {});
     m.cell_source.assign(m.cell_flux.size(), {});
+    m.cell_lame.assign(m.cell_flux.size(), {});
     m.tangent_changed = true;
     m.unsymmetric     = false;
   }
@@ -685,6 +793,12 @@ namespace forma
         if (transpose)
           A = T;
       }
+    // An isotropic cell keeps two numbers instead of 81 (3D).
+    auto &lame = impl->cell_lame[active_cell_index];
+    lame       = flux.size() == 1 ? isotropic_moduli(flux[0]) :
+                                    std::optional<std::array<double, 2>>();
+    if (lame)
+      std::vector<Tensor<4, dim>>().swap(flux);
     bool any_source = false;
     for (const double s : source_tangent)
       any_source |= (s != 0.);
