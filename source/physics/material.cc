@@ -175,20 +175,28 @@ namespace forma
 
   template <int dim>
   Tensor<4, dim>
-  Material<dim>::tangent(const Tensor<2, dim> &grad_u) const
+  isotropic_tangent(const double lambda, const double mu)
   {
     Tensor<4, dim> A;
+    for (unsigned int i = 0; i < dim; ++i)
+      for (unsigned int j = 0; j < dim; ++j)
+        {
+          A[i][i][j][j] += lambda;
+          A[i][j][i][j] += mu;
+          A[i][j][j][i] += mu;
+        }
+    return A;
+  }
+
+
+
+  template <int dim>
+  Tensor<4, dim>
+  Material<dim>::tangent(const Tensor<2, dim> &grad_u) const
+  {
     if (law == ConstitutiveModel::linear_elastic)
-      {
-        for (unsigned int i = 0; i < dim; ++i)
-          for (unsigned int j = 0; j < dim; ++j)
-            {
-              A[i][i][j][j] += lambda;
-              A[i][j][i][j] += mu;
-              A[i][j][j][i] += mu;
-            }
-        return A;
-      }
+      return isotropic_tangent<dim>(lambda, mu);
+    Tensor<4, dim>       A;
     const Tensor<2, dim> F    = grad_u + unit_symmetric_tensor<dim>();
     const Tensor<2, dim> Q    = transpose(invert(F));
     const double         logJ = std::log(determinant(F));
@@ -276,6 +284,10 @@ namespace forma
 
   template class Material<2>;
   template class Material<3>;
+  template Tensor<4, 2>
+  isotropic_tangent<2>(const double, const double);
+  template Tensor<4, 3>
+  isotropic_tangent<3>(const double, const double);
   template double
   von_mises<2>(const Tensor<2, 2> &);
   template double

@@ -20,6 +20,7 @@
 #include <deal.II/matrix_free/tools.h>
 #include <deal.II/multigrid/mg_transfer_global_coarsening.h>
 
+#include <forma/physics/material.h>
 #include <forma/solvers/matrix_free_elasticity.h>
 #include <forma/solvers/rigid_body_modes.h>
 
@@ -57,16 +58,8 @@ namespace forma
     std::optional<std::array<double, 2>>
     isotropic_moduli(const Tensor<4, dim> &A)
     {
-      const double   lambda = A[0][0][1][1], mu = A[0][1][0][1];
-      Tensor<4, dim> B;
-      for (unsigned int i = 0; i < dim; ++i)
-        for (unsigned int j = 0; j < dim; ++j)
-          {
-            B[i][i][j][j] += lambda;
-            B[i][j][i][j] += mu;
-            B[i][j][j][i] += mu;
-          }
-      if ((A - B).norm() <= 1e-13 * A.norm())
+      const double lambda = A[0][0][1][1], mu = A[0][1][0][1];
+      if ((A - isotropic_tangent<dim>(lambda, mu)).norm() <= 1e-13 * A.norm())
         return std::array<double, 2>{{lambda, mu}};
       return {};
     }
@@ -352,17 +345,7 @@ namespace forma
                                                 const unsigned int q) const
   {
     if (const auto &m = cell_lame[cell])
-      {
-        Tensor<4, dim> A;
-        for (unsigned int i = 0; i < dim; ++i)
-          for (unsigned int j = 0; j < dim; ++j)
-            {
-              A[i][i][j][j] += (*m)[0];
-              A[i][j][i][j] += (*m)[1];
-              A[i][j][j][i] += (*m)[1];
-            }
-        return A;
-      }
+      return isotropic_tangent<dim>((*m)[0], (*m)[1]);
     const auto &c = cell_flux[cell];
     return c[c.size() == 1 ? 0 : q];
   }

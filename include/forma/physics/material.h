@@ -82,6 +82,12 @@ namespace forma
                           const double nu,
                           double       jacobian[2][2] = nullptr);
 
+  /// lambda I x I + mu (d_ik d_jl + d_il d_jk): the tangent of linear
+  /// isotropic elasticity (and of Neo-Hookean at F = I).
+  template <int dim>
+  dealii::Tensor<4, dim>
+  isotropic_tangent(const double lambda, const double mu);
+
   /**
    * Stress laws in the form used by every forma force (thesis eq. 3.23):
    * stress(grad u) is the first Piola-Kirchhoff stress (equal to the Cauchy

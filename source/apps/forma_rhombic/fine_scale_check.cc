@@ -469,8 +469,6 @@ namespace forma
 
 
 
-      /// The design's pictures (materials per cell, the tiled geometry)
-      /// and design.vtu (per cell: E, nu, alpha, p1..p8), on the root.
       void
       write_design_outputs(const Triangulation<2, 2>           &tria,
                            const std::vector<double>           &E,
