@@ -790,6 +790,12 @@ namespace forma
                                "Adaptivity = none."));
         impl->ipc_contact->freeze();
       }
+    AssertThrow(impl->p.adaptivity == "none" || impl->p.problem == "static",
+                ExcMessage("Finite element/Adaptivity: gradients of a "
+                           "transient run whose mesh adapts (an adjoint over "
+                           "a sequence of meshes) are not available yet; set "
+                           "Adaptivity = none for optimize and verify "
+                           "gradient."));
     if (!impl->prepared)
       {
         impl->prepared = true;

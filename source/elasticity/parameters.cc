@@ -24,7 +24,11 @@ namespace forma
       "none: uniform mesh. h: Kelly-indicator refinement with "
       "hanging nodes. hp: the same indicator, with smooth cells "
       "(Legendre coefficient decay) raised in degree instead of "
-      "split. Static problems, quads/hexes only.");
+      "split (static problems). Quads/hexes only. Static problems "
+      "solve, estimate and refine Adaptive cycles times; transient "
+      "problems (h) refine and coarsen the mesh every Adapt every "
+      "steps during the run, carrying every BDF history level to the "
+      "new mesh.");
     prm.declare_entry(
       "Error indicator",
       "kelly",
@@ -49,15 +53,42 @@ namespace forma
                       "0",
                       Patterns::Integer(0, 20),
                       "Number of solve-estimate-refine cycles after the first "
-                      "solve.");
+                      "solve (transient problems: refinements of the "
+                      "initial state before the first step).");
     prm.declare_entry("Refine fraction",
                       "0.3",
                       Patterns::Double(0, 1),
-                      "Fraction of cells (by count) flagged for refinement.");
+                      "Fraction flagged for refinement (of the cells or of "
+                      "the error: see Marking).");
     prm.declare_entry("Coarsen fraction",
                       "0.0",
                       Patterns::Double(0, 1),
-                      "Fraction of cells flagged for coarsening.");
+                      "Fraction flagged for coarsening (see Marking).");
+    prm.declare_entry(
+      "Marking",
+      "cell count",
+      Patterns::Selection("cell count|error fraction"),
+      "cell count: Refine/Coarsen fraction are fractions of the cells "
+      "(largest/smallest indicators). error fraction: fractions of the "
+      "summed indicator (the fewest cells carrying Refine fraction of it "
+      "are refined, those carrying the smallest Coarsen fraction "
+      "coarsened); suits transient runs, where the error moves.");
+    prm.declare_entry(
+      "Adapt every",
+      "10",
+      Patterns::Integer(1),
+      "Transient problems with Adaptivity = h: refine and coarsen the mesh "
+      "every this many accepted time steps, by the Kelly indicators of the "
+      "displacement and of the velocity (each relative to its norm). "
+      "Adaptive cycles then counts refinements of the initial state before "
+      "the first step.");
+    prm.declare_entry(
+      "Max refinement level",
+      "2",
+      Patterns::Integer(0, 10),
+      "Transient problems with Adaptivity = h: the most levels a cell may "
+      "be refined beyond the starting mesh (cells are never coarsened "
+      "below it).");
     prm.leave_subsection();
 
     prm.enter_subsection("Material");
@@ -287,9 +318,12 @@ namespace forma
     error_indicator = prm.get("Error indicator");
     goal_estimate = prm.get_bool("Goal estimate") || error_indicator == "goal";
     max_degree    = prm.get_integer("Max degree");
-    adaptive_cycles  = prm.get_integer("Adaptive cycles");
-    refine_fraction  = prm.get_double("Refine fraction");
-    coarsen_fraction = prm.get_double("Coarsen fraction");
+    adaptive_cycles      = prm.get_integer("Adaptive cycles");
+    refine_fraction      = prm.get_double("Refine fraction");
+    coarsen_fraction     = prm.get_double("Coarsen fraction");
+    marking              = prm.get("Marking");
+    adapt_every          = prm.get_integer("Adapt every");
+    max_refinement_level = prm.get_integer("Max refinement level");
     prm.leave_subsection();
 
     prm.enter_subsection("Material");
@@ -378,9 +412,18 @@ namespace forma
     AssertThrow(problem == "static" || end_time > 0,
                 ExcMessage(
                   "Time/End time must be positive for transient runs."));
-    AssertThrow(adaptivity == "none" || problem == "static",
-                ExcMessage("Finite element/Adaptivity is available for static "
-                           "problems only."));
+    AssertThrow(adaptivity != "hp" || problem == "static",
+                ExcMessage("Finite element/Adaptivity = hp is for static "
+                           "problems; transient problems adapt with h."));
+    AssertThrow(!goal_estimate || problem == "static",
+                ExcMessage("Finite element/Error indicator = goal (or Goal "
+                           "estimate) estimates static problems; the "
+                           "transient (backward in time) estimate is not "
+                           "available yet: use Error indicator = kelly."));
+    AssertThrow(marking == "cell count" ||
+                  refine_fraction + coarsen_fraction <= 1,
+                ExcMessage("Finite element/Marking = error fraction: Refine "
+                           "fraction + Coarsen fraction must not exceed 1."));
     AssertThrow(load_cases.empty() || problem == "static",
                 ExcMessage("Boundary conditions/Load cases: several load "
                            "cases are for static problems."));

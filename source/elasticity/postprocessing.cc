@@ -100,6 +100,7 @@ namespace forma
     r.newton_iterations = newton_its;
     r.linear_iterations = linear_its;
     r.residual          = residual.l2_norm();
+    r.n_dofs            = dof_handler.n_dofs();
     r.kinetic_energy    = Utilities::MPI::sum(kinetic, comm);
     r.elastic_energy    = Utilities::MPI::sum(elastic, comm);
     r.gravity_potential = Utilities::MPI::sum(potential, comm);

@@ -385,8 +385,11 @@ namespace forma
   ElasticitySimulator<dim>::Impl::run(RunContext *ctx)
   {
     context = ctx;
+    // Transient problems adapt during the run (Adaptive cycles refine the
+    // initial state there).
     const unsigned int n_cycles =
-      p.adaptivity == "none" ? 1 : p.adaptive_cycles + 1;
+      p.adaptivity == "none" || p.problem != "static" ? 1 :
+                                                        p.adaptive_cycles + 1;
     for (unsigned int cycle = 0; cycle < n_cycles; ++cycle)
       {
         if (cycle > 0)
@@ -664,6 +667,25 @@ namespace forma
                                  {"accepted_steps", impl->time_grid.n_steps()},
                                  {"rejected_steps", impl->rejected_steps},
                                  {"steps_per_order", per_order}};
+      }
+    if (impl->transient_adaptivity && !impl->steps.empty())
+      {
+        // The cost of a run on moving meshes: DoFs summed over the steps.
+        unsigned long long dof_steps = 0, fewest = impl->steps[0].n_dofs,
+                           most = fewest;
+        for (std::size_t k = 1; k < impl->steps.size(); ++k)
+          {
+            dof_steps += impl->steps[k].n_dofs;
+            fewest = std::min(fewest, impl->steps[k].n_dofs);
+            most   = std::max(most, impl->steps[k].n_dofs);
+          }
+        s["mesh_adaptation"] = {{"adapt_every", impl->p.adapt_every},
+                                {"adaptations", impl->mesh_adaptations},
+                                {"dof_steps", dof_steps},
+                                {"min_dofs", fewest},
+                                {"max_dofs", most}};
+        for (std::size_t k = 0; k < impl->steps.size(); ++k)
+          s["steps"][k]["n_dofs"] = impl->steps[k].n_dofs;
       }
     nlohmann::json cycles = nlohmann::json::array();
     for (const auto &c : impl->cycles)

@@ -289,6 +289,9 @@ namespace forma
     /// step count for the progress line (empty: not known in advance).
     void
     set_initial_state(const std::string &n);
+    /// u, v of Initial conditions (and their design offsets).
+    void
+    interpolate_initial_state();
     /// Step i of `time_grid` from the history: Newton on the BDF residual,
     /// then v^i. Returns the Newton and linear iterations.
     std::pair<unsigned int, unsigned int>
@@ -315,8 +318,31 @@ namespace forma
     /// IPC: h capped by the CCD bound of the free flight from the last step.
     double
     cap_step_by_contact(const double h, const double h_min);
+    /// Flag cells by `estimated_error` as Finite element/Marking says;
+    /// with `level_limits` within [base_level, top_level].
+    void
+    mark_cells(const bool level_limits);
+    /// Static adaptive cycles: estimate, mark and refine.
     void
     refine_mesh();
+    /// Transient adaptivity: the Kelly indicators of u and v, each over its
+    /// global norm, summed into `estimated_error`; false if both vanish.
+    bool
+    transient_indicators();
+    /// Transient adaptivity: level limits, and Adaptive cycles refinements
+    /// of the initial state.
+    void
+    start_mesh_adaptation();
+    /// Whether the mesh adapts after accepted step i.
+    bool
+    adapts_after(const unsigned int i) const;
+    /// Refine and coarsen after step i, carrying u, v and every history
+    /// level to the new mesh.
+    void
+    adapt_mesh_in_time(const unsigned int i);
+    /// The system on a new mesh (DoFs, constraints, pattern, solvers).
+    void
+    setup_mesh_dependents();
     /// Error indicator = goal: the dual-weighted residual indicators of the
     /// goal objective into `estimated_error` (|eta_K|); returns J(u_h) and
     /// the signed estimate of J(u) - J(u_h). The state is kept.
@@ -702,6 +728,12 @@ namespace forma
     std::vector<std::pair<double, std::string>> pvd_records;
     std::function<void(unsigned int)>           cycle_callback;
     Vector<float>                               estimated_error;
+    /// Transient adaptivity (Adaptivity = h on a transient problem): the
+    /// level range cells stay in, and the adaptations so far.
+    bool         transient_adaptivity = false;
+    unsigned int base_level           = 0;
+    unsigned int top_level            = 0;
+    unsigned int mesh_adaptations     = 0;
     /// Error indicator = goal: the objective refinement aims at.
     std::shared_ptr<const Objective<dim>> goal;
     double assembly_seconds = 0, solver_seconds = 0;

@@ -1,6 +1,6 @@
 // The elasticity simulator's discrete system: the shape field and its
 // constraints, the DoFs, boundary constraints, the Jacobian's pattern, the
-// null space, adaptive refinement.
+// null space.
 
 #include <deal.II/base/quadrature.h>
 #include <deal.II/base/timer.h>
@@ -492,55 +492,6 @@ namespace forma
     return component;
   }
 
-
-
-  template <int dim>
-  void
-  ElasticitySimulator<dim>::Impl::refine_mesh()
-  {
-    auto *ptria =
-      dynamic_cast<parallel::distributed::Triangulation<dim> *>(tria.get());
-    AssertThrow(ptria != nullptr,
-                ExcMessage("adaptivity needs a quad/hex mesh."));
-    u_ghost = u;
-    // Error indicator = goal: the indicators of the last solve's estimate.
-    if (p.error_indicator != "goal")
-      {
-        estimated_error.reinit(tria->n_active_cells());
-        KellyErrorEstimator<dim>::estimate(
-          mapping[0],
-          dof_handler,
-          face_quadrature,
-          std::map<types::boundary_id, const Function<dim> *>(),
-          u_ghost,
-          estimated_error);
-      }
-    AssertThrow(estimated_error.size() == tria->n_active_cells(),
-                ExcInternalError());
-    parallel::distributed::GridRefinement::refine_and_coarsen_fixed_number(
-      *ptria, estimated_error, p.refine_fraction, p.coarsen_fraction);
-    if (p.adaptivity == "hp")
-      {
-        Vector<float>           smoothness(tria->n_active_cells());
-        FESeries::Legendre<dim> legendre =
-          SmoothnessEstimator::Legendre::default_fe_series(fe);
-        SmoothnessEstimator::Legendre::coefficient_decay(legendre,
-                                                         dof_handler,
-                                                         u_ghost,
-                                                         smoothness);
-        hp::Refinement::p_adaptivity_from_relative_threshold(dof_handler,
-                                                             smoothness,
-                                                             0.2,
-                                                             0.2);
-        // The goal estimate's element one degree up is not for the solve.
-        for (const auto &cell : dof_handler.active_cell_iterators())
-          if (cell->is_locally_owned() && cell->future_fe_index_set() &&
-              cell->future_fe_index() + 1 > p.max_degree)
-            cell->clear_future_fe_index();
-        hp::Refinement::choose_p_over_h(dof_handler);
-      }
-    tria->execute_coarsening_and_refinement();
-  }
 
 
   template class ElasticitySimulator<2>::Impl;

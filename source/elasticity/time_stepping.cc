@@ -102,6 +102,9 @@ namespace forma
       time_grid = TimeGrid::uniform(
         p.end_time,
         std::max(1, static_cast<int>(std::round(p.end_time / p.time_step))));
+    transient_adaptivity = p.adaptivity == "h";
+    if (transient_adaptivity)
+      start_mesh_adaptation();
     set_initial_state(adaptive ? "" : std::to_string(time_grid.n_steps()));
 
     rejected_steps = 0;
@@ -109,14 +112,18 @@ namespace forma
       solve_adaptive();
     else
       for (unsigned int i = 1; i <= time_grid.n_steps(); ++i)
-        accept_step(i, take_step(i));
+        {
+          accept_step(i, take_step(i));
+          if (adapts_after(i))
+            adapt_mesh_in_time(i);
+        }
   }
 
 
 
   template <int dim>
   void
-  ElasticitySimulator<dim>::Impl::set_initial_state(const std::string &n)
+  ElasticitySimulator<dim>::Impl::interpolate_initial_state()
   {
     const std::vector<bool> all(dim, true);
     u = 0;
@@ -142,6 +149,15 @@ namespace forma
     // Design offsets (initial-condition parameterizations).
     u += initial->displacement;
     v += initial->velocity;
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::set_initial_state(const std::string &n)
+  {
+    interpolate_initial_state();
     make_constraints(0.);
     constraints_zero.distribute(u); // hanging nodes only matter here
     time = 0;
@@ -376,6 +392,8 @@ namespace forma
               }
             h = std::max(h_min, step * std::clamp(factor, 0.1, 0.5));
           }
+        if (adapts_after(i))
+          adapt_mesh_in_time(i);
       }
   }
 

@@ -219,6 +219,28 @@ main()
                         "subsection Objective\n set Terms = stress : p=2\n"
                         "end\n",
                  good);
+  // Transient adaptivity where it does not apply: hp, the goal estimate,
+  // gradients (an adjoint over a sequence of meshes).
+  const std::string moving =
+    "subsection Time\n set Problem = transient\n set End time = 0.1\n"
+    " set Time step = 0.05\nend\n";
+  expect_failure("transient_hp",
+                 base + moving +
+                   "subsection Finite element\n set Adaptivity = hp\nend\n",
+                 good);
+  expect_failure("transient_goal",
+                 base + moving +
+                   "subsection Finite element\n set Adaptivity = h\n"
+                   " set Error indicator = goal\nend\n"
+                   "subsection Objective\n set Terms = stress : p=2\nend\n",
+                 good);
+  expect_failure("transient_adaptivity_gradient",
+                 base + moving +
+                   "set Mode = verify gradient\n"
+                   "subsection Finite element\n set Adaptivity = h\nend\n"
+                   "subsection Objective\n set Terms = stress : p=2\nend\n"
+                   "subsection Design\n set Parameters = shape\nend\n",
+                 good);
   // A parameter value that is not UTF-8 (a Latin-1 file name): quoted
   // escaped, and the echoed parameters still make valid JSON.
   expect_failure("latin1_file_name",

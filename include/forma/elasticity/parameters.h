@@ -35,6 +35,12 @@ namespace forma
     unsigned int adaptive_cycles  = 0;
     double       refine_fraction  = 0.3;
     double       coarsen_fraction = 0.0;
+    /// cell count | error fraction: what Refine/Coarsen fraction measure.
+    std::string marking = "cell count";
+    /// Transient problems: adapt the mesh every this many accepted steps.
+    unsigned int adapt_every = 10;
+    /// Transient problems: levels a cell may gain over the starting mesh.
+    unsigned int max_refinement_level = 2;
 
     // Material
     ConstitutiveModel model        = ConstitutiveModel::linear_elastic;

@@ -55,6 +55,7 @@ namespace forma
       unsigned int                        newton_iterations;
       unsigned int                        linear_iterations;
       double                              residual;
+      unsigned long long                  n_dofs; ///< of the step's mesh
       double                              kinetic_energy;
       double                              elastic_energy;
       double                              gravity_potential; ///< -int rho g . u

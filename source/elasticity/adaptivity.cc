@@ -1,0 +1,273 @@
+// Adaptive meshes of the elasticity simulator: the refinement between the
+// static cycles, and transient runs whose mesh follows the solution, with
+// every BDF history level carried to the new mesh.
+
+#include <deal.II/distributed/grid_refinement.h>
+#include <deal.II/distributed/solution_transfer.h>
+#include <deal.II/distributed/tria.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_series.h>
+#include <deal.II/hp/refinement.h>
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/numerics/error_estimator.h>
+#include <deal.II/numerics/smoothness_estimator.h>
+
+#include <forma/base/run_context.h>
+#include <forma/elasticity/simulator.h>
+#include <forma/solvers/matrix_free_elasticity.h>
+
+#include "simulator_impl.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace forma
+{
+  namespace
+  {
+    /// The distributed mesh that adaptivity refines (throws otherwise).
+    template <int dim>
+    parallel::distributed::Triangulation<dim> &
+    adaptive_mesh(Triangulation<dim> &tria)
+    {
+      auto *ptria =
+        dynamic_cast<parallel::distributed::Triangulation<dim> *>(&tria);
+      AssertThrow(ptria != nullptr,
+                  ExcMessage("adaptivity needs a quad/hex mesh."));
+      return *ptria;
+    }
+  } // namespace
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::mark_cells(const bool level_limits)
+  {
+    auto &mesh = adaptive_mesh(*tria);
+    AssertThrow(estimated_error.size() == tria->n_active_cells(),
+                ExcInternalError());
+    if (p.marking == "error fraction")
+      parallel::distributed::GridRefinement::refine_and_coarsen_fixed_fraction(
+        mesh, estimated_error, p.refine_fraction, p.coarsen_fraction);
+    else
+      parallel::distributed::GridRefinement::refine_and_coarsen_fixed_number(
+        mesh, estimated_error, p.refine_fraction, p.coarsen_fraction);
+    if (!level_limits)
+      return;
+    // Transient runs: within the starting mesh's levels and Max refinement
+    // level more, so that a moving front cannot refine without bound.
+    for (const auto &cell : mesh.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          if (cell->level() >= static_cast<int>(top_level))
+            cell->clear_refine_flag();
+          if (cell->level() <= static_cast<int>(base_level))
+            cell->clear_coarsen_flag();
+        }
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::refine_mesh()
+  {
+    u_ghost = u;
+    // Error indicator = goal: the indicators of the last solve's estimate.
+    if (p.error_indicator != "goal")
+      {
+        estimated_error.reinit(tria->n_active_cells());
+        KellyErrorEstimator<dim>::estimate(
+          mapping[0],
+          dof_handler,
+          face_quadrature,
+          std::map<types::boundary_id, const Function<dim> *>(),
+          u_ghost,
+          estimated_error);
+      }
+    mark_cells(false);
+    if (p.adaptivity == "hp")
+      {
+        Vector<float>           smoothness(tria->n_active_cells());
+        FESeries::Legendre<dim> legendre =
+          SmoothnessEstimator::Legendre::default_fe_series(fe);
+        SmoothnessEstimator::Legendre::coefficient_decay(legendre,
+                                                         dof_handler,
+                                                         u_ghost,
+                                                         smoothness);
+        hp::Refinement::p_adaptivity_from_relative_threshold(dof_handler,
+                                                             smoothness,
+                                                             0.2,
+                                                             0.2);
+        // The goal estimate's element one degree up is not for the solve.
+        for (const auto &cell : dof_handler.active_cell_iterators())
+          if (cell->is_locally_owned() && cell->future_fe_index_set() &&
+              cell->future_fe_index() + 1 > p.max_degree)
+            cell->clear_future_fe_index();
+        hp::Refinement::choose_p_over_h(dof_handler);
+      }
+    tria->execute_coarsening_and_refinement();
+  }
+
+
+
+  template <int dim>
+  bool
+  ElasticitySimulator<dim>::Impl::transient_indicators()
+  {
+    // Kelly's face jumps of grad u (stress) and of grad v (strain rate):
+    // the first sees where the body is strained, the second where a wave
+    // front passes before it has strained much. Each is taken relative to
+    // its global norm, so that neither unit decides.
+    std::vector<Vector_t> ghosted(2, Vector_t(owned, relevant, comm));
+    ghosted[0] = u;
+    ghosted[1] = v;
+    std::vector<Vector<float>>    eta(2, Vector<float>(tria->n_active_cells()));
+    std::vector<const Vector_t *> in{&ghosted[0], &ghosted[1]};
+    std::vector<Vector<float> *>  out{&eta[0], &eta[1]};
+    KellyErrorEstimator<dim>::estimate(
+      mapping[0],
+      dof_handler,
+      face_quadrature,
+      std::map<types::boundary_id, const Function<dim> *>(),
+      in,
+      out);
+    estimated_error.reinit(tria->n_active_cells());
+    bool any = false;
+    for (const auto &e : eta)
+      {
+        double sum = 0; // over owned cells: others hold zeros
+        for (const auto &cell : tria->active_cell_iterators())
+          if (cell->is_locally_owned())
+            sum += std::pow(e[cell->active_cell_index()], 2);
+        const double norm = std::sqrt(Utilities::MPI::sum(sum, comm));
+        if (norm == 0)
+          continue;
+        any = true;
+        estimated_error.add(1. / norm, e);
+      }
+    return any;
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::start_mesh_adaptation()
+  {
+    // Levels counted on the starting mesh: cells never coarsen below it.
+    unsigned int lowest = std::numeric_limits<unsigned int>::max();
+    for (const auto &cell : tria->active_cell_iterators())
+      if (cell->is_locally_owned())
+        lowest = std::min<unsigned int>(lowest, cell->level());
+    base_level       = Utilities::MPI::min(lowest, comm);
+    top_level        = tria->n_global_levels() - 1 + p.max_refinement_level;
+    mesh_adaptations = 0;
+    // Adaptive cycles: the initial state, refined before the first step.
+    for (unsigned int c = 0; c < p.adaptive_cycles; ++c)
+      {
+        interpolate_initial_state();
+        if (!transient_indicators())
+          break;
+        mark_cells(true);
+        tria->execute_coarsening_and_refinement();
+        setup_mesh_dependents();
+        if (context)
+          context->print("[initial state] mesh refined: " +
+                         std::to_string(tria->n_global_active_cells()) +
+                         " cells, " + std::to_string(dof_handler.n_dofs()) +
+                         " DoFs");
+      }
+  }
+
+
+
+  template <int dim>
+  bool
+  ElasticitySimulator<dim>::Impl::adapts_after(const unsigned int i) const
+  {
+    return transient_adaptivity && i % p.adapt_every == 0 &&
+           time_grid.time(i) < p.end_time;
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::adapt_mesh_in_time(const unsigned int i)
+  {
+    AssertThrow(!store_states,
+                ExcMessage("a transient run whose mesh adapts cannot store "
+                           "its states for an adjoint (gradients over a "
+                           "sequence of meshes are not available yet); set "
+                           "Finite element/Adaptivity = none."));
+    if (!transient_indicators())
+      return;
+    mark_cells(true);
+
+    // Every history level (u^{i-j}, v^{i-j}) moves to the new mesh; the
+    // newest level is u, v themselves.
+    const unsigned int    levels = u_history.size();
+    std::vector<Vector_t> old(2 * levels, Vector_t(owned, relevant, comm));
+    std::vector<const Vector_t *> in;
+    for (unsigned int j = 0; j < levels; ++j)
+      {
+        old[j]          = u_history[j];
+        old[levels + j] = v_history[j];
+      }
+    for (const auto &x : old)
+      in.push_back(&x);
+    parallel::distributed::SolutionTransfer<dim, Vector_t> transfer(
+      dof_handler);
+    adaptive_mesh(*tria).prepare_coarsening_and_refinement();
+    transfer.prepare_for_coarsening_and_refinement(in);
+    tria->execute_coarsening_and_refinement();
+    setup_mesh_dependents();
+
+    std::vector<Vector_t>   moved(2 * levels, Vector_t(owned, comm));
+    std::vector<Vector_t *> out;
+    for (auto &x : moved)
+      out.push_back(&x);
+    transfer.interpolate(out);
+    // Hanging DoFs take their masters' values (interpolation leaves them
+    // as the old mesh had them); Dirichlet values stay as transferred
+    // until the next step prescribes them.
+    AffineConstraints<double> hanging(relevant);
+    DoFTools::make_hanging_node_constraints(dof_handler, hanging);
+    hanging.close();
+    for (unsigned int j = 0; j < levels; ++j)
+      {
+        hanging.distribute(moved[j]);
+        hanging.distribute(moved[levels + j]);
+        u_history[j] = moved[j];
+        v_history[j] = moved[levels + j];
+      }
+    u = u_history[0];
+    v = v_history[0];
+    ++mesh_adaptations;
+    if (context && !quiet)
+      context->print(
+        "[step " + std::to_string(i) +
+        "] mesh adapted: " + std::to_string(tria->n_global_active_cells()) +
+        " cells, " + std::to_string(dof_handler.n_dofs()) + " DoFs");
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::setup_mesh_dependents()
+  {
+    setup_system();
+    if (matrix_free) // its own DoF handlers hold the old mesh too
+      matrix_free =
+        std::make_unique<MatrixFreeElasticity<dim>>(p.linear_solver);
+  }
+
+
+  template class ElasticitySimulator<2>::Impl;
+  template class ElasticitySimulator<3>::Impl;
+} // namespace forma
