@@ -44,6 +44,21 @@ namespace forma
 
   template <int dim>
   void
+  ElasticitySimulator<dim>::Impl::constrain_hanging_nodes(
+    std::vector<Vector_t *> vectors) const
+  {
+    // Not constraints_zero: that would zero Dirichlet values.
+    AffineConstraints<double> hanging(relevant);
+    DoFTools::make_hanging_node_constraints(dof_handler, hanging);
+    hanging.close();
+    for (auto *x : vectors)
+      hanging.distribute(*x);
+  }
+
+
+
+  template <int dim>
+  void
   ElasticitySimulator<dim>::Impl::mark_cells(const bool level_limits)
   {
     auto &mesh = adaptive_mesh(*tria);
@@ -55,18 +70,33 @@ namespace forma
     else
       parallel::distributed::GridRefinement::refine_and_coarsen_fixed_number(
         mesh, estimated_error, p.refine_fraction, p.coarsen_fraction);
-    if (!level_limits)
-      return;
     // Transient runs: within the starting mesh's levels and Max refinement
     // level more, so that a moving front cannot refine without bound.
+    if (level_limits)
+      for (const auto &cell : mesh.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            if (cell->level() >= static_cast<int>(top_level))
+              cell->clear_refine_flag();
+            if (cell->level() <= static_cast<int>(base_level))
+              cell->clear_coarsen_flag();
+          }
+  }
+
+
+
+  template <int dim>
+  bool
+  ElasticitySimulator<dim>::Impl::mesh_will_change() const
+  {
+    auto &mesh = adaptive_mesh(*tria);
+    mesh.prepare_coarsening_and_refinement();
+    bool flagged = false;
     for (const auto &cell : mesh.active_cell_iterators())
-      if (cell->is_locally_owned())
-        {
-          if (cell->level() >= static_cast<int>(top_level))
-            cell->clear_refine_flag();
-          if (cell->level() <= static_cast<int>(base_level))
-            cell->clear_coarsen_flag();
-        }
+      if (cell->is_locally_owned() &&
+          (cell->refine_flag_set() || cell->coarsen_flag_set()))
+        flagged = true;
+    return Utilities::MPI::logical_or(flagged, comm);
   }
 
 
@@ -170,9 +200,12 @@ namespace forma
     for (unsigned int c = 0; c < p.adaptive_cycles; ++c)
       {
         interpolate_initial_state();
+        constrain_hanging_nodes({&u, &v});
         if (!transient_indicators())
           break;
         mark_cells(true);
+        if (!mesh_will_change())
+          break;
         tria->execute_coarsening_and_refinement();
         setup_mesh_dependents();
         if (context)
@@ -189,8 +222,7 @@ namespace forma
   bool
   ElasticitySimulator<dim>::Impl::adapts_after(const unsigned int i) const
   {
-    return transient_adaptivity && i % p.adapt_every == 0 &&
-           time_grid.time(i) < p.end_time;
+    return transient_adaptivity && i % p.adapt_every == 0 && !last_step(i);
   }
 
 
@@ -207,6 +239,8 @@ namespace forma
     if (!transient_indicators())
       return;
     mark_cells(true);
+    if (!mesh_will_change())
+      return;
 
     // Every history level (u^{i-j}, v^{i-j}) moves to the new mesh; the
     // newest level is u, v themselves.
@@ -222,7 +256,6 @@ namespace forma
       in.push_back(&x);
     parallel::distributed::SolutionTransfer<dim, Vector_t> transfer(
       dof_handler);
-    adaptive_mesh(*tria).prepare_coarsening_and_refinement();
     transfer.prepare_for_coarsening_and_refinement(in);
     tria->execute_coarsening_and_refinement();
     setup_mesh_dependents();
@@ -232,19 +265,18 @@ namespace forma
     for (auto &x : moved)
       out.push_back(&x);
     transfer.interpolate(out);
-    // Hanging DoFs take their masters' values (interpolation leaves them
-    // as the old mesh had them); Dirichlet values stay as transferred
-    // until the next step prescribes them.
-    AffineConstraints<double> hanging(relevant);
-    DoFTools::make_hanging_node_constraints(dof_handler, hanging);
-    hanging.close();
+    // Hanging DoFs take their masters' values. A new Dirichlet DoF of
+    // u^{i-j} takes g(t_{i-j}) itself, not the old mesh's interpolant of it:
+    // the next velocity divides the difference by the step.
     for (unsigned int j = 0; j < levels; ++j)
       {
-        hanging.distribute(moved[j]);
-        hanging.distribute(moved[levels + j]);
+        make_constraints(time_grid.time(i - j));
+        constraints_bc.distribute(moved[j]);
+        constrain_hanging_nodes({&moved[levels + j]});
         u_history[j] = moved[j];
         v_history[j] = moved[levels + j];
       }
+    make_constraints(time);
     u = u_history[0];
     v = v_history[0];
     ++mesh_adaptations;
@@ -261,6 +293,8 @@ namespace forma
   void
   ElasticitySimulator<dim>::Impl::setup_mesh_dependents()
   {
+    // Factorizations and preconditioners of the old matrices are useless.
+    linear_solver = LinearSolver(p.linear_solver);
     setup_system();
     if (matrix_free) // its own DoF handlers hold the old mesh too
       matrix_free =

@@ -420,10 +420,14 @@ namespace forma
                            "estimate) estimates static problems; the "
                            "transient (backward in time) estimate is not "
                            "available yet: use Error indicator = kelly."));
-    AssertThrow(marking == "cell count" ||
-                  refine_fraction + coarsen_fraction <= 1,
-                ExcMessage("Finite element/Marking = error fraction: Refine "
-                           "fraction + Coarsen fraction must not exceed 1."));
+    AssertThrow(refine_fraction + coarsen_fraction <= 1,
+                ExcMessage("Finite element: Refine fraction + Coarsen "
+                           "fraction must not exceed 1."));
+    AssertThrow(mesh.separate_interfaces.empty() || adaptivity == "none",
+                ExcMessage("Mesh/Separate interfaces: adaptive refinement "
+                           "is not available on meshes cut open at "
+                           "interfaces; set Finite element/Adaptivity = "
+                           "none."));
     AssertThrow(load_cases.empty() || problem == "static",
                 ExcMessage("Boundary conditions/Load cases: several load "
                            "cases are for static problems."));

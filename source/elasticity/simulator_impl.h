@@ -322,6 +322,12 @@ namespace forma
     /// with `level_limits` within [base_level, top_level].
     void
     mark_cells(const bool level_limits);
+    /// Hanging DoFs take their masters' values (Dirichlet values kept).
+    void
+    constrain_hanging_nodes(std::vector<Vector_t *> vectors) const;
+    /// Settle the flags (p4est balance); whether any rank's cells change.
+    bool
+    mesh_will_change() const;
     /// Static adaptive cycles: estimate, mark and refine.
     void
     refine_mesh();
@@ -336,6 +342,9 @@ namespace forma
     /// Whether the mesh adapts after accepted step i.
     bool
     adapts_after(const unsigned int i) const;
+    /// Whether accepted step i ends the run.
+    bool
+    last_step(const unsigned int i) const;
     /// Refine and coarsen after step i, carrying u, v and every history
     /// level to the new mesh.
     void

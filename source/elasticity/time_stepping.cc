@@ -160,6 +160,8 @@ namespace forma
     interpolate_initial_state();
     make_constraints(0.);
     constraints_zero.distribute(u); // hanging nodes only matter here
+    if (transient_adaptivity) // Adaptive cycles may have left hanging nodes
+      constrain_hanging_nodes({&v});
     time = 0;
     if (ipc_contact && u.linfty_norm() > 0)
       ipc_contact->check_state(u, "Initial conditions/Displacement", false);
@@ -269,12 +271,10 @@ namespace forma
       }
     if (quiet)
       return;
-    const double t = time_grid.time(i);
-    const bool   last =
-      i == time_grid.n_steps() && (time_grid.is_uniform() || t == p.end_time);
+    const double      t        = time_grid.time(i);
     const std::string contacts = ipc_progress();
     record_step(i, t, its.first, its.second);
-    if (i % p.output_every == 0 || last)
+    if (i % p.output_every == 0 || last_step(i))
       write_output(i, t);
     const std::string count =
       time_grid.is_uniform() ? "/" + std::to_string(time_grid.n_steps()) : "";
@@ -286,6 +286,18 @@ namespace forma
          "") +
       ", Newton iterations: " + std::to_string(its.first) + contacts);
   }
+
+
+  template <int dim>
+  bool
+  ElasticitySimulator<dim>::Impl::last_step(const unsigned int i) const
+  {
+    // Adaptive grids end where they land on End time; uniform ones with
+    // their last step (whose time may round below End time).
+    return i == time_grid.n_steps() &&
+           (time_grid.is_uniform() || time_grid.time(i) == p.end_time);
+  }
+
 
 
   template <int dim>
