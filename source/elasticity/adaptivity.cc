@@ -268,11 +268,16 @@ namespace forma
     // Hanging DoFs take their masters' values. A new Dirichlet DoF of
     // u^{i-j} takes g(t_{i-j}) itself, not the old mesh's interpolant of it:
     // the next velocity divides the difference by the step.
+    std::vector<Vector_t *> velocities;
     for (unsigned int j = 0; j < levels; ++j)
       {
         make_constraints(time_grid.time(i - j));
         constraints_bc.distribute(moved[j]);
-        constrain_hanging_nodes({&moved[levels + j]});
+        velocities.push_back(&moved[levels + j]);
+      }
+    constrain_hanging_nodes(velocities); // one set of constraints for all
+    for (unsigned int j = 0; j < levels; ++j)
+      {
         u_history[j] = moved[j];
         v_history[j] = moved[levels + j];
       }
