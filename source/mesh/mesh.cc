@@ -24,9 +24,11 @@ namespace forma
     prm.enter_subsection("Mesh");
     prm.declare_entry("Source",
                       "generator",
-                      Patterns::Selection("generator|file"),
+                      Patterns::Selection("generator|file|pipe graph"),
                       "Build the coarse mesh with a deal.II GridGenerator "
-                      "function or read it from a Gmsh .msh file.");
+                      "function, read it from a Gmsh .msh file, or make a 3D "
+                      "pipe assembly of ball connectors and pipes from a "
+                      "graph (subsection Pipe graph).");
     prm.declare_entry(
       "Generator",
       "hyper_cube",
@@ -64,6 +66,7 @@ namespace forma
       "separate and slide, e.g. for deformable-deformable contact: '1-2 : "
       "10 ; 2-3 : 11' duplicates the vertices shared by materials 1 and 2 "
       "and gives the faces on both sides boundary id 10.");
+    PipeGraph::declare(prm);
     prm.leave_subsection();
   }
 
@@ -87,6 +90,8 @@ namespace forma
     convert_to_simplices = prm.get_bool("Convert to simplices");
     initial_refinement   = prm.get_integer("Initial refinement");
     separate_interfaces  = prm.get("Separate interfaces");
+    if (source == "pipe graph")
+      pipe_graph.parse(prm);
     prm.leave_subsection();
     parse_interface_cuts(separate_interfaces, "Mesh/Separate interfaces");
     AssertThrow(source != "file" || !file_as_given.empty(),
@@ -173,6 +178,15 @@ namespace forma
                                    params.generator_arguments +
                                    "' failed: " + error_message(exc)));
           }
+      }
+    else if (params.source == "pipe graph")
+      {
+        where = "Mesh/Pipe graph";
+        AssertThrow(dim == 3,
+                    ExcMessage("Mesh/Source = pipe graph makes 3D assemblies: "
+                               "set Dimension = 3."));
+        std::istringstream in(pipe_graph_mesh(params.pipe_graph));
+        GridIn<dim>(tria).read_msh(in);
       }
     else
       {

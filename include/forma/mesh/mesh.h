@@ -4,6 +4,8 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
 
+#include <forma/mesh/pipe_graph.h>
+
 #include <memory>
 #include <string>
 
@@ -23,7 +25,7 @@ namespace forma
   /// The `Mesh` section shared by every app.
   struct MeshParameters
   {
-    std::string  source;    ///< "generator" or "file"
+    std::string  source;    ///< "generator", "file" or "pipe graph"
     std::string  generator; ///< a GridGenerator function name
     std::string  generator_arguments;
     std::string  file; ///< resolved against the .prm directory
@@ -31,6 +33,7 @@ namespace forma
     bool         convert_to_simplices = false;
     unsigned int initial_refinement   = 0;
     std::string  separate_interfaces; ///< see InterfaceCut
+    PipeGraph    pipe_graph;          ///< for source "pipe graph"
 
     static void
     declare(dealii::ParameterHandler &prm);
@@ -38,8 +41,8 @@ namespace forma
     parse(dealii::ParameterHandler &prm, const std::string &prm_directory);
   };
 
-  /// The coarse mesh (generator or Gmsh file), checked for inverted cells,
-  /// with the interfaces of `Separate interfaces` cut open.
+  /// The coarse mesh (generator, Gmsh file or pipe graph), checked for inverted
+  /// cells, with the interfaces of `Separate interfaces` cut open.
   template <int dim>
   void
   create_coarse_mesh(const MeshParameters            &params,

@@ -1,0 +1,88 @@
+#ifndef forma_mesh_pipe_graph_h
+#define forma_mesh_pipe_graph_h
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace forma
+{
+  /**
+   * A pipe assembly from a graph (thesis ch. 2.7, "3D pipe-like": tent, truss,
+   * dodecahedron): every node becomes a ball connector (material 1), every
+   * edge a pipe (material 2) whose ends sit in sockets of its two balls. The
+   * parts share their socket surfaces (a conforming tetrahedral mesh), so
+   * `Mesh/Separate interfaces = 1-2 : id` cuts every ball-pipe contact at
+   * once. Clip planes cut the assembly (a floor for rigid contact, a flat
+   * pad to load, the mirror planes of a symmetric assembly).
+   */
+  struct PipeGraph
+  {
+    struct Node
+    {
+      std::array<double, 3> x;
+      unsigned int          boundary_id; ///< the ball's free surface
+    };
+    struct Edge
+    {
+      unsigned int a, b;
+      unsigned int boundary_id; ///< the pipe's free surface
+    };
+    /// Keep the side normal . x >= offset (normal of unit length); the cut
+    /// faces get `boundary_id`.
+    struct Clip
+    {
+      std::array<double, 3> normal;
+      double                offset;
+      unsigned int          boundary_id;
+    };
+
+    std::vector<Node> nodes;
+    std::vector<Edge> edges;
+    std::vector<Clip> clips;
+    double            connector_radius = 0;
+    double            pipe_radius      = 0;
+    /// How far a pipe reaches into a ball, from the ball's surface along
+    /// the pipe's axis: the pipe ends at connector_radius - socket_depth
+    /// from the node.
+    double       socket_depth        = 0;
+    double       mesh_size           = 0;
+    unsigned int elements_per_circle = 12; ///< curvature sizing
+
+    /// The `Pipe graph` subsection (inside `Mesh`).
+    static void
+    declare(dealii::ParameterHandler &prm);
+    /// Read and check the subsection (inside `Mesh`).
+    void
+    parse(dealii::ParameterHandler &prm);
+
+    /// Throws a message naming the nodes or edges when parts would overlap:
+    /// balls closer than their diameter, sockets of one ball that meet,
+    /// pipes that cross or pass through a ball, a socket that does not
+    /// open to the ball's surface.
+    void
+    check() const;
+
+  private:
+    void
+    check_sizes() const;
+    void
+    check_edges() const;
+    void
+    check_balls() const;
+    void
+    check_pipes() const;
+    void
+    check_sockets() const;
+  };
+
+  /// The assembly meshed with tetrahedra by Gmsh (OpenCASCADE), as Gmsh 2.2
+  /// text: physical volumes 1 (balls) and 2 (pipes), physical surfaces the
+  /// nodes', edges' and clip planes' boundary ids (0: left untagged).
+  std::string
+  pipe_graph_mesh(const PipeGraph &graph);
+} // namespace forma
+
+#endif

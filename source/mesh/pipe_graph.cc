@@ -1,0 +1,741 @@
+// Pipe assemblies from graphs: ball connectors at the nodes, pipes along the
+// edges, meshed by Gmsh's OpenCASCADE kernel.
+
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/utilities.h>
+
+#include <forma/base/records.h>
+#include <forma/mesh/pipe_graph.h>
+
+#include "gmsh_session.h"
+#include <gmsh.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace forma
+{
+  using namespace dealii;
+
+  namespace
+  {
+    using Vec3 = std::array<double, 3>;
+
+    const std::string section = "Mesh/Pipe graph";
+
+    Vec3
+    operator-(const Vec3 &a, const Vec3 &b)
+    {
+      return {{a[0] - b[0], a[1] - b[1], a[2] - b[2]}};
+    }
+
+    Vec3
+    axpy(const Vec3 &x, const double a, const Vec3 &d)
+    {
+      return {{x[0] + a * d[0], x[1] + a * d[1], x[2] + a * d[2]}};
+    }
+
+    double
+    dot(const Vec3 &a, const Vec3 &b)
+    {
+      return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    }
+
+    double
+    norm(const Vec3 &a)
+    {
+      return std::sqrt(dot(a, a));
+    }
+
+    std::string
+    fmt(const double x)
+    {
+      std::ostringstream s;
+      s.precision(4);
+      s << x;
+      return s.str();
+    }
+
+    double
+    number(const std::string &text, const std::string &entry)
+    {
+      try
+        {
+          std::size_t end = 0;
+          const auto  t   = Utilities::trim(text);
+          const auto  x   = std::stod(t, &end);
+          if (end == t.size() && std::isfinite(x))
+            return x;
+        }
+      catch (...)
+        {}
+      AssertThrow(false,
+                  ExcMessage(section + "/" + entry + ": '" + text +
+                             "' is not a number."));
+      return 0;
+    }
+
+    unsigned int
+    index(const std::string &text, const std::string &entry)
+    {
+      const double x = number(text, entry);
+      AssertThrow(x >= 0 && x == std::floor(x) && x < 65535,
+                  ExcMessage(section + "/" + entry + ": '" + text +
+                             "' is not a non-negative integer."));
+      return static_cast<unsigned int>(x);
+    }
+
+    /// `record` split at ':' into its body and an optional id.
+    std::pair<std::string, unsigned int>
+    body_and_id(const std::string &record,
+                const unsigned int default_id,
+                const std::string &entry)
+    {
+      const auto fields = split_top_level(record, ':');
+      AssertThrow(fields.size() == 1 || fields.size() == 2,
+                  ExcMessage(section + "/" + entry + ": the record '" + record +
+                             "' has more than one ':'."));
+      return {fields[0],
+              fields.size() == 2 ? index(fields[1], entry) : default_id};
+    }
+
+    std::vector<std::string>
+    records(const std::string &text)
+    {
+      std::vector<std::string> result;
+      for (const auto &r : split_top_level(text, ';'))
+        if (!Utilities::trim(r).empty())
+          result.push_back(Utilities::trim(r));
+      return result;
+    }
+
+    /// Closest distance between segments [p0, p1] and [q0, q1].
+    double
+    segment_distance(const Vec3 &p0,
+                     const Vec3 &p1,
+                     const Vec3 &q0,
+                     const Vec3 &q1)
+    {
+      // Minimize |p0 + s u - q0 - t v| over [0, 1]^2: the interior
+      // stationary point if it is inside, else the best of the edges.
+      const Vec3   u = p1 - p0, v = q1 - q0, w = p0 - q0;
+      const double a = dot(u, u), b = dot(u, v), c = dot(v, v), d = dot(u, w),
+                   e = dot(v, w);
+      auto dist      = [&](const double s, const double t) {
+        return norm(axpy(axpy(w, s, u), -t, v));
+      };
+      auto   clamp01   = [](const double x) { return std::clamp(x, 0., 1.); };
+      double best      = std::numeric_limits<double>::infinity();
+      const double den = a * c - b * b;
+      if (den > 1e-14 * a * c)
+        {
+          const double s = (b * e - c * d) / den, t = (a * e - b * d) / den;
+          if (s >= 0 && s <= 1 && t >= 0 && t <= 1)
+            best = dist(s, t);
+        }
+      for (const double s : {0., 1.})
+        best = std::min(best, dist(s, c > 0 ? clamp01((b * s + e) / c) : 0.));
+      for (const double t : {0., 1.})
+        best = std::min(best, dist(clamp01((b * t - d) / a), t));
+      return best;
+    }
+
+    /// Coefficients n and constant f0 of a linear form such as
+    /// '2*x + y - 0.5 z + 1'; false if `text` is not one.
+    bool
+    linear_form(const std::string &text, std::array<double, 3> &n, double &f0)
+    {
+      std::string t;
+      for (const char c : text)
+        if (c != ' ' && c != '*')
+          t += c;
+      if (t.empty())
+        return false;
+      std::size_t i = 0;
+      while (i < t.size())
+        {
+          double sign = 1;
+          if (t[i] == '+' || t[i] == '-')
+            sign = t[i++] == '-' ? -1 : 1;
+          std::size_t end = i;
+          while (end < t.size() && t[end] != '+' && t[end] != '-' &&
+                 !(end > i && (t[end - 1] == 'e' || t[end - 1] == 'E') &&
+                   std::isdigit(t[i])))
+            ++end;
+          const std::string term = t.substr(i, end - i);
+          if (term.empty())
+            return false;
+          const char        last = term.back();
+          const bool        var  = last == 'x' || last == 'y' || last == 'z';
+          const std::string coefficient =
+            var ? term.substr(0, term.size() - 1) : term;
+          double value = 1;
+          if (!coefficient.empty())
+            {
+              std::size_t used = 0;
+              try
+                {
+                  value = std::stod(coefficient, &used);
+                }
+              catch (...)
+                {
+                  return false;
+                }
+              if (used != coefficient.size())
+                return false;
+            }
+          else if (!var)
+            return false;
+          (var ? n[last - 'x'] : f0) += sign * value;
+          i = end;
+        }
+      return true;
+    }
+
+    /// 'a x + b y + c z >= d : id' (or <=) as a unit normal and offset.
+    PipeGraph::Clip
+    parse_clip(const std::string &record)
+    {
+      const std::string entry = section + "/Clip planes";
+      const auto [body, id]   = body_and_id(record, 0, "Clip planes");
+      const auto op           = body.find_first_of("<>");
+      AssertThrow(op != std::string::npos && op + 1 < body.size() &&
+                    body[op + 1] == '=' &&
+                    record.find(':') != std::string::npos,
+                  ExcMessage(entry + ": the record '" + record +
+                             "' must read '<linear form in x, y, z> >= value "
+                             ": id' (or <=), e.g. 'x + y >= 1 : 7'."));
+      std::array<double, 3> n{{0, 0, 0}};
+      double                f0 = 0;
+      AssertThrow(linear_form(body.substr(0, op), n, f0),
+                  ExcMessage(entry + ": '" +
+                             Utilities::trim(body.substr(0, op)) + "' in '" +
+                             record +
+                             "' is not a linear form in x, y, z (such as "
+                             "'x', '-z' or '2*x + y - 0.5 z')."));
+      const double length = std::sqrt(dot(n, n));
+      AssertThrow(length > 0,
+                  ExcMessage(entry + ": '" + record + "' names no direction."));
+      const double    value = number(body.substr(op + 2), "Clip planes");
+      const double    sign  = body[op] == '>' ? 1 : -1;
+      PipeGraph::Clip c;
+      for (unsigned int d = 0; d < 3; ++d)
+        c.normal[d] = sign * n[d] / length;
+      c.offset      = sign * (value - f0) / length;
+      c.boundary_id = id;
+      return c;
+    }
+
+    std::string
+    edge_name(const PipeGraph::Edge &e)
+    {
+      return std::to_string(e.a) + "-" + std::to_string(e.b);
+    }
+  } // namespace
+
+
+
+  void
+  PipeGraph::declare(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Pipe graph");
+    prm.declare_entry(
+      "Nodes",
+      "",
+      Patterns::Anything(),
+      "Mesh/Source = pipe graph: the graph's nodes, each a ball connector "
+      "(material 1), numbered from 0: 'x, y, z ; x, y, z : id ; ...'. The "
+      "optional id is the boundary id of the ball's free surface (default "
+      "1; 0 leaves it untagged), e.g. for a load or a support.");
+    prm.declare_entry(
+      "Edges",
+      "",
+      Patterns::Anything(),
+      "The graph's edges, each a pipe (material 2) between two nodes whose "
+      "ends sit in sockets of their balls: '0-1 ; 1-2 : id ; ...'. The "
+      "optional id is the boundary id of the pipe's free surface (default "
+      "2). The sockets are shared surfaces: Mesh/Separate interfaces = 1-2 "
+      ": id cuts them all open for contact.");
+    prm.declare_entry("Connector radius",
+                      "0.5",
+                      Patterns::Double(0),
+                      "Radius of the ball connectors.");
+    prm.declare_entry("Pipe radius",
+                      "0.15",
+                      Patterns::Double(0),
+                      "Radius of the pipes.");
+    prm.declare_entry("Socket depth",
+                      "0.25",
+                      Patterns::Double(0),
+                      "How far a pipe reaches into a ball along its axis, "
+                      "from the ball's surface: pipes end at Connector "
+                      "radius - Socket depth from their nodes.");
+    prm.declare_entry("Mesh size",
+                      "0.1",
+                      Patterns::Double(0),
+                      "Largest tetrahedron edge.");
+    prm.declare_entry("Elements per circle",
+                      "12",
+                      Patterns::Integer(6, 64),
+                      "Gmsh's curvature sizing: edges per full turn of the "
+                      "balls' and pipes' curved surfaces. Their flat facets "
+                      "lose at most an inscribed polygon's share of a pipe's "
+                      "section: 4.5% at 12, 17% at 6.");
+    prm.declare_entry(
+      "Clip planes",
+      "",
+      Patterns::Anything(),
+      "Planes cutting the assembly, each a linear inequality in x, y, z "
+      "that keeps a side, and the boundary id of the cut faces: 'z >= -0.4 "
+      ": 5 ; x >= 0 : 20 ; x + y + z <= 14 : 6'. A floor for rigid contact, "
+      "a flat pad to load, or the mirror planes of a symmetric assembly "
+      "(with a Dirichlet condition on the normal component).");
+    prm.leave_subsection();
+  }
+
+
+
+  void
+  PipeGraph::parse(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Pipe graph");
+    nodes.clear();
+    for (const auto &r : records(prm.get("Nodes")))
+      {
+        const auto [body, id] = body_and_id(r, 1, "Nodes");
+        const auto xyz        = Utilities::split_string_list(body, ',');
+        AssertThrow(xyz.size() == 3,
+                    ExcMessage(section + "/Nodes: the record '" + r +
+                               "' must read 'x, y, z' or 'x, y, z : id'."));
+        nodes.push_back({{{number(xyz[0], "Nodes"),
+                           number(xyz[1], "Nodes"),
+                           number(xyz[2], "Nodes")}},
+                         id});
+      }
+    edges.clear();
+    for (const auto &r : records(prm.get("Edges")))
+      {
+        const auto [body, id] = body_and_id(r, 2, "Edges");
+        const auto ab         = Utilities::split_string_list(body, '-');
+        AssertThrow(ab.size() == 2,
+                    ExcMessage(section + "/Edges: the record '" + r +
+                               "' must read 'a-b' or 'a-b : id'."));
+        edges.push_back({index(ab[0], "Edges"), index(ab[1], "Edges"), id});
+      }
+    clips.clear();
+    for (const auto &r : records(prm.get("Clip planes")))
+      clips.push_back(parse_clip(r));
+    connector_radius    = prm.get_double("Connector radius");
+    pipe_radius         = prm.get_double("Pipe radius");
+    socket_depth        = prm.get_double("Socket depth");
+    mesh_size           = prm.get_double("Mesh size");
+    elements_per_circle = prm.get_integer("Elements per circle");
+    prm.leave_subsection();
+    check();
+  }
+
+
+
+  void
+  PipeGraph::check() const
+  {
+    AssertThrow(nodes.size() >= 2 && !edges.empty(),
+                ExcMessage(section + ": the graph needs at least two Nodes "
+                                     "and one edge (Edges)."));
+    check_sizes();
+    check_edges();
+    check_balls();
+    check_pipes();
+    check_sockets();
+    for (const auto &c : clips)
+      AssertThrow(c.boundary_id > 0,
+                  ExcMessage(section + "/Clip planes: give the cut faces a "
+                                       "boundary id above 0."));
+  }
+
+
+
+  void
+  PipeGraph::check_sizes() const
+  {
+    const double R = connector_radius, r = pipe_radius;
+    AssertThrow(R > 0 && r > 0 && mesh_size > 0 && r < R,
+                ExcMessage(section + ": Connector radius, Pipe radius and "
+                                     "Mesh size must be positive, the pipes "
+                                     "thinner than the balls."));
+    const double rim = std::sqrt(R * R - r * r);
+    AssertThrow(socket_depth > R - rim && socket_depth < R,
+                ExcMessage(section + ": Socket depth " + fmt(socket_depth) +
+                           " must lie between " + fmt(R - rim) +
+                           " (where the pipe's rim enters the ball) and the "
+                           "Connector radius " +
+                           fmt(R) + "."));
+  }
+
+
+
+  void
+  PipeGraph::check_edges() const
+  {
+    std::set<std::pair<unsigned int, unsigned int>> seen;
+    for (const auto &e : edges)
+      {
+        AssertThrow(e.a < nodes.size() && e.b < nodes.size() && e.a != e.b,
+                    ExcMessage(section + "/Edges: " + edge_name(e) +
+                               " must join two different nodes of the " +
+                               std::to_string(nodes.size()) + " given."));
+        AssertThrow(seen.insert(std::minmax(e.a, e.b)).second,
+                    ExcMessage(section + "/Edges: " + edge_name(e) +
+                               " is given twice."));
+      }
+  }
+
+
+
+  void
+  PipeGraph::check_balls() const
+  {
+    const double R = connector_radius, margin = 0.1 * pipe_radius;
+    for (unsigned int i = 0; i < nodes.size(); ++i)
+      for (unsigned int j = i + 1; j < nodes.size(); ++j)
+        AssertThrow(norm(nodes[i].x - nodes[j].x) >= 2 * R + margin,
+                    ExcMessage(section + ": the balls of nodes " +
+                               std::to_string(i) + " and " + std::to_string(j) +
+                               " overlap (their centres are " +
+                               fmt(norm(nodes[i].x - nodes[j].x)) +
+                               " apart, the diameter is " + fmt(2 * R) + ")."));
+  }
+
+
+
+  void
+  PipeGraph::check_pipes() const
+  {
+    const double R = connector_radius, r = pipe_radius, margin = 0.1 * r;
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      for (const auto &e : edges)
+        if (e.a != k && e.b != k)
+          AssertThrow(segment_distance(nodes[e.a].x,
+                                       nodes[e.b].x,
+                                       nodes[k].x,
+                                       nodes[k].x) >= R + r + margin,
+                      ExcMessage(section + ": the pipe of edge " +
+                                 edge_name(e) + " passes through the ball " +
+                                 "of node " + std::to_string(k) + "."));
+    for (unsigned int i = 0; i < edges.size(); ++i)
+      for (unsigned int j = i + 1; j < edges.size(); ++j)
+        {
+          const auto &e = edges[i], &f = edges[j];
+          if (e.a == f.a || e.a == f.b || e.b == f.a || e.b == f.b)
+            continue; // check_sockets()
+          const double d = segment_distance(nodes[e.a].x,
+                                            nodes[e.b].x,
+                                            nodes[f.a].x,
+                                            nodes[f.b].x);
+          AssertThrow(d >= 2 * r + margin,
+                      ExcMessage(section + ": the pipes of edges " +
+                                 edge_name(e) + " and " + edge_name(f) +
+                                 " cross (their axes come " + fmt(d) +
+                                 " close, the pipes' diameter is " +
+                                 fmt(2 * r) + ")."));
+        }
+  }
+
+
+
+  void
+  PipeGraph::check_sockets() const
+  {
+    // Half-cylinders of radius r leaving one point at angle theta are apart
+    // beyond r cot(theta / 2) from it (they lie on either side of the
+    // bisector plane there). Two edges from one node in one direction pass
+    // through each other's ball (check_pipes()), so theta > 0 here.
+    const double r = pipe_radius, s = connector_radius - socket_depth;
+    auto         direction = [&](const Edge &e, const unsigned int from) {
+      const Vec3 d = nodes[from == e.a ? e.b : e.a].x - nodes[from].x;
+      return axpy(Vec3{{0, 0, 0}}, 1. / norm(d), d);
+    };
+    for (unsigned int i = 0; i < edges.size(); ++i)
+      for (unsigned int j = i + 1; j < edges.size(); ++j)
+        {
+          const auto &e = edges[i], &f = edges[j];
+          const int   k = e.a == f.a || e.a == f.b ?
+                            e.a :
+                            (e.b == f.a || e.b == f.b ? e.b : -1);
+          if (k < 0)
+            continue;
+          const double c =
+            std::clamp(dot(direction(e, k), direction(f, k)), -1., 1.);
+          const double half = 0.5 * std::acos(c);
+          const double need = r / std::tan(half) + 0.1 * r;
+          AssertThrow(s >= need,
+                      ExcMessage(
+                        section + ": the sockets of edges " + edge_name(e) +
+                        " and " + edge_name(f) + " meet inside the ball of " +
+                        "node " + std::to_string(k) + " (" +
+                        fmt(2 * half * 180 / M_PI) +
+                        " degrees apart): the pipes must end at least " +
+                        fmt(need) + " from the node, they end at " + fmt(s) +
+                        ". Lower Socket depth or the Pipe radius."));
+        }
+  }
+
+
+
+  namespace
+  {
+    gmsh::vectorpair
+    volumes(const std::vector<int> &tags)
+    {
+      gmsh::vectorpair v;
+      for (const int t : tags)
+        v.emplace_back(3, t);
+      return v;
+    }
+
+    std::vector<int>
+    tags_of(const gmsh::vectorpair &dim_tags)
+    {
+      std::vector<int> t;
+      for (const auto &dt : dim_tags)
+        if (dt.first == 3)
+          t.push_back(dt.second);
+      return t;
+    }
+
+    /// The parts of the assembly: one list of OpenCASCADE volumes each, the
+    /// balls first, then the pipes.
+    struct Parts
+    {
+      std::vector<std::vector<int>> volumes;
+      std::vector<unsigned int>     material, boundary_id;
+    };
+
+    Parts
+    build_parts(const PipeGraph &g)
+    {
+      namespace occ   = gmsh::model::occ;
+      const double s  = g.connector_radius - g.socket_depth;
+      const auto   nn = g.nodes.size();
+      Parts        parts;
+      parts.volumes.resize(nn + g.edges.size());
+      for (unsigned int i = 0; i < g.edges.size(); ++i)
+        {
+          const auto &a = g.nodes[g.edges[i].a].x, &b = g.nodes[g.edges[i].b].x;
+          const Vec3  d         = b - a;
+          const double L        = norm(d);
+          const Vec3   p        = axpy(a, s / L, d);
+          const double f        = (L - 2 * s) / L;
+          parts.volumes[nn + i] = {occ::addCylinder(
+            p[0], p[1], p[2], f * d[0], f * d[1], f * d[2], g.pipe_radius)};
+        }
+      for (unsigned int k = 0; k < nn; ++k)
+        {
+          const auto &x  = g.nodes[k].x;
+          const int ball = occ::addSphere(x[0], x[1], x[2], g.connector_radius);
+          std::vector<int> sockets;
+          for (unsigned int i = 0; i < g.edges.size(); ++i)
+            if (g.edges[i].a == k || g.edges[i].b == k)
+              sockets.push_back(parts.volumes[nn + i][0]);
+          gmsh::vectorpair              out;
+          std::vector<gmsh::vectorpair> map;
+          if (sockets.empty())
+            parts.volumes[k] = {ball};
+          else
+            {
+              occ::cut(
+                {{3, ball}}, volumes(sockets), out, map, -1, true, false);
+              parts.volumes[k] = tags_of(out);
+            }
+        }
+      for (unsigned int k = 0; k < nn; ++k)
+        {
+          parts.material.push_back(1);
+          parts.boundary_id.push_back(g.nodes[k].boundary_id);
+        }
+      for (const auto &e : g.edges)
+        {
+          parts.material.push_back(2);
+          parts.boundary_id.push_back(e.boundary_id);
+        }
+      return parts;
+    }
+
+    /// A solid box of size 2L x 2L x L on the kept side of `c`, its base on
+    /// the plane.
+    int
+    half_space(const PipeGraph::Clip &c, const double L)
+    {
+      namespace occ = gmsh::model::occ;
+      const int box = occ::addBox(-L, -L, 0, 2 * L, 2 * L, L);
+      // Turn the z axis onto the normal, about z x n.
+      const Vec3   ez{{0, 0, 1}}, &n = c.normal;
+      const Vec3   axis{{-n[1], n[0], 0.}};
+      const double angle = std::acos(std::clamp(dot(ez, n), -1., 1.));
+      if (norm(axis) > 1e-12)
+        occ::rotate({{3, box}}, 0, 0, 0, axis[0], axis[1], axis[2], angle);
+      else if (n[2] < 0)
+        occ::rotate({{3, box}}, 0, 0, 0, 1, 0, 0, M_PI);
+      occ::translate({{3, box}},
+                     c.offset * n[0],
+                     c.offset * n[1],
+                     c.offset * n[2]);
+      return box;
+    }
+
+    /// Intersect every part with the half-spaces the clip planes keep.
+    void
+    clip(const PipeGraph &g, Parts &parts)
+    {
+      namespace occ = gmsh::model::occ;
+      double L      = 0;
+      for (const auto &n : g.nodes)
+        L = std::max(L, norm(n.x));
+      L = 4 * (L + 2 * g.connector_radius);
+      for (const auto &c : g.clips)
+        {
+          // Beyond the assembly: it keeps all or nothing.
+          AssertThrow(c.offset < L / 4,
+                      ExcMessage(section +
+                                 "/Clip planes: they leave nothing of "
+                                 "the assembly."));
+          if (c.offset <= -L / 4)
+            continue;
+          const int box = half_space(c, L);
+          for (auto &v : parts.volumes)
+            if (!v.empty())
+              {
+                gmsh::vectorpair              out;
+                std::vector<gmsh::vectorpair> map;
+                occ::intersect(
+                  volumes(v), {{3, box}}, out, map, -1, true, false);
+                v = tags_of(out);
+              }
+          occ::remove({{3, box}}, true);
+        }
+    }
+
+    /// Glue the parts (shared socket surfaces) and renumber their volumes.
+    void
+    fragment(Parts &parts)
+    {
+      gmsh::vectorpair          all;
+      std::vector<unsigned int> owner;
+      for (unsigned int p = 0; p < parts.volumes.size(); ++p)
+        for (const int t : parts.volumes[p])
+          {
+            all.emplace_back(3, t);
+            owner.push_back(p);
+          }
+      AssertThrow(!all.empty(),
+                  ExcMessage(section + "/Clip planes: they leave nothing of "
+                                       "the assembly."));
+      gmsh::vectorpair              out;
+      std::vector<gmsh::vectorpair> map;
+      gmsh::model::occ::fragment(all, {}, out, map);
+      for (auto &v : parts.volumes)
+        v.clear();
+      for (unsigned int i = 0; i < all.size(); ++i)
+        for (const int t : tags_of(map[i]))
+          parts.volumes[owner[i]].push_back(t);
+    }
+
+    /// The clip plane a flat surface lies in, if any.
+    const PipeGraph::Clip *
+    on_clip_plane(const PipeGraph &g, const int surface)
+    {
+      std::string type;
+      gmsh::model::getType(2, surface, type);
+      if (type != "Plane")
+        return nullptr;
+      double x, y, z;
+      gmsh::model::occ::getCenterOfMass(2, surface, x, y, z);
+      std::vector<double> uv, normal;
+      gmsh::model::getParametrization(2, surface, {x, y, z}, uv);
+      gmsh::model::getNormal(surface, uv, normal);
+      const double tol = 1e-6 * g.connector_radius;
+      for (const auto &c : g.clips)
+        if (std::abs(dot(c.normal, {{x, y, z}}) - c.offset) < tol &&
+            std::abs(
+              std::abs(dot(c.normal, {{normal[0], normal[1], normal[2]}})) -
+              1) < 1e-6)
+          return &c;
+      return nullptr;
+    }
+
+    /// Physical groups: volumes by material, free surfaces by the ids of
+    /// their part or clip plane.
+    void
+    tag(const PipeGraph &g, const Parts &parts)
+    {
+      std::map<int, unsigned int>              part_of;
+      std::map<unsigned int, std::vector<int>> by_material;
+      for (unsigned int p = 0; p < parts.volumes.size(); ++p)
+        for (const int t : parts.volumes[p])
+          {
+            part_of[t] = p;
+            by_material[parts.material[p]].push_back(t);
+          }
+      for (const auto &[m, tags] : by_material)
+        gmsh::model::addPhysicalGroup(3, tags, m);
+
+      std::map<unsigned int, std::vector<int>> by_id;
+      gmsh::vectorpair                         surfaces;
+      gmsh::model::getEntities(surfaces, 2);
+      for (const auto &[d, s] : surfaces)
+        {
+          std::vector<int> up, down;
+          gmsh::model::getAdjacencies(2, s, up, down);
+          if (up.size() != 1)
+            continue; // a socket surface shared by a ball and a pipe
+          unsigned int id = parts.boundary_id[part_of.at(up[0])];
+          const auto   on = on_clip_plane(g, s);
+          if (on)
+            id = on->boundary_id;
+          if (id > 0)
+            by_id[id].push_back(s);
+        }
+      for (const auto &[id, tags] : by_id)
+        gmsh::model::addPhysicalGroup(2, tags, id);
+    }
+  } // namespace
+
+
+
+  std::string
+  pipe_graph_mesh(const PipeGraph &g)
+  {
+    g.check();
+    std::lock_guard<std::mutex> lock(internal::gmsh_mutex());
+    try
+      {
+        internal::GmshSession session("forma-pipe-graph");
+        Parts                 parts = build_parts(g);
+        clip(g, parts);
+        fragment(parts);
+        gmsh::model::occ::synchronize();
+        tag(g, parts);
+        gmsh::option::setNumber("Mesh.MeshSizeMax", g.mesh_size);
+        gmsh::option::setNumber("Mesh.MeshSizeFromCurvature",
+                                g.elements_per_circle);
+        gmsh::option::setNumber("Mesh.Optimize", 1);
+        gmsh::option::setNumber("Mesh.OptimizeThreshold", 0.5);
+        gmsh::model::mesh::generate(3);
+        gmsh::model::mesh::optimize("Relocate3D");
+        internal::gmsh_check_generated(3, section);
+        return internal::gmsh_written_mesh();
+      }
+    catch (const std::string &message) // what the Gmsh API throws
+      {
+        AssertThrow(false,
+                    ExcMessage(internal::gmsh_error(
+                      section, "failed (" + message + ")")));
+      }
+    return {};
+  }
+} // namespace forma
