@@ -12,6 +12,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <sstream>
 
 namespace forma
@@ -160,7 +161,9 @@ namespace forma
 
   template <int dim>
   void
-  create_coarse_mesh(const MeshParameters &params, Triangulation<dim> &tria)
+  create_coarse_mesh(const MeshParameters &params,
+                     Triangulation<dim>   &tria,
+                     const MPI_Comm        comm)
   {
     std::string where;
     if (params.source == "generator")
@@ -179,28 +182,32 @@ namespace forma
                                    "' failed: " + error_message(exc)));
           }
       }
-    else if (params.source == "pipe graph")
-      {
-        where = "Mesh/Pipe graph";
-        AssertThrow(dim == 3,
-                    ExcMessage("Mesh/Source = pipe graph makes 3D assemblies: "
-                               "set Dimension = 3."));
-        std::istringstream in(pipe_graph_mesh(params.pipe_graph));
-        GridIn<dim>(tria).read_msh(in);
-      }
     else
       {
-        where = "mesh file '" + params.file_as_given + "'";
-        std::ifstream in(params.file);
-        AssertThrow(in.good(),
-                    ExcMessage("Mesh/File: cannot open '" +
-                               params.file_as_given +
-                               "' (looked relative to the parameter file's "
-                               "directory)."));
+        std::unique_ptr<std::istream> in;
+        if (params.source == "pipe graph")
+          {
+            where = "Mesh/Pipe graph";
+            AssertThrow(dim == 3,
+                        ExcMessage("Mesh/Source = pipe graph makes 3D "
+                                   "assemblies: set Dimension = 3."));
+            in = std::make_unique<std::istringstream>(
+              pipe_graph_mesh(params.pipe_graph, comm));
+          }
+        else
+          {
+            where = "mesh file '" + params.file_as_given + "'";
+            in    = std::make_unique<std::ifstream>(params.file);
+            AssertThrow(in->good(),
+                        ExcMessage("Mesh/File: cannot open '" +
+                                   params.file_as_given +
+                                   "' (looked relative to the parameter "
+                                   "file's directory)."));
+          }
         GridIn<dim> grid_in(tria);
         try
           {
-            grid_in.read_msh(in);
+            grid_in.read_msh(*in);
           }
         catch (const std::exception &exc)
           {
@@ -242,7 +249,7 @@ namespace forma
   create_distributed_mesh(const MeshParameters &params, const MPI_Comm comm)
   {
     Triangulation<dim> coarse;
-    create_coarse_mesh(params, coarse);
+    create_coarse_mesh(params, coarse, comm);
 
     AssertThrow(coarse.all_reference_cells_are_simplex() ||
                   coarse.all_reference_cells_are_hyper_cube(),
@@ -288,9 +295,13 @@ namespace forma
   template std::unique_ptr<parallel::TriangulationBase<3>>
   make_parallel_triangulation<3>(const bool, const bool, const MPI_Comm);
   template void
-  create_coarse_mesh<2>(const MeshParameters &, Triangulation<2> &);
+  create_coarse_mesh<2>(const MeshParameters &,
+                        Triangulation<2> &,
+                        const MPI_Comm);
   template void
-  create_coarse_mesh<3>(const MeshParameters &, Triangulation<3> &);
+  create_coarse_mesh<3>(const MeshParameters &,
+                        Triangulation<3> &,
+                        const MPI_Comm);
   template void
   check_mesh_validity<2>(const Triangulation<2> &, const std::string &);
   template void

@@ -2,8 +2,10 @@
 // edges, meshed by Gmsh's OpenCASCADE kernel.
 
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/utilities.h>
 
+#include <forma/base/application.h>
 #include <forma/base/records.h>
 #include <forma/mesh/pipe_graph.h>
 
@@ -13,10 +15,12 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <map>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 namespace forma
 {
@@ -146,55 +150,57 @@ namespace forma
     }
 
     /// Coefficients n and constant f0 of a linear form such as
-    /// '2*x + y - 0.5 z + 1'; false if `text` is not one.
+    /// '2*x + y - 0.5 z + 1': terms joined by + or -, each a finite number,
+    /// a variable, or a number and a variable (with or without '*'); false
+    /// if `text` is not one.
     bool
     linear_form(const std::string &text, std::array<double, 3> &n, double &f0)
     {
-      std::string t;
-      for (const char c : text)
-        if (c != ' ' && c != '*')
-          t += c;
-      if (t.empty())
+      const char *c     = text.c_str();
+      const auto  blank = [&]() {
+        while (*c == ' ' || *c == '\t')
+          ++c;
+      };
+      bool first = true;
+      blank();
+      if (*c == '\0')
         return false;
-      std::size_t i = 0;
-      while (i < t.size())
+      while (*c != '\0')
         {
           double sign = 1;
-          if (t[i] == '+' || t[i] == '-')
-            sign = t[i++] == '-' ? -1 : 1;
-          std::size_t end = i;
-          while (end < t.size() && t[end] != '+' && t[end] != '-' &&
-                 !(end > i && (t[end - 1] == 'e' || t[end - 1] == 'E') &&
-                   std::isdigit(t[i])))
-            ++end;
-          const std::string term = t.substr(i, end - i);
-          if (term.empty())
-            return false;
-          const char        last = term.back();
-          const bool        var  = last == 'x' || last == 'y' || last == 'z';
-          const std::string coefficient =
-            var ? term.substr(0, term.size() - 1) : term;
-          double value = 1;
-          if (!coefficient.empty())
+          if (*c == '+' || *c == '-')
+            sign = *c++ == '-' ? -1 : 1;
+          else if (!first)
+            return false; // two terms without an operator between
+          blank();
+          double     value = 1;
+          char      *end   = nullptr;
+          const bool digit = std::isdigit(*c) || *c == '.';
+          if (digit)
             {
-              std::size_t used = 0;
-              try
-                {
-                  value = std::stod(coefficient, &used);
-                }
-              catch (...)
-                {
-                  return false;
-                }
-              if (used != coefficient.size())
+              value = std::strtod(c, &end);
+              if (end == c || !std::isfinite(value))
                 return false;
+              c = end;
+              blank();
+              if (*c == '*')
+                {
+                  ++c;
+                  blank();
+                  if (*c != 'x' && *c != 'y' && *c != 'z')
+                    return false;
+                }
             }
-          else if (!var)
+          if (*c == 'x' || *c == 'y' || *c == 'z')
+            n[*c++ - 'x'] += sign * value;
+          else if (digit)
+            f0 += sign * value;
+          else
             return false;
-          (var ? n[last - 'x'] : f0) += sign * value;
-          i = end;
+          blank();
+          first = false;
         }
-      return true;
+      return std::isfinite(n[0] + n[1] + n[2] + f0);
     }
 
     /// 'a x + b y + c z >= d : id' (or <=) as a unit normal and offset.
@@ -219,7 +225,7 @@ namespace forma
                              "' is not a linear form in x, y, z (such as "
                              "'x', '-z' or '2*x + y - 0.5 z')."));
       const double length = std::sqrt(dot(n, n));
-      AssertThrow(length > 0,
+      AssertThrow(length > 0 && std::isfinite(length),
                   ExcMessage(entry + ": '" + record + "' names no direction."));
       const double    value = number(body.substr(op + 2), "Clip planes");
       const double    sign  = body[op] == '>' ? 1 : -1;
@@ -274,18 +280,23 @@ namespace forma
                       Patterns::Double(0),
                       "How far a pipe reaches into a ball along its axis, "
                       "from the ball's surface: pipes end at Connector "
-                      "radius - Socket depth from their nodes.");
+                      "radius - Socket depth from their nodes. Between "
+                      "R - sqrt(R^2 - r^2) (the pipe's rim just inside the "
+                      "ball) and R; deep sockets of pipes at small angles "
+                      "meet, which is refused.");
     prm.declare_entry("Mesh size",
                       "0.1",
                       Patterns::Double(0),
-                      "Largest tetrahedron edge.");
+                      "Target of the largest tetrahedron edge (Gmsh's size "
+                      "field).");
     prm.declare_entry("Elements per circle",
                       "12",
                       Patterns::Integer(6, 64),
-                      "Gmsh's curvature sizing: edges per full turn of the "
-                      "balls' and pipes' curved surfaces. Their flat facets "
-                      "lose at most an inscribed polygon's share of a pipe's "
-                      "section: 4.5% at 12, 17% at 6.");
+                      "Gmsh's curvature sizing: the target number of edges "
+                      "per full turn of the balls' and pipes' curved "
+                      "surfaces. Their flat facets lose about an inscribed "
+                      "polygon's share of a pipe's section: 4.5% at 12, 17% "
+                      "at 6.");
     prm.declare_entry(
       "Clip planes",
       "",
@@ -406,9 +417,11 @@ namespace forma
         AssertThrow(norm(nodes[i].x - nodes[j].x) >= 2 * R + margin,
                     ExcMessage(section + ": the balls of nodes " +
                                std::to_string(i) + " and " + std::to_string(j) +
-                               " overlap (their centres are " +
+                               " overlap or touch (their centres are " +
                                fmt(norm(nodes[i].x - nodes[j].x)) +
-                               " apart, the diameter is " + fmt(2 * R) + ")."));
+                               " apart, at least the diameter " + fmt(2 * R) +
+                               " and a tenth of the Pipe radius are "
+                               "needed)."));
   }
 
 
@@ -440,9 +453,12 @@ namespace forma
           AssertThrow(d >= 2 * r + margin,
                       ExcMessage(section + ": the pipes of edges " +
                                  edge_name(e) + " and " + edge_name(f) +
-                                 " cross (their axes come " + fmt(d) +
-                                 " close, the pipes' diameter is " +
-                                 fmt(2 * r) + ")."));
+                                 " cross or touch (their axes come " + fmt(d) +
+                                 " close, at least the pipes' "
+                                 "diameter " +
+                                 fmt(2 * r) +
+                                 " and a tenth "
+                                 "of their radius are needed)."));
         }
   }
 
@@ -478,7 +494,7 @@ namespace forma
                         section + ": the sockets of edges " + edge_name(e) +
                         " and " + edge_name(f) + " meet inside the ball of " +
                         "node " + std::to_string(k) + " (" +
-                        fmt(2 * half * 180 / M_PI) +
+                        fmt(2 * half * 180 / numbers::PI) +
                         " degrees apart): the pipes must end at least " +
                         fmt(need) + " from the node, they end at " + fmt(s) +
                         ". Lower Socket depth or the Pipe radius."));
@@ -506,6 +522,19 @@ namespace forma
         if (dt.first == 3)
           t.push_back(dt.second);
       return t;
+    }
+
+    /// Throw what Gmsh logged during `what`, if anything: with
+    /// General.AbortOnError off, its OpenCASCADE operations log their
+    /// failures instead of throwing.
+    void
+    check_step(const std::string &what)
+    {
+      std::string last;
+      gmsh::logger::getLastError(last);
+      AssertThrow(last.empty(),
+                  ExcMessage(section + ": Gmsh failed to " + what + ": " +
+                             last));
     }
 
     /// The parts of the assembly: one list of OpenCASCADE volumes each, the
@@ -552,6 +581,7 @@ namespace forma
                 {{3, ball}}, volumes(sockets), out, map, -1, true, false);
               parts.volumes[k] = tags_of(out);
             }
+          check_step("cut the sockets of node " + std::to_string(k));
         }
       for (unsigned int k = 0; k < nn; ++k)
         {
@@ -580,7 +610,7 @@ namespace forma
       if (norm(axis) > 1e-12)
         occ::rotate({{3, box}}, 0, 0, 0, axis[0], axis[1], axis[2], angle);
       else if (n[2] < 0)
-        occ::rotate({{3, box}}, 0, 0, 0, 1, 0, 0, M_PI);
+        occ::rotate({{3, box}}, 0, 0, 0, 1, 0, 0, numbers::PI);
       occ::translate({{3, box}},
                      c.offset * n[0],
                      c.offset * n[1],
@@ -617,6 +647,7 @@ namespace forma
                 v = tags_of(out);
               }
           occ::remove({{3, box}}, true);
+          check_step("cut the assembly by a clip plane");
         }
     }
 
@@ -638,11 +669,23 @@ namespace forma
       gmsh::vectorpair              out;
       std::vector<gmsh::vectorpair> map;
       gmsh::model::occ::fragment(all, {}, out, map);
+      check_step("glue the parts");
+      AssertThrow(map.size() == all.size(),
+                  ExcMessage(section + ": Gmsh failed to glue the parts."));
       for (auto &v : parts.volumes)
         v.clear();
+      // A piece in two parts would be meshed twice: the checks of the graph
+      // keep parts apart, so this is a kernel failure.
+      std::set<int> seen;
       for (unsigned int i = 0; i < all.size(); ++i)
         for (const int t : tags_of(map[i]))
-          parts.volumes[owner[i]].push_back(t);
+          {
+            AssertThrow(seen.insert(t).second,
+                        ExcMessage(section + ": two parts overlap after "
+                                             "gluing (an OpenCASCADE "
+                                             "failure)."));
+            parts.volumes[owner[i]].push_back(t);
+          }
     }
 
     /// The clip plane a flat surface lies in, if any.
@@ -658,6 +701,8 @@ namespace forma
       std::vector<double> uv, normal;
       gmsh::model::getParametrization(2, surface, {x, y, z}, uv);
       gmsh::model::getNormal(surface, uv, normal);
+      if (normal.size() != 3)
+        return nullptr;
       const double tol = 1e-6 * g.connector_radius;
       for (const auto &c : g.clips)
         if (std::abs(dot(c.normal, {{x, y, z}}) - c.offset) < tol &&
@@ -693,7 +738,11 @@ namespace forma
           gmsh::model::getAdjacencies(2, s, up, down);
           if (up.size() != 1)
             continue; // a socket surface shared by a ball and a pipe
-          unsigned int id = parts.boundary_id[part_of.at(up[0])];
+          const auto owner = part_of.find(up[0]);
+          AssertThrow(owner != part_of.end(),
+                      ExcMessage(section + ": Gmsh made a volume that belongs "
+                                           "to no part."));
+          unsigned int id = parts.boundary_id[owner->second];
           const auto   on = on_clip_plane(g, s);
           if (on)
             id = on->boundary_id;
@@ -707,35 +756,62 @@ namespace forma
 
 
 
+  namespace
+  {
+    /// The mesh as Gmsh 2.2 text (call inside a Gmsh session).
+    std::string
+    mesh_text(const PipeGraph &g)
+    {
+      Parts parts = build_parts(g);
+      clip(g, parts);
+      fragment(parts);
+      gmsh::model::occ::synchronize();
+      tag(g, parts);
+      check_step("tag the parts");
+      gmsh::option::setNumber("Mesh.MeshSizeMax", g.mesh_size);
+      gmsh::option::setNumber("Mesh.MeshSizeFromCurvature",
+                              g.elements_per_circle);
+      gmsh::option::setNumber("Mesh.Optimize", 1);
+      gmsh::option::setNumber("Mesh.OptimizeThreshold", 0.5);
+      gmsh::model::mesh::generate(3);
+      gmsh::model::mesh::optimize("Relocate3D");
+      internal::gmsh_check_generated(3, section);
+      return internal::gmsh_written_mesh();
+    }
+  } // namespace
+
+
+
   std::string
-  pipe_graph_mesh(const PipeGraph &g)
+  pipe_graph_mesh(const PipeGraph &g, const MPI_Comm comm)
   {
     g.check();
-    std::lock_guard<std::mutex> lock(internal::gmsh_mutex());
-    try
-      {
-        internal::GmshSession session("forma-pipe-graph");
-        Parts                 parts = build_parts(g);
-        clip(g, parts);
-        fragment(parts);
-        gmsh::model::occ::synchronize();
-        tag(g, parts);
-        gmsh::option::setNumber("Mesh.MeshSizeMax", g.mesh_size);
-        gmsh::option::setNumber("Mesh.MeshSizeFromCurvature",
-                                g.elements_per_circle);
-        gmsh::option::setNumber("Mesh.Optimize", 1);
-        gmsh::option::setNumber("Mesh.OptimizeThreshold", 0.5);
-        gmsh::model::mesh::generate(3);
-        gmsh::model::mesh::optimize("Relocate3D");
-        internal::gmsh_check_generated(3, section);
-        return internal::gmsh_written_mesh();
-      }
-    catch (const std::string &message) // what the Gmsh API throws
-      {
-        AssertThrow(false,
-                    ExcMessage(internal::gmsh_error(
-                      section, "failed (" + message + ")")));
-      }
-    return {};
+    // Meshed once, on the root, so every rank reads the same cells.
+    std::string text, error;
+    const bool  mpi = Utilities::MPI::job_supports_mpi();
+    if (!mpi || Utilities::MPI::this_mpi_process(comm) == 0)
+      try
+        {
+          std::lock_guard<std::mutex> lock(internal::gmsh_mutex());
+          internal::GmshSession       session("forma-pipe-graph");
+          text = mesh_text(g);
+        }
+      catch (const std::string &message) // what the Gmsh API throws
+        {
+          error = internal::gmsh_error(section, "failed (" + message + ")");
+        }
+      catch (const std::exception &e)
+        {
+          error = error_message(e);
+        }
+      catch (...)
+        {
+          error = section + ": meshing failed with an unknown error.";
+        }
+    if (mpi && Utilities::MPI::n_mpi_processes(comm) > 1)
+      std::tie(text, error) =
+        Utilities::MPI::broadcast(comm, std::make_pair(text, error));
+    AssertThrow(error.empty(), ExcMessage(error));
+    return text;
   }
 } // namespace forma

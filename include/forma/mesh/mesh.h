@@ -41,12 +41,14 @@ namespace forma
     parse(dealii::ParameterHandler &prm, const std::string &prm_directory);
   };
 
-  /// The coarse mesh (generator, Gmsh file or pipe graph), checked for inverted
-  /// cells, with the interfaces of `Separate interfaces` cut open.
+  /// The coarse mesh (generator, Gmsh file or pipe graph), checked for
+  /// inverted cells, with the interfaces of `Separate interfaces` cut open.
+  /// Collective over `comm`: a pipe graph is meshed on its root.
   template <int dim>
   void
   create_coarse_mesh(const MeshParameters            &params,
-                     dealii::Triangulation<dim, dim> &tria);
+                     dealii::Triangulation<dim, dim> &tria,
+                     const MPI_Comm                   comm = MPI_COMM_SELF);
 
   /**
    * Throws a message naming the first cell whose Jacobian is not positive at

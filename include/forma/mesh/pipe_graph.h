@@ -1,6 +1,7 @@
 #ifndef forma_mesh_pipe_graph_h
 #define forma_mesh_pipe_graph_h
 
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
 
 #include <array>
@@ -81,8 +82,10 @@ namespace forma
   /// The assembly meshed with tetrahedra by Gmsh (OpenCASCADE), as Gmsh 2.2
   /// text: physical volumes 1 (balls) and 2 (pipes), physical surfaces the
   /// nodes', edges' and clip planes' boundary ids (0: left untagged).
+  /// Collective over `comm`: meshed on its root, the text (or the root's
+  /// error) sent to every rank.
   std::string
-  pipe_graph_mesh(const PipeGraph &graph);
+  pipe_graph_mesh(const PipeGraph &graph, const MPI_Comm comm = MPI_COMM_SELF);
 } // namespace forma
 
 #endif
