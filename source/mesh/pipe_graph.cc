@@ -3,10 +3,12 @@
 
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/tensor.h>
 #include <deal.II/base/utilities.h>
 
 #include <forma/base/application.h>
 #include <forma/base/records.h>
+#include <forma/ipc/distance.h>
 #include <forma/mesh/pipe_graph.h>
 
 #include "gmsh_session.h"
@@ -16,7 +18,6 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
-#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -118,35 +119,31 @@ namespace forma
       return result;
     }
 
-    /// Closest distance between segments [p0, p1] and [q0, q1].
+    Tensor<1, 3>
+    tensor(const Vec3 &x)
+    {
+      return Tensor<1, 3>({x[0], x[1], x[2]});
+    }
+
+    /// Closest distance between segments [p0, p1] and [q0, q1] (IPC's
+    /// classified distance).
     double
     segment_distance(const Vec3 &p0,
                      const Vec3 &p1,
                      const Vec3 &q0,
                      const Vec3 &q1)
     {
-      // Minimize |p0 + s u - q0 - t v| over [0, 1]^2: the interior
-      // stationary point if it is inside, else the best of the edges.
-      const Vec3   u = p1 - p0, v = q1 - q0, w = p0 - q0;
-      const double a = dot(u, u), b = dot(u, v), c = dot(v, v), d = dot(u, w),
-                   e = dot(v, w);
-      auto dist      = [&](const double s, const double t) {
-        return norm(axpy(axpy(w, s, u), -t, v));
-      };
-      auto   clamp01   = [](const double x) { return std::clamp(x, 0., 1.); };
-      double best      = std::numeric_limits<double>::infinity();
-      const double den = a * c - b * b;
-      if (den > 1e-14 * a * c)
-        {
-          const double s = (b * e - c * d) / den, t = (a * e - b * d) / den;
-          if (s >= 0 && s <= 1 && t >= 0 && t <= 1)
-            best = dist(s, t);
-        }
-      for (const double s : {0., 1.})
-        best = std::min(best, dist(s, c > 0 ? clamp01((b * s + e) / c) : 0.));
-      for (const double t : {0., 1.})
-        best = std::min(best, dist(clamp01((b * t - d) / a), t));
-      return best;
+      return std::sqrt(
+        ipc::classify_edge_edge(tensor(p0), tensor(p1), tensor(q0), tensor(q1))
+          .distance_squared);
+    }
+
+    /// Distance of x from the segment [a, b].
+    double
+    point_distance(const Vec3 &x, const Vec3 &a, const Vec3 &b)
+    {
+      return std::sqrt(ipc::classify_point_edge(tensor(x), tensor(a), tensor(b))
+                         .distance_squared);
     }
 
     /// Coefficients n and constant f0 of a linear form such as
@@ -433,10 +430,8 @@ namespace forma
     for (unsigned int k = 0; k < nodes.size(); ++k)
       for (const auto &e : edges)
         if (e.a != k && e.b != k)
-          AssertThrow(segment_distance(nodes[e.a].x,
-                                       nodes[e.b].x,
-                                       nodes[k].x,
-                                       nodes[k].x) >= R + r + margin,
+          AssertThrow(point_distance(nodes[k].x, nodes[e.a].x, nodes[e.b].x) >=
+                        R + r + margin,
                       ExcMessage(section + ": the pipe of edge " +
                                  edge_name(e) + " passes through the ball " +
                                  "of node " + std::to_string(k) + "."));
