@@ -3,6 +3,7 @@
 
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
 #include <deal.II/base/utilities.h>
 
@@ -20,7 +21,6 @@
 #include <cstdlib>
 #include <map>
 #include <set>
-#include <sstream>
 #include <tuple>
 
 namespace forma
@@ -29,60 +29,17 @@ namespace forma
 
   namespace
   {
-    using Vec3 = std::array<double, 3>;
-
     const std::string section = "Mesh/Pipe graph";
 
-    Vec3
-    operator-(const Vec3 &a, const Vec3 &b)
-    {
-      return {{a[0] - b[0], a[1] - b[1], a[2] - b[2]}};
-    }
-
-    Vec3
-    axpy(const Vec3 &x, const double a, const Vec3 &d)
-    {
-      return {{x[0] + a * d[0], x[1] + a * d[1], x[2] + a * d[2]}};
-    }
-
-    double
-    dot(const Vec3 &a, const Vec3 &b)
-    {
-      return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    }
-
-    double
-    norm(const Vec3 &a)
-    {
-      return std::sqrt(dot(a, a));
-    }
-
-    std::string
-    fmt(const double x)
-    {
-      std::ostringstream s;
-      s.precision(4);
-      s << x;
-      return s.str();
-    }
-
+    /// One finite number (the shared list parser, which names `entry`).
     double
     number(const std::string &text, const std::string &entry)
     {
-      try
-        {
-          std::size_t end = 0;
-          const auto  t   = Utilities::trim(text);
-          const auto  x   = std::stod(t, &end);
-          if (end == t.size() && std::isfinite(x))
-            return x;
-        }
-      catch (...)
-        {}
-      AssertThrow(false,
+      const auto v = parse_values(text, section + "/" + entry);
+      AssertThrow(v.size() == 1 && std::isfinite(v[0]),
                   ExcMessage(section + "/" + entry + ": '" + text +
-                             "' is not a number."));
-      return 0;
+                             "' is not one finite number."));
+      return v[0];
     }
 
     unsigned int
@@ -119,31 +76,23 @@ namespace forma
       return result;
     }
 
-    Tensor<1, 3>
-    tensor(const Vec3 &x)
-    {
-      return Tensor<1, 3>({x[0], x[1], x[2]});
-    }
-
     /// Closest distance between segments [p0, p1] and [q0, q1] (IPC's
     /// classified distance).
     double
-    segment_distance(const Vec3 &p0,
-                     const Vec3 &p1,
-                     const Vec3 &q0,
-                     const Vec3 &q1)
+    segment_distance(const Point<3> &p0,
+                     const Point<3> &p1,
+                     const Point<3> &q0,
+                     const Point<3> &q1)
     {
       return std::sqrt(
-        ipc::classify_edge_edge(tensor(p0), tensor(p1), tensor(q0), tensor(q1))
-          .distance_squared);
+        ipc::classify_edge_edge(p0, p1, q0, q1).distance_squared);
     }
 
     /// Distance of x from the segment [a, b].
     double
-    point_distance(const Vec3 &x, const Vec3 &a, const Vec3 &b)
+    point_distance(const Point<3> &x, const Point<3> &a, const Point<3> &b)
     {
-      return std::sqrt(ipc::classify_point_edge(tensor(x), tensor(a), tensor(b))
-                         .distance_squared);
+      return std::sqrt(ipc::classify_point_edge(x, a, b).distance_squared);
     }
 
     /// Coefficients n and constant f0 of a linear form such as
@@ -151,7 +100,7 @@ namespace forma
     /// a variable, or a number and a variable (with or without '*'); false
     /// if `text` is not one.
     bool
-    linear_form(const std::string &text, std::array<double, 3> &n, double &f0)
+    linear_form(const std::string &text, Tensor<1, 3> &n, double &f0)
     {
       const char *c     = text.c_str();
       const auto  blank = [&]() {
@@ -213,22 +162,21 @@ namespace forma
                   ExcMessage(entry + ": the record '" + record +
                              "' must read '<linear form in x, y, z> >= value "
                              ": id' (or <=), e.g. 'x + y >= 1 : 7'."));
-      std::array<double, 3> n{{0, 0, 0}};
-      double                f0 = 0;
+      Tensor<1, 3> n;
+      double       f0 = 0;
       AssertThrow(linear_form(body.substr(0, op), n, f0),
                   ExcMessage(entry + ": '" +
                              Utilities::trim(body.substr(0, op)) + "' in '" +
                              record +
                              "' is not a linear form in x, y, z (such as "
                              "'x', '-z' or '2*x + y - 0.5 z')."));
-      const double length = std::sqrt(dot(n, n));
+      const double length = n.norm();
       AssertThrow(length > 0 && std::isfinite(length),
                   ExcMessage(entry + ": '" + record + "' names no direction."));
       const double    value = number(body.substr(op + 2), "Clip planes");
       const double    sign  = body[op] == '>' ? 1 : -1;
       PipeGraph::Clip c;
-      for (unsigned int d = 0; d < 3; ++d)
-        c.normal[d] = sign * n[d] / length;
+      c.normal      = sign * n / length;
       c.offset      = sign * (value - f0) / length;
       c.boundary_id = id;
       return c;
@@ -320,9 +268,9 @@ namespace forma
         AssertThrow(xyz.size() == 3,
                     ExcMessage(section + "/Nodes: the record '" + r +
                                "' must read 'x, y, z' or 'x, y, z : id'."));
-        nodes.push_back({{{number(xyz[0], "Nodes"),
-                           number(xyz[1], "Nodes"),
-                           number(xyz[2], "Nodes")}},
+        nodes.push_back({Point<3>(number(xyz[0], "Nodes"),
+                                  number(xyz[1], "Nodes"),
+                                  number(xyz[2], "Nodes")),
                          id});
       }
     edges.clear();
@@ -378,11 +326,11 @@ namespace forma
                                      "thinner than the balls."));
     const double rim = std::sqrt(R * R - r * r);
     AssertThrow(socket_depth > R - rim && socket_depth < R,
-                ExcMessage(section + ": Socket depth " + fmt(socket_depth) +
-                           " must lie between " + fmt(R - rim) +
+                ExcMessage(section + ": Socket depth " + sig(socket_depth) +
+                           " must lie between " + sig(R - rim) +
                            " (where the pipe's rim enters the ball) and the "
                            "Connector radius " +
-                           fmt(R) + "."));
+                           sig(R) + "."));
   }
 
 
@@ -411,12 +359,12 @@ namespace forma
     const double R = connector_radius, margin = 0.1 * pipe_radius;
     for (unsigned int i = 0; i < nodes.size(); ++i)
       for (unsigned int j = i + 1; j < nodes.size(); ++j)
-        AssertThrow(norm(nodes[i].x - nodes[j].x) >= 2 * R + margin,
+        AssertThrow(nodes[i].x.distance(nodes[j].x) >= 2 * R + margin,
                     ExcMessage(section + ": the balls of nodes " +
                                std::to_string(i) + " and " + std::to_string(j) +
                                " overlap or touch (their centres are " +
-                               fmt(norm(nodes[i].x - nodes[j].x)) +
-                               " apart, at least the diameter " + fmt(2 * R) +
+                               sig(nodes[i].x.distance(nodes[j].x)) +
+                               " apart, at least the diameter " + sig(2 * R) +
                                " and a tenth of the Pipe radius are "
                                "needed)."));
   }
@@ -448,10 +396,10 @@ namespace forma
           AssertThrow(d >= 2 * r + margin,
                       ExcMessage(section + ": the pipes of edges " +
                                  edge_name(e) + " and " + edge_name(f) +
-                                 " cross or touch (their axes come " + fmt(d) +
+                                 " cross or touch (their axes come " + sig(d) +
                                  " close, at least the pipes' "
                                  "diameter " +
-                                 fmt(2 * r) +
+                                 sig(2 * r) +
                                  " and a tenth "
                                  "of their radius are needed)."));
         }
@@ -468,8 +416,8 @@ namespace forma
     // through each other's ball (check_pipes()), so theta > 0 here.
     const double r = pipe_radius, s = connector_radius - socket_depth;
     auto         direction = [&](const Edge &e, const unsigned int from) {
-      const Vec3 d = nodes[from == e.a ? e.b : e.a].x - nodes[from].x;
-      return axpy(Vec3{{0, 0, 0}}, 1. / norm(d), d);
+      const Tensor<1, 3> d = nodes[from == e.a ? e.b : e.a].x - nodes[from].x;
+      return d / d.norm();
     };
     for (unsigned int i = 0; i < edges.size(); ++i)
       for (unsigned int j = i + 1; j < edges.size(); ++j)
@@ -481,7 +429,7 @@ namespace forma
           if (k < 0)
             continue;
           const double c =
-            std::clamp(dot(direction(e, k), direction(f, k)), -1., 1.);
+            std::clamp(direction(e, k) * direction(f, k), -1., 1.);
           const double half = 0.5 * std::acos(c);
           const double need = r / std::tan(half) + 0.1 * r;
           AssertThrow(s >= need,
@@ -489,9 +437,9 @@ namespace forma
                         section + ": the sockets of edges " + edge_name(e) +
                         " and " + edge_name(f) + " meet inside the ball of " +
                         "node " + std::to_string(k) + " (" +
-                        fmt(2 * half * 180 / numbers::PI) +
+                        sig(2 * half * 180 / numbers::PI) +
                         " degrees apart): the pipes must end at least " +
-                        fmt(need) + " from the node, they end at " + fmt(s) +
+                        sig(need) + " from the node, they end at " + sig(s) +
                         ". Lower Socket depth or the Pipe radius."));
         }
   }
@@ -551,10 +499,10 @@ namespace forma
       for (unsigned int i = 0; i < g.edges.size(); ++i)
         {
           const auto &a = g.nodes[g.edges[i].a].x, &b = g.nodes[g.edges[i].b].x;
-          const Vec3  d         = b - a;
-          const double L        = norm(d);
-          const Vec3   p        = axpy(a, s / L, d);
-          const double f        = (L - 2 * s) / L;
+          const Tensor<1, 3> d  = b - a;
+          const double       L  = d.norm();
+          const Point<3>     p  = a + (s / L) * d;
+          const double       f  = (L - 2 * s) / L;
           parts.volumes[nn + i] = {occ::addCylinder(
             p[0], p[1], p[2], f * d[0], f * d[1], f * d[2], g.pipe_radius)};
         }
@@ -599,10 +547,10 @@ namespace forma
       namespace occ = gmsh::model::occ;
       const int box = occ::addBox(-L, -L, 0, 2 * L, 2 * L, L);
       // Turn the z axis onto the normal, about z x n.
-      const Vec3   ez{{0, 0, 1}}, &n = c.normal;
-      const Vec3   axis{{-n[1], n[0], 0.}};
-      const double angle = std::acos(std::clamp(dot(ez, n), -1., 1.));
-      if (norm(axis) > 1e-12)
+      const Tensor<1, 3> &n = c.normal;
+      const Tensor<1, 3>  axis({-n[1], n[0], 0.});
+      const double        angle = std::acos(std::clamp(n[2], -1., 1.));
+      if (axis.norm() > 1e-12)
         occ::rotate({{3, box}}, 0, 0, 0, axis[0], axis[1], axis[2], angle);
       else if (n[2] < 0)
         occ::rotate({{3, box}}, 0, 0, 0, 1, 0, 0, numbers::PI);
@@ -620,7 +568,7 @@ namespace forma
       namespace occ = gmsh::model::occ;
       double L      = 0;
       for (const auto &n : g.nodes)
-        L = std::max(L, norm(n.x));
+        L = std::max(L, n.x.norm());
       L = 4 * (L + 2 * g.connector_radius);
       for (const auto &c : g.clips)
         {
@@ -700,10 +648,10 @@ namespace forma
         return nullptr;
       const double tol = 1e-6 * g.connector_radius;
       for (const auto &c : g.clips)
-        if (std::abs(dot(c.normal, {{x, y, z}}) - c.offset) < tol &&
-            std::abs(
-              std::abs(dot(c.normal, {{normal[0], normal[1], normal[2]}})) -
-              1) < 1e-6)
+        if (std::abs(c.normal * Point<3>(x, y, z) - c.offset) < tol &&
+            std::abs(std::abs(c.normal *
+                              Tensor<1, 3>({normal[0], normal[1], normal[2]})) -
+                     1) < 1e-6)
           return &c;
       return nullptr;
     }

@@ -3,8 +3,8 @@
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/point.h>
 
-#include <array>
 #include <string>
 #include <vector>
 
@@ -23,8 +23,8 @@ namespace forma
   {
     struct Node
     {
-      std::array<double, 3> x;
-      unsigned int          boundary_id; ///< the ball's free surface
+      dealii::Point<3> x;
+      unsigned int     boundary_id; ///< the ball's free surface
     };
     struct Edge
     {
@@ -35,9 +35,9 @@ namespace forma
     /// faces get `boundary_id`.
     struct Clip
     {
-      std::array<double, 3> normal;
-      double                offset;
-      unsigned int          boundary_id;
+      dealii::Tensor<1, 3> normal;
+      double               offset;
+      unsigned int         boundary_id;
     };
 
     std::vector<Node> nodes;
