@@ -52,18 +52,31 @@ namespace forma
       return static_cast<unsigned int>(x);
     }
 
-    /// `record` split at ':' into its body and an optional id.
-    std::pair<std::string, unsigned int>
-    body_and_id(const std::string &record,
-                const unsigned int default_id,
-                const std::string &entry)
+    /// `record` split at ':' into its body, an optional id and an optional
+    /// material.
+    struct Record
+    {
+      std::string  body;
+      unsigned int id, material;
+    };
+
+    Record
+    split_record(const std::string &record,
+                 const unsigned int default_id,
+                 const unsigned int default_material,
+                 const std::string &entry)
     {
       const auto fields = split_top_level(record, ':');
-      AssertThrow(fields.size() == 1 || fields.size() == 2,
+      AssertThrow(fields.size() <= 3,
                   ExcMessage(section + "/" + entry + ": the record '" + record +
-                             "' has more than one ':'."));
-      return {fields[0],
-              fields.size() == 2 ? index(fields[1], entry) : default_id};
+                             "' has more than two ':'."));
+      Record r{fields[0],
+               fields.size() >= 2 ? index(fields[1], entry) : default_id,
+               fields.size() == 3 ? index(fields[2], entry) : default_material};
+      AssertThrow(r.material > 0 && r.material < 255,
+                  ExcMessage(section + "/" + entry + ": the material in '" +
+                             record + "' must lie between 1 and 254."));
+      return r;
     }
 
     std::vector<std::string>
@@ -153,12 +166,17 @@ namespace forma
     PipeGraph::Clip
     parse_clip(const std::string &record)
     {
-      const std::string entry = section + "/Clip planes";
-      const auto [body, id]   = body_and_id(record, 0, "Clip planes");
-      const auto op           = body.find_first_of("<>");
+      const std::string entry  = section + "/Clip planes";
+      const auto        fields = split_top_level(record, ':');
+      AssertThrow(fields.size() == 2,
+                  ExcMessage(entry + ": the record '" + record +
+                             "' must read '<linear form in x, y, z> >= value "
+                             ": id' (or <=), e.g. 'x + y >= 1 : 7'."));
+      const std::string  body = fields[0];
+      const unsigned int id   = index(fields[1], "Clip planes");
+      const auto         op   = body.find_first_of("<>");
       AssertThrow(op != std::string::npos && op + 1 < body.size() &&
-                    body[op + 1] == '=' &&
-                    record.find(':') != std::string::npos,
+                    body[op + 1] == '=',
                   ExcMessage(entry + ": the record '" + record +
                              "' must read '<linear form in x, y, z> >= value "
                              ": id' (or <=), e.g. 'x + y >= 1 : 7'."));
@@ -199,19 +217,31 @@ namespace forma
       "Nodes",
       "",
       Patterns::Anything(),
-      "Mesh/Source = pipe graph: the graph's nodes, each a ball connector "
-      "(material 1), numbered from 0: 'x, y, z ; x, y, z : id ; ...'. The "
-      "optional id is the boundary id of the ball's free surface (default "
-      "1; 0 leaves it untagged), e.g. for a load or a support.");
+      "Mesh/Source = pipe graph: the graph's nodes, each a ball connector, "
+      "numbered from 0: 'x, y, z ; x, y, z : id ; x, y, z : id : material "
+      "; ...'. The optional id is the boundary id of the ball's free "
+      "surface (default 1; 0 leaves it untagged), e.g. for a load or a "
+      "support; the material id defaults to 1.");
     prm.declare_entry(
       "Edges",
       "",
       Patterns::Anything(),
-      "The graph's edges, each a pipe (material 2) between two nodes whose "
-      "ends sit in sockets of their balls: '0-1 ; 1-2 : id ; ...'. The "
-      "optional id is the boundary id of the pipe's free surface (default "
-      "2). The sockets are shared surfaces: Mesh/Separate interfaces = 1-2 "
-      ": id cuts them all open for contact.");
+      "The graph's edges, each a pipe between two nodes whose ends sit in "
+      "sockets of their balls: '0-1 ; 1-2 : id ; 2-3 : id : material ; "
+      "...'. The optional id is the boundary id of the pipe's free surface "
+      "(default 2), the material id defaults to 2. The sockets are shared "
+      "surfaces: Mesh/Separate interfaces = 1-2 : id cuts those between "
+      "materials 1 and 2 open for contact, and a pipe of the ball's own "
+      "material (or of a pair not separated) stays glued to it, e.g. an arm "
+      "of a connector.");
+    prm.declare_entry(
+      "Free ends",
+      "",
+      Patterns::Anything(),
+      "Nodes without a ball, e.g. '4, 5': the one pipe ending at such a node "
+      "runs to it and ends in a flat face with the node's boundary id (a "
+      "dowel's end to load or clamp, a hook's tip). A clip plane may cut "
+      "it instead (a leg standing on a floor).");
     prm.declare_entry("Connector radius",
                       "0.5",
                       Patterns::Double(0),
@@ -263,25 +293,41 @@ namespace forma
     nodes.clear();
     for (const auto &r : records(prm.get("Nodes")))
       {
-        const auto [body, id] = body_and_id(r, 1, "Nodes");
-        const auto xyz        = Utilities::split_string_list(body, ',');
+        const auto record = split_record(r, 1, 1, "Nodes");
+        const auto xyz    = Utilities::split_string_list(record.body, ',');
         AssertThrow(xyz.size() == 3,
                     ExcMessage(section + "/Nodes: the record '" + r +
-                               "' must read 'x, y, z' or 'x, y, z : id'."));
+                               "' must read 'x, y, z' or 'x, y, z : id' or "
+                               "'x, y, z : id : material'."));
         nodes.push_back({Point<3>(number(xyz[0], "Nodes"),
                                   number(xyz[1], "Nodes"),
                                   number(xyz[2], "Nodes")),
-                         id});
+                         record.id,
+                         record.material});
+      }
+    for (const auto &text :
+         Utilities::split_string_list(prm.get("Free ends"), ','))
+      {
+        const unsigned int k = index(text, "Free ends");
+        AssertThrow(k < nodes.size(),
+                    ExcMessage(section + "/Free ends: there is no node " +
+                               text + " among the " +
+                               std::to_string(nodes.size()) + " Nodes."));
+        nodes[k].free_end = true;
       }
     edges.clear();
     for (const auto &r : records(prm.get("Edges")))
       {
-        const auto [body, id] = body_and_id(r, 2, "Edges");
-        const auto ab         = Utilities::split_string_list(body, '-');
+        const auto record = split_record(r, 2, 2, "Edges");
+        const auto ab     = Utilities::split_string_list(record.body, '-');
         AssertThrow(ab.size() == 2,
                     ExcMessage(section + "/Edges: the record '" + r +
-                               "' must read 'a-b' or 'a-b : id'."));
-        edges.push_back({index(ab[0], "Edges"), index(ab[1], "Edges"), id});
+                               "' must read 'a-b', 'a-b : id' or 'a-b : id "
+                               ": material'."));
+        edges.push_back({index(ab[0], "Edges"),
+                         index(ab[1], "Edges"),
+                         record.id,
+                         record.material});
       }
     clips.clear();
     for (const auto &r : records(prm.get("Clip planes")))
@@ -304,8 +350,8 @@ namespace forma
                 ExcMessage(section + ": the graph needs at least two Nodes "
                                      "and one edge (Edges)."));
     check_sizes();
-    check_edges();
     check_balls();
+    check_edges();
     check_pipes();
     check_sockets();
     for (const auto &c : clips)
@@ -348,7 +394,29 @@ namespace forma
         AssertThrow(seen.insert(std::minmax(e.a, e.b)).second,
                     ExcMessage(section + "/Edges: " + edge_name(e) +
                                " is given twice."));
+        // A pipe leaves its balls (a free end has none).
+        const double length = nodes[e.a].x.distance(nodes[e.b].x);
+        const double need   = (nodes[e.a].free_end ? 0 : connector_radius) +
+                            (nodes[e.b].free_end ? 0 : connector_radius) +
+                            0.1 * pipe_radius;
+        AssertThrow(length >= need,
+                    ExcMessage(section + "/Edges: " + edge_name(e) + " is " +
+                               sig(length) + " long; its pipe needs at least " +
+                               sig(need) + " to leave its balls."));
       }
+    for (unsigned int k = 0; k < nodes.size(); ++k)
+      if (nodes[k].free_end)
+        {
+          const auto degree =
+            std::count_if(edges.begin(), edges.end(), [k](const Edge &e) {
+              return e.a == k || e.b == k;
+            });
+          AssertThrow(degree == 1,
+                      ExcMessage(section + "/Free ends: node " +
+                                 std::to_string(k) + " has " +
+                                 std::to_string(degree) +
+                                 " edges; a free end needs exactly one."));
+        }
   }
 
 
@@ -359,7 +427,8 @@ namespace forma
     const double R = connector_radius, margin = 0.1 * pipe_radius;
     for (unsigned int i = 0; i < nodes.size(); ++i)
       for (unsigned int j = i + 1; j < nodes.size(); ++j)
-        AssertThrow(nodes[i].x.distance(nodes[j].x) >= 2 * R + margin,
+        AssertThrow(nodes[i].free_end || nodes[j].free_end ||
+                      nodes[i].x.distance(nodes[j].x) >= 2 * R + margin,
                     ExcMessage(section + ": the balls of nodes " +
                                std::to_string(i) + " and " + std::to_string(j) +
                                " overlap or touch (their centres are " +
@@ -377,7 +446,7 @@ namespace forma
     const double R = connector_radius, r = pipe_radius, margin = 0.1 * r;
     for (unsigned int k = 0; k < nodes.size(); ++k)
       for (const auto &e : edges)
-        if (e.a != k && e.b != k)
+        if (e.a != k && e.b != k && !nodes[k].free_end)
           AssertThrow(point_distance(nodes[k].x, nodes[e.a].x, nodes[e.b].x) >=
                         R + r + margin,
                       ExcMessage(section + ": the pipe of edge " +
@@ -481,7 +550,7 @@ namespace forma
     }
 
     /// The parts of the assembly: one list of OpenCASCADE volumes each, the
-    /// balls first, then the pipes.
+    /// balls first (none at a free end), then the pipes.
     struct Parts
     {
       std::vector<std::vector<int>> volumes;
@@ -498,16 +567,19 @@ namespace forma
       parts.volumes.resize(nn + g.edges.size());
       for (unsigned int i = 0; i < g.edges.size(); ++i)
         {
-          const auto &a = g.nodes[g.edges[i].a].x, &b = g.nodes[g.edges[i].b].x;
-          const Tensor<1, 3> d  = b - a;
-          const double       L  = d.norm();
-          const Point<3>     p  = a + (s / L) * d;
-          const double       f  = (L - 2 * s) / L;
+          const auto &na = g.nodes[g.edges[i].a], &nb = g.nodes[g.edges[i].b];
+          const Tensor<1, 3> d = nb.x - na.x;
+          const double       L = d.norm();
+          const double   s_a = na.free_end ? 0 : s, s_b = nb.free_end ? 0 : s;
+          const Point<3> p      = na.x + (s_a / L) * d;
+          const double   f      = (L - s_a - s_b) / L;
           parts.volumes[nn + i] = {occ::addCylinder(
             p[0], p[1], p[2], f * d[0], f * d[1], f * d[2], g.pipe_radius)};
         }
       for (unsigned int k = 0; k < nn; ++k)
         {
+          if (g.nodes[k].free_end)
+            continue;
           const auto &x  = g.nodes[k].x;
           const int ball = occ::addSphere(x[0], x[1], x[2], g.connector_radius);
           std::vector<int> sockets;
@@ -526,14 +598,14 @@ namespace forma
             }
           check_step("cut the sockets of node " + std::to_string(k));
         }
-      for (unsigned int k = 0; k < nn; ++k)
+      for (const auto &n : g.nodes)
         {
-          parts.material.push_back(1);
-          parts.boundary_id.push_back(g.nodes[k].boundary_id);
+          parts.material.push_back(n.material);
+          parts.boundary_id.push_back(n.boundary_id);
         }
       for (const auto &e : g.edges)
         {
-          parts.material.push_back(2);
+          parts.material.push_back(e.material);
           parts.boundary_id.push_back(e.boundary_id);
         }
       return parts;
@@ -631,29 +703,34 @@ namespace forma
           }
     }
 
-    /// The clip plane a flat surface lies in, if any.
-    const PipeGraph::Clip *
-    on_clip_plane(const PipeGraph &g, const int surface)
+    /// The boundary id of a flat surface that lies in a clip plane or is a
+    /// pipe's end at a free end, or `fallback`.
+    unsigned int
+    flat_face_id(const PipeGraph &g, const int surface, unsigned int fallback)
     {
       std::string type;
       gmsh::model::getType(2, surface, type);
       if (type != "Plane")
-        return nullptr;
+        return fallback;
       double x, y, z;
       gmsh::model::occ::getCenterOfMass(2, surface, x, y, z);
+      const Point<3>      centre(x, y, z);
       std::vector<double> uv, normal;
       gmsh::model::getParametrization(2, surface, {x, y, z}, uv);
       gmsh::model::getNormal(surface, uv, normal);
       if (normal.size() != 3)
-        return nullptr;
+        return fallback;
       const double tol = 1e-6 * g.connector_radius;
       for (const auto &c : g.clips)
-        if (std::abs(c.normal * Point<3>(x, y, z) - c.offset) < tol &&
+        if (std::abs(c.normal * centre - c.offset) < tol &&
             std::abs(std::abs(c.normal *
                               Tensor<1, 3>({normal[0], normal[1], normal[2]})) -
                      1) < 1e-6)
-          return &c;
-      return nullptr;
+          return c.boundary_id;
+      for (const auto &n : g.nodes)
+        if (n.free_end && n.x.distance(centre) < tol)
+          return n.boundary_id;
+      return fallback;
     }
 
     /// Physical groups: volumes by material, free surfaces by the ids of
@@ -685,10 +762,8 @@ namespace forma
           AssertThrow(owner != part_of.end(),
                       ExcMessage(section + ": Gmsh made a volume that belongs "
                                            "to no part."));
-          unsigned int id = parts.boundary_id[owner->second];
-          const auto   on = on_clip_plane(g, s);
-          if (on)
-            id = on->boundary_id;
+          const unsigned int id =
+            flat_face_id(g, s, parts.boundary_id[owner->second]);
           if (id > 0)
             by_id[id].push_back(s);
         }

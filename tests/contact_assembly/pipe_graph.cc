@@ -5,6 +5,8 @@
 // - Cutting Mesh/Separate interfaces 1-2 leaves 13 connected parts, each of
 //   one material.
 // - A mirror plane through a node, and an oblique one, halve its ball.
+// - Free ends and materials: a pipe ending flat at a node without a ball,
+//   an arm of the ball's material glued in its socket.
 // - The app on the tent: the floor's contact force carries the load (the
 //   loaded area read off the mesh), the socket contacts' net force is zero.
 // - Overlapping parts, bad records and a 2D run are refused with messages.
@@ -251,6 +253,66 @@ namespace
   }
 
   void
+  check_free_ends()
+  {
+    // Ball 0 holds a wooden pipe (material 2) running to the free end 1 and
+    // a PLA arm (material 1, glued) running to the free end 2.
+    const auto p = parse("  set Nodes = 0, 0, 0 ; 2, 0, 0 : 7 ; 0, 2, 0 : 6\n"
+                         "  set Free ends = 1, 2\n"
+                         "  set Edges = 0-1 ; 0-2 : 3 : 1\n"
+                         "  set Mesh size = 0.2\n");
+    Triangulation<3> tria;
+    forma::create_coarse_mesh(p, tria);
+    const double R = 0.5, r = 0.15, s = 0.25, z0 = std::sqrt(R * R - r * r);
+    const double socket = M_PI * r * r * (z0 - s) + cap(R, R - z0);
+    const double pipe   = M_PI * r * r * (2 - s);
+    std::map<unsigned int, double> volume, area;
+    for (const auto &cell : tria.active_cell_iterators())
+      {
+        volume[cell->material_id()] += cell->measure();
+        for (const auto f : cell->face_indices())
+          if (cell->at_boundary(f))
+            area[cell->face(f)->boundary_id()] += cell->face(f)->measure();
+      }
+    auto below = [](const double a, const double b) {
+      return a < b && a > 0.9 * b;
+    };
+    deallog << "free ends:" << std::endl;
+    check("material 1: the ball less two sockets, and the arm, below the "
+          "closed form, within 10%",
+          below(volume[1], 4 * M_PI * R * R * R / 3 - 2 * socket + pipe));
+    check("material 2: the pipe from its socket to the free end, within 10%",
+          below(volume[2], pipe));
+    check("the pipe's flat end (id 7): flat at x = 2, its disk within 10%",
+          faces_on(tria,
+                   {7},
+                   [](const Point<3> &v) {
+                     return std::abs(v[0] - 2) < 1e-9;
+                   }) &&
+            below(area[7], M_PI * r * r));
+    check("the arm's flat end (id 6): flat at y = 2, its disk within 10%",
+          faces_on(tria,
+                   {6},
+                   [](const Point<3> &v) {
+                     return std::abs(v[1] - 2) < 1e-9;
+                   }) &&
+            below(area[6], M_PI * r * r));
+    check("the arm's free surface has its id 3",
+          area.count(3) == 1 && below(area[3], 2 * M_PI * r * (2 - z0)));
+    std::set<unsigned int> ids;
+    for (const auto &[id, a] : area)
+      ids.insert(id);
+    check("boundary ids exactly 1, 2, 3, 6, 7, 10 (only the wooden pipe's "
+          "socket is cut)",
+          ids == std::set<unsigned int>{1, 2, 3, 6, 7, 10});
+    bool one_material = false;
+    deallog << "parts after cutting 1-2: " << count_parts(tria, one_material)
+            << std::endl;
+  }
+
+
+
+  void
   check_refusals()
   {
     const std::string two = "  set Nodes = 0, 0, 0 ; 3, 0, 0\n"
@@ -305,6 +367,33 @@ namespace
               "  set Edges = 0-1\n");
       },
       "the record '0, 0' must read 'x, y, z'");
+    expect_refusal(
+      "free end with two pipes",
+      [] {
+        parse("  set Nodes = 0, 0, 0 ; 3, 0, 0 ; 0, 3, 0\n"
+              "  set Free ends = 0\n"
+              "  set Edges = 0-1 ; 0-2\n");
+      },
+      "node 0 has 2 edges");
+    expect_refusal(
+      "free end inside its ball",
+      [] {
+        parse("  set Nodes = 0, 0, 0 ; 0.4, 0, 0\n"
+              "  set Free ends = 1\n"
+              "  set Edges = 0-1\n");
+      },
+      "0-1 is 0.4 long");
+    expect_refusal(
+      "free end unknown",
+      [&] { parse(two + "  set Free ends = 5\n"); },
+      "there is no node 5");
+    expect_refusal(
+      "material 0",
+      [] {
+        parse("  set Nodes = 0, 0, 0 ; 3, 0, 0\n"
+              "  set Edges = 0-1 : 2 : 0\n");
+      },
+      "the material in '0-1 : 2 : 0'");
     expect_refusal(
       "clip leaves nothing",
       [&] {
@@ -379,6 +468,7 @@ main()
   check_tent();
   check_mirror("x >= 0");
   check_mirror("-x - y <= 0");
+  check_free_ends();
   check_refusals();
   check_app();
 }

@@ -12,24 +12,32 @@ namespace forma
 {
   /**
    * A pipe assembly from a graph (thesis ch. 2.7, "3D pipe-like": tent, truss,
-   * dodecahedron): every node becomes a ball connector (material 1), every
-   * edge a pipe (material 2) whose ends sit in sockets of its two balls. The
-   * parts share their socket surfaces (a conforming tetrahedral mesh), so
-   * `Mesh/Separate interfaces = 1-2 : id` cuts every ball-pipe contact at
-   * once. Clip planes cut the assembly (a floor for rigid contact, a flat
-   * pad to load, the mirror planes of a symmetric assembly).
+   * dodecahedron; the coat rack's dowels and connectors): every node becomes
+   * a ball connector (material 1 unless given), every edge a pipe (material
+   * 2 unless given) whose ends sit in sockets of its balls. A free end is a
+   * node without a ball: its one pipe runs to the node and ends flat there.
+   * The parts share their socket surfaces (a conforming tetrahedral mesh),
+   * so `Mesh/Separate interfaces = 1-2 : id` cuts every contact between
+   * materials 1 and 2 at once, and parts of other material pairs stay
+   * glued (a PLA hook arm on its connector). Clip planes cut the assembly (a
+   * floor for rigid contact, a flat pad to load, the mirror planes of a
+   * symmetric assembly).
    */
   struct PipeGraph
   {
     struct Node
     {
       dealii::Point<3> x;
-      unsigned int     boundary_id; ///< the ball's free surface
+      /// The ball's free surface, or a free end's flat face.
+      unsigned int boundary_id;
+      unsigned int material = 1;
+      bool         free_end = false; ///< no ball: one pipe ends here
     };
     struct Edge
     {
       unsigned int a, b;
       unsigned int boundary_id; ///< the pipe's free surface
+      unsigned int material = 2;
     };
     /// Keep the side normal . x >= offset (normal of unit length); the cut
     /// faces get `boundary_id`.
@@ -62,7 +70,8 @@ namespace forma
     /// Throws a message naming the nodes or edges when parts would overlap:
     /// balls closer than their diameter, sockets of one ball that meet,
     /// pipes that cross or pass through a ball, a socket that does not
-    /// open to the ball's surface.
+    /// open to the ball's surface; or when a free end has other than one
+    /// pipe, or a pipe would be too short to leave its balls.
     void
     check() const;
 
@@ -80,8 +89,9 @@ namespace forma
   };
 
   /// The assembly meshed with tetrahedra by Gmsh (OpenCASCADE), as Gmsh 2.2
-  /// text: physical volumes 1 (balls) and 2 (pipes), physical surfaces the
-  /// nodes', edges' and clip planes' boundary ids (0: left untagged).
+  /// text: physical volumes the nodes' and edges' materials, physical
+  /// surfaces the nodes', edges' and clip planes' boundary ids (0: left
+  /// untagged).
   /// Collective over `comm`: meshed on its root, the text (or the root's
   /// error) sent to every rank.
   std::string
