@@ -40,7 +40,7 @@ i, f = i0["max_stress_by_material"]["1"], i1["max_stress_by_material"]["1"]
 text = open(log).read()
 cells = json.load(open(mesh))["n_cells"]
 print("%s,%s,%d,%d,%d,%d,%s,%.4f,%.4g,%.4g,%.2f,%.4f,%.0f" % (
-    name, factor, cells, s["history"][-1]["iteration"], o["remeshes"],
+    name, factor, cells, s["history"][-1]["iteration"], len(o["remeshes"]),
     text.count("holding "), o["stop_reason"].replace(",", ";"), o["ratio"], i, f, i / f,
     i1["volume_by_material"]["1"] / i0["volume_by_material"]["1"],
     s["timing"]["total_seconds"]))
