@@ -21,14 +21,11 @@ stool_terms() {
 for run in stool_3d:1.0 stool_3d:1.1 stool_3d:1.2 coat_rack_base_3d:1.0 coat_rack_hooks_3d:1.0; do
   name=${run%%:*}
   factor=${run##*:}
-  rm -rf "$work/out" "$work/mesh" # a failed run must not report the last one
-  args=(--set "Output directory=$work/out" --set "Output/Write vtu=false")
+  args=()
   if [ "$factor" != 1.0 ]; then
     args+=(--set "Objective/Terms=$(stool_terms "$factor")")
   fi
-  "$app" "$name.prm" "${args[@]}" > "$work/log" 2>&1 || true
-  "$app" "$name.prm" --set "Output directory=$work/mesh" --set "Mode=simulate" \
-    --set "Output/Write vtu=false" > "$work/mesh.log" 2>&1 || true
+  run_with_mesh "$name" "${args[@]}"
   python3 - "$name" "$factor" "$work/out/summary.json" "$work/log" \
     "$work/mesh/summary.json" >> "$out" <<'EOPY'
 import json, sys

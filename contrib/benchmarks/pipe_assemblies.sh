@@ -16,12 +16,7 @@ cd "$examples"
 for run in tent_3d:60 truss_3d:60 dodecahedron_3d:60 tent_3d:150 truss_3d:150; do
   name=${run%%:*}
   limit=${run##*:}
-  rm -rf "$work/out" "$work/mesh" # a failed run must not report the last one
-  "$app" "$name.prm" --set "Output directory=$work/out" \
-    --set "Output/Write vtu=false" \
-    --set "Optimization/Max iterations=$limit" > "$work/log" 2>&1 || true
-  "$app" "$name.prm" --set "Output directory=$work/mesh" --set "Mode=simulate" \
-    --set "Output/Write vtu=false" > "$work/mesh.log" 2>&1 || true
+  run_with_mesh "$name" --set "Optimization/Max iterations=$limit"
   python3 - "$name" "$limit" "$work/out/summary.json" "$work/log" \
     "$work/mesh/summary.json" >> "$out" <<'EOPY'
 import json, sys
