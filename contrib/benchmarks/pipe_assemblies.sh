@@ -7,7 +7,7 @@
 # iterations, holds, J/J0, the max stress initial -> final and its factor,
 # the volume ratio, the relative gradient norm (a column of Table 2.2) and
 # the wall time. Writes results/pipe_assemblies.csv (about 30 minutes on
-# one core).
+# one core). A failed run is reported as such.
 #   contrib/benchmarks/pipe_assemblies.sh [build/bin/forma-contact-assembly]
 set -e
 . "$(dirname "$0")/contact_setup.sh" pipe_assemblies "$@"
@@ -17,7 +17,7 @@ for run in tent_3d:60 truss_3d:60 dodecahedron_3d:60 tent_3d:150 truss_3d:150; d
   name=${run%%:*}
   limit=${run##*:}
   run_with_mesh "$name" --set "Optimization/Max iterations=$limit"
-  python3 - "$name" "$limit" "$work/out/summary.json" "$work/log" \
+  if python3 - "$name" "$limit" "$work/out/summary.json" "$work/log" \
     "$work/mesh/summary.json" >> "$out" <<'EOPY'
 import json, sys
 name, limit, summary, log, mesh = sys.argv[1:]
@@ -30,5 +30,6 @@ print("%s,%s,%d,%d,%d,%.4f,%.4g,%.4g,%.2f,%.4f,%.3g,%.0f" % (
     s["final_volume"] / s["initial_volume"], o["relative_gradient_norm"],
     s["timing"]["total_seconds"]))
 EOPY
+  then :; else echo "$name,$limit,failed" >> "$out"; fi
   tail -1 "$out"
 done

@@ -7,12 +7,13 @@
 # axis beyond u_tol = 1e-3), then also an alignment term on each socket's
 # ball side (target: half its wall parallel to the pipe; epsilon 0.3, since
 # the flat facets of a meshed cylinder tilt by up to about 0.05 from its
-# axis, which epsilon 0.1 would count as half parallel). 60 iterations
+# axis, which epsilon 0.1 would count as about half parallel). 60 iterations
 # each; tent_3d (no J^a) is in pipe_assemblies.sh. Reports iterations,
 # holds, J/J0, the max stress initial -> final and its factor, the volume
 # ratio, the summed assembly, disassembly and alignment terms at the end,
-# and the wall time. Writes results/tent_variants.csv (about 20 minutes on
-# one core; doc/contact_assembly.md, "3D pipe assemblies from graphs").
+# and the wall time. Writes results/tent_variants.csv (about 15 minutes on
+# one core; doc/contact_assembly.md, "3D pipe assemblies from graphs"). A
+# failed run is reported as such.
 #   contrib/benchmarks/tent_variants.sh [build/bin/forma-contact-assembly]
 set -e
 . "$(dirname "$0")/contact_setup.sh" tent_variants "$@"
@@ -46,7 +47,7 @@ for variant in baseline disassembly parallel; do
     args+=(--set "Objective/Terms=$(terms "$variant")")
   fi
   "$app" tent_sockets_3d.prm "${args[@]}" > "$work/log" 2>&1 || true
-  python3 - "$variant" "$work/out/summary.json" "$work/log" >> "$out" <<'EOPY'
+  if python3 - "$variant" "$work/out/summary.json" "$work/log" >> "$out" <<'EOPY'
 import json, sys
 variant, summary, log = sys.argv[1:]
 s = json.load(open(summary))
@@ -59,5 +60,6 @@ print("%s,%d,%d,%.4f,%.4g,%.4g,%.2f,%.4f,%.3g,%.3g,%.3g,%.0f" % (
     s["final_volume"] / s["initial_volume"], t.get("assembly", 0),
     t.get("disassembly", 0), t.get("alignment", 0), s["timing"]["total_seconds"]))
 EOPY
+  then :; else echo "$variant,failed" >> "$out"; fi
   tail -1 "$out"
 done

@@ -217,17 +217,19 @@ namespace forma
       "Nodes",
       "",
       Patterns::Anything(),
-      "Mesh/Source = pipe graph: the graph's nodes, each a ball connector, "
-      "numbered from 0: 'x, y, z ; x, y, z : id ; x, y, z : id : material "
-      "; ...'. The optional id is the boundary id of the ball's free "
-      "surface (default 1; 0 leaves it untagged), e.g. for a load or a "
-      "support; the material id defaults to 1.");
+      "Mesh/Source = pipe graph: the graph's nodes, each a ball connector "
+      "unless listed in Free ends, numbered from 0: 'x, y, z ; x, y, z : id "
+      "; x, y, z : id : material ; ...'. The optional id is the boundary id "
+      "of the ball's free surface, or of a free end's flat face (default 1; "
+      "0 leaves it untagged), e.g. for a load or a support; the ball's "
+      "material id defaults to 1 (a free end has none).");
     prm.declare_entry(
       "Edges",
       "",
       Patterns::Anything(),
       "The graph's edges, each a pipe between two nodes whose ends sit in "
-      "sockets of their balls: '0-1 ; 1-2 : id ; 2-3 : id : material ; "
+      "sockets of their balls (or end at a free end): '0-1 ; 1-2 : id ; 2-3 "
+      ": id : material ; "
       "...'. The optional id is the boundary id of the pipe's free surface "
       "(default 2), the material id defaults to 2. The sockets are shared "
       "surfaces: Mesh/Separate interfaces = 1-2 : id cuts those between "
@@ -255,7 +257,8 @@ namespace forma
                       Patterns::Double(0),
                       "How far a pipe reaches into a ball along its axis, "
                       "from the ball's surface: pipes end at Connector "
-                      "radius - Socket depth from their nodes. Between "
+                      "radius - Socket depth from their balls' nodes. "
+                      "Between "
                       "R - sqrt(R^2 - r^2) (the pipe's rim just inside the "
                       "ball) and R; deep sockets of pipes at small angles "
                       "meet, which is refused.");
@@ -481,8 +484,8 @@ namespace forma
   {
     // Half-cylinders of radius r leaving one point at angle theta are apart
     // beyond r cot(theta / 2) from it (they lie on either side of the
-    // bisector plane there). Two edges from one node in one direction pass
-    // through each other's ball (check_pipes()), so theta > 0 here.
+    // bisector plane there). Two edges from one node in one direction
+    // overlap (one may end at a free end, so check_pipes() cannot see it).
     const double r = pipe_radius, s = connector_radius - socket_depth;
     auto         direction = [&](const Edge &e, const unsigned int from) {
       const Tensor<1, 3> d = nodes[from == e.a ? e.b : e.a].x - nodes[from].x;
@@ -500,6 +503,11 @@ namespace forma
           const double c =
             std::clamp(direction(e, k) * direction(f, k), -1., 1.);
           const double half = 0.5 * std::acos(c);
+          AssertThrow(half > 1e-6,
+                      ExcMessage(section + ": the pipes of edges " +
+                                 edge_name(e) + " and " + edge_name(f) +
+                                 " leave node " + std::to_string(k) +
+                                 " in the same direction."));
           const double need = r / std::tan(half) + 0.1 * r;
           AssertThrow(s >= need,
                       ExcMessage(
@@ -720,21 +728,32 @@ namespace forma
       gmsh::model::getNormal(surface, uv, normal);
       if (normal.size() != 3)
         return fallback;
-      const double tol = 1e-6 * g.connector_radius;
+      const double       tol = 1e-6 * g.connector_radius;
+      const Tensor<1, 3> face_normal({normal[0], normal[1], normal[2]});
       for (const auto &c : g.clips)
         if (std::abs(c.normal * centre - c.offset) < tol &&
-            std::abs(std::abs(c.normal *
-                              Tensor<1, 3>({normal[0], normal[1], normal[2]})) -
-                     1) < 1e-6)
+            std::abs(std::abs(c.normal * face_normal) - 1) < 1e-6)
           return c.boundary_id;
-      for (const auto &n : g.nodes)
-        if (n.free_end && n.x.distance(centre) < tol)
-          return n.boundary_id;
+      // A free end's cap, whole or cut by a clip plane: in the plane through
+      // the node normal to its pipe, within the pipe's radius.
+      for (const auto &e : g.edges)
+        for (const auto &[k, other] :
+             {std::pair(e.a, e.b), std::pair(e.b, e.a)})
+          if (g.nodes[k].free_end)
+            {
+              const Tensor<1, 3> axis = (g.nodes[other].x - g.nodes[k].x) /
+                                        g.nodes[other].x.distance(g.nodes[k].x);
+              const Tensor<1, 3> w = centre - g.nodes[k].x;
+              if (std::abs(w * axis) < tol &&
+                  std::abs(std::abs(face_normal * axis) - 1) < 1e-6 &&
+                  w.norm() < g.pipe_radius)
+                return g.nodes[k].boundary_id;
+            }
       return fallback;
     }
 
     /// Physical groups: volumes by material, free surfaces by the ids of
-    /// their part or clip plane.
+    /// their part, clip plane or free end.
     void
     tag(const PipeGraph &g, const Parts &parts)
     {

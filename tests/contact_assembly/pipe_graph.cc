@@ -308,6 +308,26 @@ namespace
     bool one_material = false;
     deallog << "parts after cutting 1-2: " << count_parts(tria, one_material)
             << std::endl;
+
+    // A mirror plane through both pipes' axes halves their flat ends, which
+    // keep their ids.
+    const auto half =
+      parse("  set Nodes = 0, 0, 0 ; 2, 0, 0 : 7 ; 0, 2, 0 : 6\n"
+            "  set Free ends = 1, 2\n"
+            "  set Edges = 0-1 ; 0-2 : 3 : 1\n"
+            "  set Mesh size = 0.2\n"
+            "  set Clip planes = z >= 0 : 20\n");
+    Triangulation<3> cut;
+    forma::create_coarse_mesh(half, cut);
+    std::map<unsigned int, double> cut_area;
+    for (const auto &cell : cut.active_cell_iterators())
+      for (const auto f : cell->face_indices())
+        if (cell->at_boundary(f))
+          cut_area[cell->face(f)->boundary_id()] += cell->face(f)->measure();
+    check("halved by z >= 0: the flat ends keep ids 7 and 6, half disks "
+          "within 10%",
+          below(cut_area[7], M_PI * r * r / 2) &&
+            below(cut_area[6], M_PI * r * r / 2));
   }
 
 
@@ -375,6 +395,14 @@ namespace
               "  set Edges = 0-1 ; 0-2\n");
       },
       "node 0 has 2 edges");
+    expect_refusal(
+      "two pipes in one direction",
+      [] {
+        parse("  set Nodes = 0, 0, 0 ; 3, 0, 0 ; 1.5, 0, 0\n"
+              "  set Free ends = 2\n"
+              "  set Edges = 0-1 ; 0-2\n");
+      },
+      "0-1 and 0-2 leave node 0");
     expect_refusal(
       "free end inside its ball",
       [] {

@@ -18,8 +18,9 @@ namespace forma
    * node without a ball: its one pipe runs to the node and ends flat there.
    * The parts share their socket surfaces (a conforming tetrahedral mesh),
    * so `Mesh/Separate interfaces = 1-2 : id` cuts every contact between
-   * materials 1 and 2 at once, and parts of other material pairs stay
-   * glued (a PLA hook arm on its connector). Clip planes cut the assembly (a
+   * materials 1 and 2 at once, and parts of one material, or of a pair not
+   * separated, stay glued (a PLA hook arm on its connector). Clip planes
+   * cut the assembly (a
    * floor for rigid contact, a flat pad to load, the mirror planes of a
    * symmetric assembly).
    */
