@@ -397,7 +397,9 @@ namespace forma
         AssertThrow(seen.insert(std::minmax(e.a, e.b)).second,
                     ExcMessage(section + "/Edges: " + edge_name(e) +
                                " is given twice."));
-        // A pipe leaves its balls (a free end has none).
+        // A pipe to a free end leaves its ball (check_balls() spaces two).
+        if (!nodes[e.a].free_end && !nodes[e.b].free_end)
+          continue;
         const double length = nodes[e.a].x.distance(nodes[e.b].x);
         const double need   = (nodes[e.a].free_end ? 0 : connector_radius) +
                             (nodes[e.b].free_end ? 0 : connector_radius) +
