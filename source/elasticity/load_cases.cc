@@ -359,6 +359,24 @@ namespace forma
   }
 
   template <int dim>
+  bool
+  LoadCases<dim>::undo_remesh()
+  {
+    bool undone = false;
+    for (auto &c : cases)
+      undone = c->undo_remesh() || undone;
+    return undone;
+  }
+
+  template <int dim>
+  void
+  LoadCases<dim>::commit_remesh()
+  {
+    for (auto &c : cases)
+      c->commit_remesh();
+  }
+
+  template <int dim>
   std::vector<double>
   LoadCases<dim>::material_offsets() const
   {

@@ -252,48 +252,36 @@ namespace forma
                            std::to_string(X.size()) + " for " +
                            std::to_string(serial.n_vertices()) +
                            " vertices)."));
-    remeshed = true;
-    material_of_vertex.clear();
+    std::vector<std::pair<Point<dim>, Point<dim>>> vertex_map;
     for (unsigned int v = 0; v < X.size(); ++v)
-      material_of_vertex.emplace_back(serial.get_vertices()[v], X[v]);
-    std::sort(material_of_vertex.begin(),
-              material_of_vertex.end(),
+      vertex_map.emplace_back(serial.get_vertices()[v], X[v]);
+    std::sort(vertex_map.begin(),
+              vertex_map.end(),
               [](const auto &a, const auto &b) {
                 return std::lexicographical_compare(a.first.begin_raw(),
                                                     a.first.end_raw(),
                                                     b.first.begin_raw(),
                                                     b.first.end_raw());
               });
-
     auto new_tria =
       make_parallel_triangulation<dim>(simplex,
                                        !p.mesh.separate_interfaces.empty(),
                                        comm);
     new_tria->copy_triangulation(serial);
-    // The DoF handlers let go of the old mesh before it is destroyed.
-    dof_handler.reinit(*new_tria);
-    shape_dof_handler.reinit(*new_tria);
-    if (matrix_free) // its own DoF handlers hold the old mesh too
-      matrix_free =
-        std::make_unique<MatrixFreeElasticity<dim>>(p.linear_solver);
-    tria = std::move(new_tria);
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
-        cell->set_active_fe_index(simplex ? 0 : p.degree - 1);
 
-    // Factorizations of the old matrices are useless now.
-    linear_solver = LinearSolver(p.linear_solver);
-    u_history.clear();
-    v_history.clear();
-    u_states.clear();
-    v_states.clear();
-    reference_states.clear();
-    objective_cache.clear();
-    setup_system();
+    // Kept before anything changes, so that a failure from here on can
+    // be undone.
+    previous_mesh                     = std::make_unique<PreviousMesh>();
+    previous_mesh->material_of_vertex = material_of_vertex;
+    previous_mesh->remeshed           = remeshed;
+    previous_mesh->design             = design;
+    const auto old_layout             = layout;
+    remeshed                          = true;
+    ++n_remeshes;
+    adopt_mesh(std::move(new_tria), std::move(vertex_map), previous_mesh->tria);
 
     // The design: a fresh shape block, the other blocks as they were.
-    const auto old_layout = layout;
-    const auto old_design = design;
+    const auto &old_design = previous_mesh->design;
     build_design_layout();
     for (unsigned int k = 0; k < layout.blocks.size(); ++k)
       if (const auto &b = layout.blocks[k];
@@ -313,7 +301,61 @@ namespace forma
                     design.begin() + b.offset);
         }
     apply_design(design);
-    ++n_remeshes;
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::undo_remesh()
+  {
+    AssertThrow(previous_mesh, ExcInternalError());
+    const auto previous = std::move(previous_mesh);
+    remeshed            = previous->remeshed;
+    --n_remeshes;
+    if (!previous->tria) // failed before the mesh was replaced
+      return;
+    std::unique_ptr<parallel::TriangulationBase<dim>> failed;
+    adopt_mesh(std::move(previous->tria),
+               std::move(previous->material_of_vertex),
+               failed);
+    build_design_layout();
+    AssertThrow(previous->design.size() == design.size(), ExcInternalError());
+    design = previous->design;
+    apply_design(design);
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::adopt_mesh(
+    std::unique_ptr<parallel::TriangulationBase<dim>>  new_tria,
+    std::vector<std::pair<Point<dim>, Point<dim>>>   &&vertex_map,
+    std::unique_ptr<parallel::TriangulationBase<dim>> &old_tria)
+  {
+    material_of_vertex = std::move(vertex_map);
+    // The DoF handlers let go of the old mesh before it is handed back.
+    dof_handler.reinit(*new_tria);
+    shape_dof_handler.reinit(*new_tria);
+    if (matrix_free) // its own DoF handlers hold the old mesh too
+      matrix_free =
+        std::make_unique<MatrixFreeElasticity<dim>>(p.linear_solver);
+    old_tria = std::move(tria);
+    tria     = std::move(new_tria);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        cell->set_active_fe_index(simplex ? 0 : p.degree - 1);
+
+    // Factorizations of the old matrices are useless now.
+    linear_solver = LinearSolver(p.linear_solver);
+    u_history.clear();
+    v_history.clear();
+    u_states.clear();
+    v_states.clear();
+    reference_states.clear();
+    objective_cache.clear();
+    setup_system();
   }
 
 
@@ -550,6 +592,25 @@ namespace forma
   }
 
   template <int dim>
+  bool
+  ElasticitySimulator<dim>::undo_remesh()
+  {
+    if (!impl->previous_mesh)
+      return false;
+    impl->undo_remesh();
+    if (impl->objective)
+      set_objective(impl->objective);
+    return true;
+  }
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::commit_remesh()
+  {
+    impl->previous_mesh.reset();
+  }
+
+  template <int dim>
   void
   ElasticitySimulator<dim>::load_remeshed(const std::string &file_stem)
   {
@@ -624,6 +685,8 @@ namespace forma
   template const Triangulation<dim, dim>                                         \
                &ElasticitySimulator<dim>::triangulation() const;                 \
   template void ElasticitySimulator<dim>::load_remeshed(const std::string &);    \
+  template bool ElasticitySimulator<dim>::undo_remesh();                         \
+  template void ElasticitySimulator<dim>::commit_remesh();                       \
   template std::vector<double> ElasticitySimulator<dim>::material_offsets()      \
     const;                                                                       \
   template unsigned int ElasticitySimulator<dim>::n_remeshes() const;

@@ -596,10 +596,31 @@ namespace forma
     std::pair<double, double> pending_quality; ///< min scaled J: now, new
     types::global_cell_index  pending_size = 0;
     /// Take over `serial` (a mesh_regions() mesh as read) whose vertices
-    /// have the material coordinates `X`; keeps the non-shape design.
+    /// have the material coordinates `X`; keeps the non-shape design. The
+    /// mesh it replaces is kept for undo_remesh().
     void
     replace_mesh(const Triangulation<dim>      &serial,
                  const std::vector<Point<dim>> &X);
+    /// Back to the mesh and design before the last replace_mesh().
+    void
+    undo_remesh();
+    /// Make `new_tria` the mesh (material coordinates by vertex, sorted;
+    /// empty for the mesh as read) and set up on it; the old mesh goes to
+    /// `old_tria` first.
+    void
+    adopt_mesh(std::unique_ptr<parallel::TriangulationBase<dim>>  new_tria,
+               std::vector<std::pair<Point<dim>, Point<dim>>>   &&vertex_map,
+               std::unique_ptr<parallel::TriangulationBase<dim>> &old_tria);
+    /// The mesh before the last replace_mesh(), until commit_remesh(): a
+    /// new mesh on which the design cannot be solved is rolled back to it.
+    struct PreviousMesh
+    {
+      std::unique_ptr<parallel::TriangulationBase<dim>> tria;
+      std::vector<std::pair<Point<dim>, Point<dim>>>    material_of_vertex;
+      bool                                              remeshed = false;
+      std::vector<double>                               design;
+    };
+    std::unique_ptr<PreviousMesh> previous_mesh;
 
     // Harmonic extension of boundary shape moves into the interior
     // (Design/Shape parameterization = boundary), rebuilt with the design.

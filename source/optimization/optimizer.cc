@@ -141,6 +141,30 @@ namespace forma
                       "Boundary id of the holes that Element removal "
                       "makes: a free (designable) id; cells on it may go, "
                       "cells on any other boundary id stay.");
+    prm.declare_entry(
+      "Volume minimization iterations",
+      "0",
+      Patterns::Integer(0),
+      "Thesis Table 2.2's 'Post vol. min.': once the optimization above has "
+      "stopped, this many more iterations minimize the volume with the "
+      "stress held. The second stage's objective is J0 (V / V1 + w "
+      "max(S / S1 - 1 - slack, 0)^2) plus the other terms of Objective/Terms "
+      "(assembly, disassembly, alignment, smoothing, as they were), with S "
+      "the L^p stress norm of the one stress (or von mises) term, V the "
+      "volume of its material, S1 and V1 their values when the stage starts "
+      "and J0 the first objective (so the same Relative decrease applies). "
+      "One load case. 0: no second stage.");
+    prm.declare_entry("Volume minimization stress slack",
+                      "0.02",
+                      Patterns::Double(0),
+                      "How far the stress norm may rise above its value at "
+                      "the end of the stress optimization while the volume "
+                      "is minimized (a fraction).");
+    prm.declare_entry("Volume minimization stress weight",
+                      "1000",
+                      Patterns::Double(0),
+                      "w in the volume minimization's objective: the weight "
+                      "of the squared relative excess of the stress norm.");
     prm.declare_entry("Resume",
                       "false",
                       Patterns::Bool(),
@@ -172,6 +196,11 @@ namespace forma
     hold_blocked_vertices    = prm.get_bool("Hold blocked vertices");
     element_removal          = prm.get_double("Element removal");
     element_removal_boundary = prm.get_integer("Element removal boundary");
+    volume_minimization = prm.get_integer("Volume minimization iterations");
+    volume_minimization_slack =
+      prm.get_double("Volume minimization stress slack");
+    volume_minimization_weight =
+      prm.get_double("Volume minimization stress weight");
     AssertThrow(element_removal == 0 || element_removal_boundary >= 0,
                 ExcMessage("Optimization/Element removal needs 'Element "
                            "removal boundary': the boundary "
@@ -309,6 +338,11 @@ namespace forma
             c["decrease_window_start"] = run.window_start;
             c["outer_iteration"]       = run.parameters.outer_iteration;
             c["outer_start"]           = run.parameters.outer_start;
+            if (!run.parameters.stage_terms.empty())
+              {
+                c["stage_terms"] = run.parameters.stage_terms;
+                c["stage_start"] = run.parameters.stage_start;
+              }
             replace_file(run.checkpoint, [&](const std::string &file) {
               std::ofstream(file) << c.dump();
             });
@@ -438,7 +472,9 @@ namespace forma
     const auto c = read_checkpoint(context);
     return {c.at("mesh").get<std::string>(),
             c.value("outer_iteration", 1u),
-            c.value("outer_start", 0u)};
+            c.value("outer_start", 0u),
+            c.value("stage_terms", std::string()),
+            c.value("stage_start", 0u)};
   }
 
 

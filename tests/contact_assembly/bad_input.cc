@@ -132,6 +132,19 @@ main()
                    " set Element removal boundary = 3\n"
                    " set Outer iterations = 3\nend\n",
                  good);
+  expect_failure("volume_minimization_without_stress_term",
+                 optimize +
+                   "subsection Objective\n set Terms = compliance\nend\n"
+                   "subsection Optimization\n set Volume minimization "
+                   "iterations = 5\nend\n",
+                 good);
+  expect_failure("volume_minimization_with_two_stress_terms",
+                 optimize +
+                   "subsection Objective\n set Terms = stress : p=4 ; von "
+                   "mises : p=8\nend\n"
+                   "subsection Optimization\n set Volume minimization "
+                   "iterations = 5\nend\n",
+                 good);
   // Singular problems: the top part cut off, held in x only,
   // one part held in x only, two parts in contact held by nothing else,
   // a Newton iteration limit and the top part pulled off its contact.

@@ -108,6 +108,12 @@ namespace forma
     remesh(const std::string &file_stem);
     void
     load_remeshed(const std::string &file_stem);
+    /// ElasticitySimulator::undo_remesh() and commit_remesh() for every
+    /// case.
+    bool
+    undo_remesh();
+    void
+    commit_remesh();
     void
     cap_volume_bounds();
     /// The largest mean cell stress over the cases.

@@ -269,6 +269,17 @@ namespace forma
     void
     load_remeshed(const std::string &file_stem);
 
+    /// Back to the mesh and design before the last remesh(),
+    /// remesh_without() or load_remeshed() not yet committed (say, when
+    /// the design cannot be solved on the new mesh); false if there is
+    /// none.
+    bool
+    undo_remesh();
+
+    /// Keep the current mesh: forget the one before it.
+    void
+    commit_remesh();
+
     /// Mean Frobenius stress of every active cell in the last state, by
     /// active cell index, on every rank (needs every cell on every rank).
     std::vector<double>

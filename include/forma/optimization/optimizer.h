@@ -43,6 +43,18 @@ namespace forma
     double element_removal = 0;
     /// Boundary id of the holes (-1: not set).
     int element_removal_boundary = -1;
+    /// Thesis Table 2.2's "Post vol. min.": iterations of a second stage
+    /// that minimizes the volume with the stress norm held within
+    /// `volume_minimization_slack` by a penalty of weight
+    /// `volume_minimization_weight` (see the parameter's text); 0: none.
+    unsigned int volume_minimization        = 0;
+    double       volume_minimization_slack  = 0.02;
+    double       volume_minimization_weight = 1000;
+    /// A later stage's Objective/Terms and the iteration it started at,
+    /// recorded in the checkpoint (not parameter-file entries; empty: the
+    /// first stage).
+    std::string  stage_terms;
+    unsigned int stage_start = 0;
     /// Stop once J <= this (inverse problems with a reachable target; not
     /// a parameter-file entry).
     double value_target = -std::numeric_limits<double>::infinity();
@@ -139,6 +151,9 @@ namespace forma
   {
     std::string  mesh;
     unsigned int outer_iteration = 1, outer_start = 0;
+    /// See OptimizationParameters::stage_terms (empty: the first stage).
+    std::string  stage_terms;
+    unsigned int stage_start = 0;
   };
 
   CheckpointPlace

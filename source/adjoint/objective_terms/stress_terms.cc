@@ -15,8 +15,10 @@ namespace forma
     const double none = std::numeric_limits<double>::quiet_NaN();
 
     // A stress measure s (Frobenius or von Mises of f(grad u)): its L^p norm
-    // (int s^p)^(1/p) (eq. 3.36), or with a bound s_t the penalty
-    // int phi(s - s_t) (eq. 3.42).
+    // S = (int s^p)^(1/p) (eq. 3.36), with a bound s_t the penalty
+    // int phi(s - s_t) (eq. 3.42), or with a norm bound S_t the penalty
+    // phi(S - S_t) of the norm (a smooth cap on the peak stress, for
+    // minimizing the volume with the stress held).
     template <int dim>
     class StressTerm : public AutoDiffTerm<dim, StressTerm<dim>>
     {
@@ -25,11 +27,13 @@ namespace forma
                  const double       weight,
                  const bool         von_mises,
                  const double       p,
-                 const double       bound)
+                 const double       bound,
+                 const double       norm_bound = none)
         : AutoDiffTerm<dim, StressTerm<dim>>(name, weight)
         , von_mises(von_mises)
         , p(p)
         , bound(bound)
+        , norm_bound(norm_bound)
       {}
       template <typename N>
       N
@@ -58,16 +62,25 @@ namespace forma
       {
         if (!std::isnan(bound))
           return AutoDiffTerm<dim, StressTerm<dim>>::combine(I, grad);
-        const double v = std::pow(std::max(I[0], 0.), 1. / p);
+        const double v    = std::pow(std::max(I[0], 0.), 1. / p);
+        const double dv   = I[0] > 0 ? v / (p * I[0]) : 0.;
+        const double over = std::isnan(norm_bound) ? 0. : v - norm_bound;
+        if (std::isnan(norm_bound))
+          {
+            if (grad)
+              *grad = {dv};
+            return v;
+          }
         if (grad)
-          *grad = {I[0] > 0 ? v / (p * I[0]) : 0.};
-        return v;
+          *grad = {over > 0 ? 2 * over * dv : 0.};
+        return positive_part_squared(over);
       }
 
     private:
       const bool   von_mises;
       const double p;
-      const double bound; ///< NaN: the L^p norm
+      const double bound;      ///< NaN: the L^p norm
+      const double norm_bound; ///< NaN: no bound on the L^p norm
     };
 
     // int f(grad u) : grad u, twice the stored energy for linear elasticity
@@ -137,6 +150,35 @@ namespace forma
 
     template <int dim>
     std::unique_ptr<ObjectiveTerm<dim>>
+    stress_norm_bound(const TermRecord<dim> &r, const bool von_mises)
+    {
+      const double p = r.key("p", 2.);
+      AssertThrow(p >= 2,
+                  ExcMessage(r.where + ": p must be at least 2 (got " +
+                             std::to_string(p) + ")."));
+      const double bound = r.key("bound");
+      AssertThrow(bound >= 0,
+                  ExcMessage(r.where + ": the bound must not be negative."));
+      return std::make_unique<StressTerm<dim>>(
+        r.name, r.weight, von_mises, p, none, bound);
+    }
+
+    template <int dim>
+    std::unique_ptr<ObjectiveTerm<dim>>
+    make_stress_norm_bound(const TermRecord<dim> &r)
+    {
+      return stress_norm_bound(r, false);
+    }
+
+    template <int dim>
+    std::unique_ptr<ObjectiveTerm<dim>>
+    make_von_mises_norm_bound(const TermRecord<dim> &r)
+    {
+      return stress_norm_bound(r, true);
+    }
+
+    template <int dim>
+    std::unique_ptr<ObjectiveTerm<dim>>
     make_compliance(const TermRecord<dim> &r)
     {
       return std::make_unique<Compliance<dim>>(r.name, r.weight);
@@ -162,6 +204,16 @@ FORMA_REGISTER_OBJECTIVE_TERM(make_stress_bound,
 FORMA_REGISTER_OBJECTIVE_TERM(make_von_mises_bound,
                               "von mises bound",
                               "bound=s: the same of the von Mises stress",
+                              3)
+FORMA_REGISTER_OBJECTIVE_TERM(make_stress_norm_bound,
+                              "stress norm bound",
+                              "p=2, bound=S: max(S - bound, 0)^2 of the L^p "
+                              "norm S of the Frobenius stress (the stress "
+                              "held while the volume is minimized)",
+                              2)
+FORMA_REGISTER_OBJECTIVE_TERM(make_von_mises_norm_bound,
+                              "von mises norm bound",
+                              "p=2, bound=S: the same of the von Mises stress",
                               3)
 FORMA_REGISTER_OBJECTIVE_TERM(make_compliance,
                               "compliance",
