@@ -166,10 +166,24 @@ namespace forma
       set_stage_objective();
       double
       scaled_gradient_norm(const std::vector<double> &q);
+      double
+      stress_norm(const KeyValueRecord &stress) const;
 
       // The results.
       void
       report();
+      double
+      relative_gradient_norm() const;
+      double
+      last_outer_reduction() const;
+      std::string
+      objective_line() const;
+      void
+      print_results(const nlohmann::json &state1,
+                    const std::string    &design_text) const;
+      void
+      write_summary(const nlohmann::json &state1,
+                    const nlohmann::json &final_values);
       nlohmann::json
       outer_summary() const;
       void
@@ -824,40 +838,36 @@ namespace forma
     {
       const std::size_t last = result.history.size() - 1;
       ensure(result.design);
-      stage_start_state     = simulator.state_statistics();
-      const auto   stress   = stress_term_of(parameters.objective.terms);
-      double       weighted = 0, weight = stress.key("weight", 1.);
-      const double material = stress.key("material", -1.);
-      for (const auto &[name, value] : simulator.objective_terms())
-        if (name == stress.name)
-          weighted = value;
-      for (const auto &[name, w] : simulator.ramped_weights())
-        if (name == stress.name)
-          weight = w;
-      const double V1 =
-        material < 0 ?
-          stage_start_state["volume"].get<double>() :
-          stage_start_state["volume_by_material"]
-                           [std::to_string(static_cast<int>(material))]
-                             .get<double>();
-      const auto terms = [&](const double scale) {
-        return volume_minimization_terms(parameters.objective.terms,
-                                         std::abs(result.history.front()),
-                                         weighted / weight,
-                                         V1,
-                                         settings.volume_minimization_slack,
-                                         settings.volume_minimization_weight,
-                                         scale);
+      stage_start_state  = simulator.state_statistics();
+      const auto  stress = stress_term_of(parameters.objective.terms);
+      VolumeStage v;
+      v.J0        = std::abs(result.history.front());
+      v.norm      = stress_norm(stress);
+      v.hold_peak = settings.volume_minimization_bound == "peak";
+      v.slack     = settings.volume_minimization_slack;
+      v.weight    = settings.volume_minimization_weight;
+      // Per material where the term has one and the mesh several.
+      const auto of_material = [&](const std::string &key,
+                                   const std::string &by_material) {
+        const auto m = std::to_string(int(stress.key("material", -1.)));
+        return stage_start_state.contains(by_material) &&
+                   stage_start_state[by_material].contains(m) ?
+                 stage_start_state[by_material][m].get<double>() :
+                 stage_start_state[key].get<double>();
       };
+      v.V1   = of_material("volume", "volume_by_material");
+      v.peak = stress.name == "stress" ?
+                 of_material("max_stress", "max_stress_by_material") :
+                 stage_start_state["max_von_mises_stress"].get<double>();
       // The volume is nearly linear in the shape, so L-BFGS finds no
       // curvature and would creep along the gradient: scale the stage's
       // objective so that its first step is as long as the first stage's.
       stage_start = last;
-      stage_terms = terms(1.);
+      stage_terms = volume_minimization_terms(parameters.objective.terms, v);
       set_stage_objective();
       const double g = scaled_gradient_norm(result.design);
-      stage_terms =
-        terms(g > 0 && first_gradient_norm > 0 ? first_gradient_norm / g : 1.);
+      v.scale = g > 0 && first_gradient_norm > 0 ? first_gradient_norm / g : 1.;
+      stage_terms = volume_minimization_terms(parameters.objective.terms, v);
       set_stage_objective();
       // The stage is an outer iteration of its own (summary, plot).
       outer_last_J.push_back(result.history.back());
@@ -868,6 +878,23 @@ namespace forma
         "volume minimization with the stress held, terms: " + stage_terms);
       stage_settings.decrease_window_start = last;
       restart("volume minimization");
+    }
+
+
+
+    // The unweighted value of the stress term `stress` now.
+    template <int dim>
+    double
+    OptimizeJob<dim>::stress_norm(const KeyValueRecord &stress) const
+    {
+      double weighted = 0, weight = stress.key("weight", 1.);
+      for (const auto &[name, value] : simulator.objective_terms())
+        if (name == stress.name)
+          weighted = value;
+      for (const auto &[name, w] : simulator.ramped_weights())
+        if (name == stress.name)
+          weight = w;
+      return weighted / weight;
     }
 
 
@@ -933,41 +960,81 @@ namespace forma
     void
     OptimizeJob<dim>::report()
     {
+      ensure(result.design);
+      const nlohmann::json state1 = simulator.state_statistics();
+      nlohmann::json       final_values;
+      const auto           text = describe_design(simulator.design_layout(),
+                                        model.initial,
+                                        result.design,
+                                        simulator.max_shape_offset(),
+                                        final_values);
+      print_results(state1, text);
+      write_summary(state1, final_values);
+      write_history();
+    }
+
+
+
+    // Thesis Table 2.2's last two columns: the last gradient norm over the
+    // first, and what the last outer iteration lowered J by (% of J0).
+    template <int dim>
+    double
+    OptimizeJob<dim>::relative_gradient_norm() const
+    {
+      return first_gradient_norm > 0 ?
+               last_gradient_norm / first_gradient_norm :
+               0;
+    }
+
+    template <int dim>
+    double
+    OptimizeJob<dim>::last_outer_reduction() const
+    {
+      return outer_start < result.history.size() ?
+               100 * (result.history[outer_start] - result.history.back()) /
+                 std::abs(result.history.front()) :
+               0;
+    }
+
+
+
+    // "objective J0 -> J1 (ratio)"; with a volume stage, each stage's
+    // objective from its start to its end (the stress stage's end is not
+    // known to a run resumed after it).
+    template <int dim>
+    std::string
+    OptimizeJob<dim>::objective_line() const
+    {
+      const auto change = [](const double a, const double b) {
+        return significant(a, 6) + " -> " + significant(b, 6) + " (ratio " +
+               significant(b / a, 4) + ")";
+      };
       const double J0 = result.history.front(), J1 = result.history.back();
+      if (stage_terms.empty())
+        return "objective " + change(J0, J1);
+      std::string line =
+        "volume stage's objective " + change(result.history[stage_start], J1);
+      if (!outer_last_J.empty())
+        line = "objective " + change(J0, outer_last_J.back()) + ", " + line;
+      return line;
+    }
+
+
+
+    template <int dim>
+    void
+    OptimizeJob<dim>::print_results(const nlohmann::json &state1,
+                                    const std::string    &design_text) const
+    {
       context.print("stopped after " +
                     std::to_string(result.history.size() - 1) +
                     " iterations: " + result.stop_reason);
-      const double relative_gradient_norm =
-        first_gradient_norm > 0 ? last_gradient_norm / first_gradient_norm : 0;
-      const double last_outer_reduction =
-        outer_start < result.history.size() ?
-          100 * (result.history[outer_start] - J1) / std::abs(J0) :
-          0;
       context.log("outer iterations (meshes) " + std::to_string(n_outer) +
                   ", relative gradient norm " +
-                  significant(relative_gradient_norm, 3) +
+                  significant(relative_gradient_norm(), 3) +
                   ", the last one's reduction of J " +
-                  significant(last_outer_reduction, 3) + "% of J0");
-      if (stage_terms.empty())
-        context.print("objective " + significant(J0, 6) + " -> " +
-                      significant(J1, 6) + " (ratio " +
-                      significant(J1 / J0, 4) + ")");
-      else
-        {
-          // Two objectives: each stage's from its start to its end (the
-          // stress stage's end is not known to a run resumed after it).
-          const double Jv   = result.history[stage_start];
-          std::string  line = "volume stage's objective " + significant(Jv, 6) +
-                             " -> " + significant(J1, 6) + " (ratio " +
-                             significant(J1 / Jv, 4) + ")";
-          if (!outer_last_J.empty())
-            line = "objective " + significant(J0, 6) + " -> " +
-                   significant(outer_last_J.back(), 6) + " (ratio " +
-                   significant(outer_last_J.back() / J0, 4) + "), " + line;
-          context.print(line);
-        }
-      ensure(result.design);
-      const nlohmann::json state1 = simulator.state_statistics();
+                  significant(last_outer_reduction(), 3) + "% of J0");
+      context.print(objective_line());
       for (const auto &[key, label] :
            {std::pair<std::string, std::string>{"max_stress",
                                                 "max stress (Frobenius)"},
@@ -977,52 +1044,52 @@ namespace forma
           label + " " + significant(double(state0[key]), 5) + " -> " +
           significant(double(state1[key]), 5) + " (ratio " +
           significant(double(state1[key]) / double(state0[key]), 4) + ")");
-      nlohmann::json final_values;
-      const auto     text = describe_design(simulator.design_layout(),
-                                        model.initial,
-                                        result.design,
-                                        simulator.max_shape_offset(),
-                                        final_values);
-      if (!text.empty())
-        context.print("final design: " + text);
-      context.summary["optimization"] = {
-        {"initial_objective", J0},
-        {"final_objective", J1},
-        {"ratio", J1 / J0},
-        {"iterations", result.history.size() - 1},
-        {"stop_reason", result.stop_reason},
-        {"initial_state", state0},
-        {"final_state", state1},
-        {"remeshes", remeshes},
-        {"holds", holds},
-        {"outer_iterations", n_outer},
-        {"max_outer_iterations", settings.outer_iterations},
-        {"outer", outer_summary()},
-        {"relative_gradient_norm", relative_gradient_norm},
-        {"last_outer_reduction_percent", last_outer_reduction},
-        {"final_design", final_values}};
+      if (!design_text.empty())
+        context.print("final design: " + design_text);
+    }
+
+
+
+    template <int dim>
+    void
+    OptimizeJob<dim>::write_summary(const nlohmann::json &state1,
+                                    const nlohmann::json &final_values)
+    {
+      const double J0 = result.history.front(), J1 = result.history.back();
+      auto        &o = context.summary["optimization"];
+      o              = {{"initial_objective", J0},
+                        {"final_objective", J1},
+                        {"ratio", J1 / J0},
+                        {"iterations", result.history.size() - 1},
+                        {"stop_reason", result.stop_reason},
+                        {"initial_state", state0},
+                        {"final_state", state1},
+                        {"remeshes", remeshes},
+                        {"holds", holds},
+                        {"outer_iterations", n_outer},
+                        {"max_outer_iterations", settings.outer_iterations},
+                        {"outer", outer_summary()},
+                        {"relative_gradient_norm", relative_gradient_norm()},
+                        {"last_outer_reduction_percent", last_outer_reduction()},
+                        {"final_design", final_values}};
       if (!stage_terms.empty())
-        context.summary["optimization"]["volume_minimization"] = {
-          {"iteration", stage_start},
-          {"terms", stage_terms},
-          {"start_state", stage_start_state}};
+        o["volume_minimization"] = {{"iteration", stage_start},
+                                    {"terms", stage_terms},
+                                    {"start_state", stage_start_state}};
       context.summary["adjoint"] = simulator.adjoint_statistics();
-      {
-        // Where the run's time went (thesis Algorithm 1's parts); 'other'
-        // is the optimizer, the line search's quality checks and the
-        // output.
-        const auto  &a     = context.summary["adjoint"];
-        const double total = wall_timer.wall_time();
-        const double parts = double(a["forward_seconds"]) +
-                             double(a["adjoint_seconds"]) + remesh_seconds;
-        context.summary["timing"] = {
-          {"total_seconds", total},
-          {"forward_seconds", a["forward_seconds"]},
-          {"adjoint_solve_seconds", a["adjoint_solve_seconds"]},
-          {"derivative_products_seconds", a["derivative_products_seconds"]},
-          {"remesh_seconds", remesh_seconds},
-          {"other_seconds", total - parts}};
-      }
+      // Where the run's time went (thesis Algorithm 1's parts); 'other' is
+      // the optimizer, the line search's quality checks and the output.
+      const auto  &a     = context.summary["adjoint"];
+      const double total = wall_timer.wall_time();
+      const double parts = double(a["forward_seconds"]) +
+                           double(a["adjoint_seconds"]) + remesh_seconds;
+      context.summary["timing"] = {
+        {"total_seconds", total},
+        {"forward_seconds", a["forward_seconds"]},
+        {"adjoint_solve_seconds", a["adjoint_solve_seconds"]},
+        {"derivative_products_seconds", a["derivative_products_seconds"]},
+        {"remesh_seconds", remesh_seconds},
+        {"other_seconds", total - parts}};
       // The key numbers at the top level (thesis Table 2.2 columns).
       context.summary["initial_objective"]  = J0;
       context.summary["final_objective"]    = J1;
@@ -1030,7 +1097,6 @@ namespace forma
       context.summary["final_max_stress"]   = state1["max_stress"];
       context.summary["initial_volume"]     = state0["volume"];
       context.summary["final_volume"]       = state1["volume"];
-      write_history();
     }
 
 

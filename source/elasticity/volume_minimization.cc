@@ -84,37 +84,37 @@ namespace forma
 
 
   std::string
-  volume_minimization_terms(const std::string &terms,
-                            const double       J0,
-                            const double       S1,
-                            const double       V1,
-                            const double       slack,
-                            const double       w,
-                            const double       scale)
+  volume_minimization_terms(const std::string &terms, const VolumeStage &v)
   {
-    AssertThrow(J0 > 0 && S1 > 0 && V1 > 0,
+    AssertThrow(v.J0 > 0 && v.V1 > 0 && v.norm > 0 && v.peak > 0,
                 dealii::ExcMessage(
                   entry +
-                  ": the stress norm, the volume and the objective "
-                  "must be positive when the stage starts (got S1 = " +
-                  exact(S1) + ", V1 = " + exact(V1) + ", J0 = " + exact(J0) +
-                  ")."));
+                  ": the objective, the volume and the stress must be "
+                  "positive when the stage starts (got J0 = " +
+                  exact(v.J0) + ", V1 = " + exact(v.V1) + ", S1 = " +
+                  exact(v.norm) + ", s1 = " + exact(v.peak) + ")."));
     const auto        stress = stress_term_of(terms);
     const std::string material =
       stress.keys.count("material") ?
         ", material=" + exact(stress.keys.at("material")) :
         "";
-    std::string result = "volume : weight=" + exact(scale * J0 / V1) + material;
-    result += " ; " + stress.name +
-              " norm bound : p=" + exact(stress.key("p", 2.)) +
-              ", bound=" + exact((1 + slack) * S1) +
-              ", weight=" + exact(scale * J0 * w / (S1 * S1)) + material;
+    const double k = v.scale * v.J0;
+    std::string  result =
+      "volume : weight=" + exact(k / v.V1) + material + " ; " + stress.name;
+    if (v.hold_peak)
+      result += " bound : bound=" + exact((1 + v.slack) * v.peak) +
+                ", weight=" + exact(k * v.weight / (v.peak * v.peak * v.V1));
+    else
+      result += " norm bound : p=" + exact(stress.key("p", 2.)) +
+                ", bound=" + exact((1 + v.slack) * v.norm) +
+                ", weight=" + exact(k * v.weight / (v.norm * v.norm));
+    result += material;
     const std::set<std::string> replaced = {
       "stress", "von mises", "volume", "volume bound", "volume target"};
     for (const auto &text : split_top_level(terms, ';'))
       if (!dealii::Utilities::trim(text).empty())
         if (const auto r = parse_term(text); !replaced.count(r.name))
-          result += " ; " + scaled_term(r, scale);
+          result += " ; " + scaled_term(r, v.scale);
     return result;
   }
 } // namespace forma

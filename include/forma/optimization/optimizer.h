@@ -49,7 +49,10 @@ namespace forma
     /// `volume_minimization_weight` (see the parameter's text); 0: none.
     unsigned int volume_minimization        = 0;
     double       volume_minimization_slack  = 0.02;
-    double       volume_minimization_weight = 1000;
+    double       volume_minimization_weight = 1e5;
+    /// What the stage holds: "peak" (the largest stress, pointwise) or
+    /// "norm" (the stress term's L^p norm).
+    std::string volume_minimization_bound = "peak";
     /// A later stage's Objective/Terms and the iteration it started at,
     /// recorded in the checkpoint (not parameter-file entries; empty: the
     /// first stage).
