@@ -156,6 +156,8 @@ namespace forma
       remesh_and_restart();
       void
       solve_on_new_mesh();
+      bool
+      roll_back(const unsigned int n_before);
       void
       restart(const std::string &kind);
       void
@@ -246,6 +248,10 @@ namespace forma
       std::string    stage_terms;
       unsigned int   stage_start = 0;
       nlohmann::json stage_start_state;
+      /// The stress stage's last J and why it stopped (unknown to a run
+      /// resumed in the volume stage).
+      double      stress_stage_J = std::numeric_limits<double>::quiet_NaN();
+      std::string stress_stage_stop;
     };
 
 
@@ -282,6 +288,8 @@ namespace forma
           ensure(simulator.design());
           penalty_scale = std::max(std::abs(simulator.objective()), 1e-300);
         }
+      if (!stage_terms.empty()) // resumed in the volume stage
+        set_stage_objective();
       connect_model();
       wall_timer.restart(); // the optimization's time, after the set-up
       ensure(simulator.design());
@@ -305,8 +313,6 @@ namespace forma
         }
       stage_terms = place.stage_terms;
       stage_start = place.stage_start;
-      if (!stage_terms.empty())
-        set_stage_objective();
     }
 
 
@@ -625,10 +631,11 @@ namespace forma
     {
       removal_done = true;
       ensure(result.design);
-      const std::size_t last = result.history.size() - 1;
-      const std::string at   = at_iteration(last);
-      const std::string stem = "optimization.mesh_" + std::to_string(last);
-      std::string       line;
+      const std::size_t  last = result.history.size() - 1;
+      const std::string  at   = at_iteration(last);
+      const std::string  stem = "optimization.mesh_" + std::to_string(last);
+      std::string        line;
+      const unsigned int n_before = simulator.n_remeshes();
       try
         {
           dealii::Timer remesh_timer;
@@ -654,7 +661,8 @@ namespace forma
       catch (const std::exception &e)
         {
           // The shape-optimized design stands, on its mesh.
-          simulator.undo_remesh();
+          if (!roll_back(n_before))
+            throw;
           line =
             "element removal failed, keeping the design: " + error_message(e);
           context.print(at + line);
@@ -694,9 +702,10 @@ namespace forma
     OptimizeJob<dim>::remesh_and_restart()
     {
       ensure(result.design);
-      const std::size_t last = result.history.size() - 1;
-      const std::string next = "optimization.mesh_" + std::to_string(last);
-      std::string       line;
+      const std::size_t  last = result.history.size() - 1;
+      const std::string  next = "optimization.mesh_" + std::to_string(last);
+      std::string        line;
+      const unsigned int n_before = simulator.n_remeshes();
       try
         {
           dealii::Timer remesh_timer;
@@ -718,7 +727,8 @@ namespace forma
           // Gmsh, the quality check, the reference run of a target
           // objective or the solve on the new mesh failed: go on with the
           // design on the mesh it was found on, without remeshing.
-          simulator.undo_remesh();
+          if (!roll_back(n_before))
+            throw;
           line = "remeshing failed, continuing on the current mesh: " +
                  error_message(e);
           remesh_allowed = false;
@@ -726,14 +736,25 @@ namespace forma
         }
       context.print(at_iteration(last) + line);
       remeshes.push_back({{"iteration", last}, {"description", line}});
-      solved.clear();
       restart("remeshed");
     }
 
 
 
+    // After a failed remesh: back to the mesh (and design) the design was
+    // found on. False if a new mesh was kept already and cannot be undone.
+    template <int dim>
+    bool
+    OptimizeJob<dim>::roll_back(const unsigned int n_before)
+    {
+      solved.clear();
+      return simulator.undo_remesh() || simulator.n_remeshes() == n_before;
+    }
+
+
+
     // A new mesh is kept only once the design solves on it; otherwise the
-    // caller undoes the remesh.
+    // caller undoes the remesh (roll_back()).
     template <int dim>
     void
     OptimizeJob<dim>::solve_on_new_mesh()
@@ -838,7 +859,10 @@ namespace forma
     {
       const std::size_t last = result.history.size() - 1;
       ensure(result.design);
+      simulator.objective(); // the terms' values at this design
       stage_start_state  = simulator.state_statistics();
+      stress_stage_J     = result.history.back();
+      stress_stage_stop  = result.stop_reason;
       const auto  stress = stress_term_of(parameters.objective.terms);
       VolumeStage v;
       v.J0        = std::abs(result.history.front());
@@ -859,9 +883,14 @@ namespace forma
       v.peak = stress.name == "stress" ?
                  of_material("max_stress", "max_stress_by_material") :
                  stage_start_state["max_von_mises_stress"].get<double>();
+      // The stage is an outer iteration of its own (summary, plot).
+      outer_last_J.push_back(result.history.back());
+      outer_start = last, ++n_outer;
+      outer_starts.push_back(outer_start);
       // The volume is nearly linear in the shape, so L-BFGS finds no
       // curvature and would creep along the gradient: scale the stage's
-      // objective so that its first step is as long as the first stage's.
+      // objective so that its first step is as long as the first stage's
+      // (with Normalize objective, ROL divides the scale out again).
       stage_start = last;
       stage_terms = volume_minimization_terms(parameters.objective.terms, v);
       set_stage_objective();
@@ -869,10 +898,6 @@ namespace forma
       v.scale = g > 0 && first_gradient_norm > 0 ? first_gradient_norm / g : 1.;
       stage_terms = volume_minimization_terms(parameters.objective.terms, v);
       set_stage_objective();
-      // The stage is an outer iteration of its own (summary, plot).
-      outer_last_J.push_back(result.history.back());
-      outer_start = last, ++n_outer;
-      outer_starts.push_back(outer_start);
       context.print(
         at_iteration(last) +
         "volume minimization with the stress held, terms: " + stage_terms);
@@ -923,6 +948,7 @@ namespace forma
       ObjectiveParameters objective = parameters.objective;
       objective.terms               = stage_terms;
       simulator.set_objective(objective);
+      simulator.ramp_objective_weights(progress());
       solved.clear();
       stage_settings.stage_terms = stage_terms;
       stage_settings.stage_start = stage_start;
@@ -1014,8 +1040,8 @@ namespace forma
         return "objective " + change(J0, J1);
       std::string line =
         "volume stage's objective " + change(result.history[stage_start], J1);
-      if (!outer_last_J.empty())
-        line = "objective " + change(J0, outer_last_J.back()) + ", " + line;
+      if (!std::isnan(stress_stage_J))
+        line = "objective " + change(J0, stress_stage_J) + ", " + line;
       return line;
     }
 
@@ -1075,7 +1101,13 @@ namespace forma
       if (!stage_terms.empty())
         o["volume_minimization"] = {{"iteration", stage_start},
                                     {"terms", stage_terms},
-                                    {"start_state", stage_start_state}};
+                                    {"start_state", stage_start_state},
+                                    {"stress_stage_final_objective",
+                                     std::isnan(stress_stage_J) ?
+                                       nlohmann::json() :
+                                       nlohmann::json(stress_stage_J)},
+                                    {"stress_stage_stop_reason",
+                                     stress_stage_stop}};
       context.summary["adjoint"] = simulator.adjoint_statistics();
       // Where the run's time went (thesis Algorithm 1's parts); 'other' is
       // the optimizer, the line search's quality checks and the output.

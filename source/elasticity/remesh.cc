@@ -334,15 +334,15 @@ namespace forma
     std::vector<std::pair<Point<dim>, Point<dim>>>   &&vertex_map,
     std::unique_ptr<parallel::TriangulationBase<dim>> &old_tria)
   {
-    material_of_vertex = std::move(vertex_map);
-    // The DoF handlers let go of the old mesh before it is handed back.
-    dof_handler.reinit(*new_tria);
-    shape_dof_handler.reinit(*new_tria);
+    // Both meshes stay alive until the DoF handlers have moved over.
+    old_tria = std::move(tria);
+    tria     = std::move(new_tria);
+    dof_handler.reinit(*tria);
+    shape_dof_handler.reinit(*tria);
     if (matrix_free) // its own DoF handlers hold the old mesh too
       matrix_free =
         std::make_unique<MatrixFreeElasticity<dim>>(p.linear_solver);
-    old_tria = std::move(tria);
-    tria     = std::move(new_tria);
+    material_of_vertex = std::move(vertex_map);
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         cell->set_active_fe_index(simplex ? 0 : p.degree - 1);

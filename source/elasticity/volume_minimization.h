@@ -26,8 +26,8 @@ namespace forma
     double peak      = 1;    ///< s1: its largest stress (its material, measure)
     bool   hold_peak = true; ///< hold s1 pointwise, else S1
     double slack     = 0.02;
-    double weight    = 1000; ///< w
-    double scale     = 1;    ///< k
+    double weight    = 1e5; ///< w
+    double scale     = 1;   ///< k
   };
 
   /**

@@ -153,7 +153,9 @@ namespace forma
       "stress (or von mises) term, P the stress bound's penalty (see Volume "
       "minimization stress bound), V1 the volume when the stage starts, J0 "
       "the first objective, k such that the stage's first step is as long "
-      "as the first stage's. One load case. 0: no second stage.");
+      "as the first stage's (not with Normalize objective, which divides k "
+      "out). The stage is an outer iteration of its own; Relative decrease "
+      "compares with the first J0. One load case. 0: no second stage.");
     prm.declare_entry(
       "Volume minimization stress bound",
       "peak",
@@ -161,7 +163,8 @@ namespace forma
       "What the volume minimization holds. peak: the stress at every point, "
       "P = int max(s - (1 + slack) s1, 0)^2 / (s1^2 V1) with s the stress "
       "term's measure (Frobenius or von Mises) and s1 its largest value "
-      "(in the term's material) when the stage starts. norm: the stress "
+      "when the stage starts (Frobenius: in the term's material; von Mises: "
+      "in all parts). norm: the stress "
       "term's L^p norm S, P = max(S / S1 - 1 - slack, 0)^2 (a peak may "
       "then rise where it narrows).");
     prm.declare_entry("Volume minimization stress slack",

@@ -44,7 +44,8 @@ namespace forma
     /// Boundary id of the holes (-1: not set).
     int element_removal_boundary = -1;
     /// Thesis Table 2.2's "Post vol. min.": iterations of a second stage
-    /// that minimizes the volume with the stress norm held within
+    /// that minimizes the volume with the stress (its peak or its norm,
+    /// `volume_minimization_bound`) held within
     /// `volume_minimization_slack` by a penalty of weight
     /// `volume_minimization_weight` (see the parameter's text); 0: none.
     unsigned int volume_minimization        = 0;

@@ -17,8 +17,8 @@ namespace forma
     // A stress measure s (Frobenius or von Mises of f(grad u)): its L^p norm
     // S = (int s^p)^(1/p) (eq. 3.36), with a bound s_t the penalty
     // int phi(s - s_t) (eq. 3.42), or with a norm bound S_t the penalty
-    // phi(S - S_t) of the norm (a smooth cap on the peak stress, for
-    // minimizing the volume with the stress held).
+    // phi(S - S_t) of the norm (one of the ways to hold the stress while
+    // the volume is minimized).
     template <int dim>
     class StressTerm : public AutoDiffTerm<dim, StressTerm<dim>>
     {
@@ -62,15 +62,15 @@ namespace forma
       {
         if (!std::isnan(bound))
           return AutoDiffTerm<dim, StressTerm<dim>>::combine(I, grad);
-        const double v    = std::pow(std::max(I[0], 0.), 1. / p);
-        const double dv   = I[0] > 0 ? v / (p * I[0]) : 0.;
-        const double over = std::isnan(norm_bound) ? 0. : v - norm_bound;
+        const double v  = std::pow(std::max(I[0], 0.), 1. / p);
+        const double dv = I[0] > 0 ? v / (p * I[0]) : 0.;
         if (std::isnan(norm_bound))
           {
             if (grad)
               *grad = {dv};
             return v;
           }
+        const double over = v - norm_bound;
         if (grad)
           *grad = {over > 0 ? 2 * over * dv : 0.};
         return positive_part_squared(over);
