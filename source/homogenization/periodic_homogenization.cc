@@ -474,7 +474,8 @@ namespace forma
         solver_parameters.type;
     AssertThrow(type == "direct" || type == "cg-amg",
                 ExcMessage("unknown homogenization solver '" + type +
-                           "' (auto | direct | cg-amg)"));
+                           "' (auto | direct | cg-amg; multigrid on "
+                           "regular 2D grids)"));
     solver_parameters.type = type;
     serial_direct =
       type == "direct" && Utilities::MPI::n_mpi_processes(comm) == 1;
@@ -679,6 +680,21 @@ namespace forma
 
 
 
+  namespace
+  {
+    /// Meshes have no pixel grid: "multigrid" means auto there.
+    template <typename SolverParameters>
+    SolverParameters
+    for_mesh(SolverParameters solver)
+    {
+      if (solver.type == "multigrid")
+        solver.type = "auto";
+      return solver;
+    }
+  } // namespace
+
+
+
   template <int dim>
   PeriodicHomogenization<dim>::PeriodicHomogenization(
     const MPI_Comm                       comm,
@@ -706,6 +722,12 @@ namespace forma
                     ExcMessage("the homogenization grid's shift must be a "
                                "multiple of the cell size"));
       }
+    impl->lattice = lattice;
+    if (solver.type == "multigrid")
+      {
+        impl->setup_grid(size, n_cells, degree);
+        return;
+      }
     auto tria =
       std::make_unique<parallel::distributed::Triangulation<dim>>(comm);
     std::vector<unsigned int> repetitions(n_cells.begin(), n_cells.end());
@@ -727,7 +749,7 @@ namespace forma
     const Triangulation<dim, dim> &mesh,
     const SolverParameters        &solver,
     const unsigned int             degree)
-    : impl(std::make_unique<Impl>(comm, solver))
+    : impl(std::make_unique<Impl>(comm, for_mesh(solver)))
   {
     AssertThrow(mesh.n_active_cells() > 0,
                 ExcMessage("the homogenization mesh is empty"));
@@ -758,7 +780,7 @@ namespace forma
     const SolverParameters        &solver,
     const unsigned int             degree,
     const bool                     inversion_symmetric)
-    : impl(std::make_unique<Impl>(comm, solver))
+    : impl(std::make_unique<Impl>(comm, for_mesh(solver)))
   {
     AssertThrow(mesh.n_active_cells() > 0,
                 ExcMessage("the homogenization mesh is empty"));
@@ -786,6 +808,8 @@ namespace forma
   types::global_dof_index
   PeriodicHomogenization<dim>::n_dofs() const
   {
+    if (impl->grid)
+      return dim * n_cells();
     return impl->dof_handler.n_dofs();
   }
 
@@ -795,6 +819,8 @@ namespace forma
   types::global_dof_index
   PeriodicHomogenization<dim>::n_unknowns() const
   {
+    if (impl->grid) // the periodic nodes, one of them fixed
+      return dim * (n_cells() - 1);
     types::global_dof_index n = 0;
     for (const auto i : impl->owned)
       n += !impl->constraints.is_constrained(i);
@@ -807,6 +833,13 @@ namespace forma
   types::global_cell_index
   PeriodicHomogenization<dim>::n_cells() const
   {
+    if (impl->grid)
+      {
+        types::global_cell_index n = 1;
+        for (const unsigned int c : impl->grid_cells)
+          n *= c;
+        return n;
+      }
     return impl->tria->n_global_active_cells();
   }
 

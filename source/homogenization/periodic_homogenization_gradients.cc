@@ -20,6 +20,8 @@ namespace forma
     const MaterialDerivativeFunction &material_derivative,
     const unsigned int                n_parameters) const
   {
+    if (impl->grid)
+      return impl->material_gradient_on_grid(material_derivative, n_parameters);
     const Impl        &m  = *impl;
     constexpr unsigned nv = Impl::nv;
     AssertThrow(m.fluctuation.size() == nv,
@@ -104,6 +106,9 @@ namespace forma
   std::vector<std::array<SymmetricTensor<4, dim>, dim>>
   PeriodicHomogenization<dim>::vertex_shape_gradient() const
   {
+    AssertThrow(!impl->grid,
+                ExcMessage("vertex_shape_gradient() is for cell meshes, not "
+                           "the multigrid solver's pixel grid"));
     const Impl        &m  = *impl;
     constexpr unsigned nv = Impl::nv;
     AssertThrow(m.fluctuation.size() == nv,

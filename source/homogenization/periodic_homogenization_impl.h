@@ -20,6 +20,7 @@
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/trilinos_vector.h>
 
+#include <forma/homogenization/grid_multigrid.h>
 #include <forma/homogenization/periodic_homogenization.h>
 #include <forma/solvers/sparse_cholesky.h>
 
@@ -191,6 +192,40 @@ namespace forma
     /// Grids: the side x_0 = L_0 is the side x_0 = 0 moved by L_0 e_0 +
     /// shift (wrapped into the box), and the inversion symmetry.
     GridLattice lattice;
+
+    /**
+     * Solver type "multigrid" (regular 2D grids, Q1, no lattice symmetry):
+     * GridMultigridHomogenization replaces the mesh and everything above,
+     * in periodic_homogenization_grid.cc.
+     */
+    std::unique_ptr<GridMultigridHomogenization> grid;
+    std::array<unsigned int, dim>                grid_cells{};
+    Point<dim>                                   grid_size;
+
+    void
+    setup_grid(const Point<dim>                    &size,
+               const std::array<unsigned int, dim> &n_cells,
+               const unsigned int                   degree);
+
+    /// The center of pixel p of the grid.
+    Point<dim>
+    pixel_center(const std::size_t p) const;
+
+    Result
+    homogenize_on_grid(const MaterialFunction &material);
+
+    std::vector<SymmetricTensor<4, dim>>
+    material_gradient_on_grid(
+      const MaterialDerivativeFunction &material_derivative,
+      const unsigned int                n_parameters) const;
+
+    void
+    write_vtu_on_grid(
+      const std::string              &file_stem,
+      const std::vector<std::string> &cell_data_names,
+      const std::function<std::vector<double>(const Point<dim> &,
+                                              const types::material_id)>
+        &cell_data) const;
   };
 } // namespace forma
 

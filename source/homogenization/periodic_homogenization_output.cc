@@ -102,6 +102,14 @@ namespace forma
                          &cell_data,
     const Tensor<2, dim> &F) const
   {
+    if (impl->grid)
+      {
+        AssertThrow((F == Tensor<2, dim>(unit_symmetric_tensor<dim>())),
+                    ExcMessage("write_vtu(): the multigrid solver's grid "
+                               "is a box, not a mapped cell"));
+        impl->write_vtu_on_grid(file_stem, cell_data_names, cell_data);
+        return;
+      }
     const Impl &m = *impl;
     AssertThrow(m.fluctuation.size() == Impl::nv,
                 ExcMessage("write_vtu() needs a homogenize() first"));

@@ -19,6 +19,8 @@ namespace forma
   typename PeriodicHomogenization<dim>::Result
   PeriodicHomogenization<dim>::homogenize(const MaterialFunction &material)
   {
+    if (impl->grid)
+      return impl->homogenize_on_grid(material);
     Impl              &m  = *impl;
     constexpr unsigned nv = Impl::nv;
     const unsigned int n  = m.fe->n_dofs_per_cell();

@@ -45,7 +45,10 @@ namespace forma
     {
       /// direct (CHOLMOD on one process, Amesos KLU on several) | cg-amg |
       /// auto (direct up to `direct_limit` unknowns left by the
-      /// constraints, cg-amg beyond).
+      /// constraints, cg-amg beyond) | multigrid (regular 2D Q1 grids
+      /// without lattice symmetries: GridMultigridHomogenization, no mesh
+      /// or matrix; every process solves the whole grid;
+      /// vertex_shape_gradient() unavailable; on meshes it means auto).
       std::string  type         = "auto";
       unsigned int direct_limit = 400000;
       double       tolerance    = 1e-10;

@@ -1,0 +1,279 @@
+#include "grid_multigrid_level.h"
+
+#include <cmath>
+
+// The periodic Q1 operator of GridMultigridHomogenization's grids, their
+// Galerkin coarsening and the grid transfers.
+
+namespace forma
+{
+  namespace internal
+  {
+    namespace grid_multigrid
+    {
+      using dealii::Vector;
+
+      namespace
+      {
+        // Gauss points of [0, 1].
+        const double gauss[2] = {0.5 - 0.5 / std::sqrt(3.),
+                                 0.5 + 0.5 / std::sqrt(3.)};
+
+        /**
+         * out = int B^T C (B u + A) over a pixel (u or A may be null). With
+         * the differences along its edges, du/dx = ((1 - eta) (u1 - u0) +
+         * eta (u3 - u2)) / hx takes one value per Gauss row eta and
+         * du/dy = ((1 - xi) (u2 - u0) + xi (u3 - u1)) / hy one per Gauss
+         * column xi; the same weights carry the stresses back.
+         */
+        inline void
+        pixel_action(const Voigt  &C,
+                     const double  ihx,
+                     const double  ihy,
+                     const double  w,
+                     const double *u,
+                     const double *A,
+                     double        out[8])
+        {
+          // gx[q][c] = du_c/dx at eta_q, gy[q][c] = du_c/dy at xi_q
+          double gx[2][2] = {}, gy[2][2] = {};
+          if (u != nullptr)
+            for (unsigned int c = 0; c < 2; ++c)
+              {
+                const double dxb = u[2 + c] - u[c], dxt = u[6 + c] - u[4 + c];
+                const double dyl = u[4 + c] - u[c], dyr = u[6 + c] - u[2 + c];
+                for (unsigned int q = 0; q < 2; ++q)
+                  {
+                    gx[q][c] = ((1 - gauss[q]) * dxb + gauss[q] * dxt) * ihx;
+                    gy[q][c] = ((1 - gauss[q]) * dyl + gauss[q] * dyr) * ihy;
+                  }
+              }
+          // Duals of gx and gy summed over the other Gauss coordinate.
+          double tx[2][2] = {}, ty[2][2] = {};
+          for (unsigned int qy = 0; qy < 2; ++qy)
+            for (unsigned int qx = 0; qx < 2; ++qx)
+              {
+                double e0 = gx[qy][0], e1 = gy[qx][1],
+                       e2 = gy[qx][0] + gx[qy][1];
+                if (A != nullptr)
+                  {
+                    e0 += A[0];
+                    e1 += A[1];
+                    e2 += A[2];
+                  }
+                const double s0 = C[0] * e0 + C[1] * e1 + C[2] * e2;
+                const double s1 = C[1] * e0 + C[3] * e1 + C[4] * e2;
+                const double s2 = C[2] * e0 + C[4] * e1 + C[5] * e2;
+                tx[qy][0] += s0;
+                tx[qy][1] += s2;
+                ty[qx][0] += s2;
+                ty[qx][1] += s1;
+              }
+          const double wx = w * ihx, wy = w * ihy;
+          for (unsigned int c = 0; c < 2; ++c)
+            {
+              const double Dxb =
+                wx * ((1 - gauss[0]) * tx[0][c] + (1 - gauss[1]) * tx[1][c]);
+              const double Dxt =
+                wx * (gauss[0] * tx[0][c] + gauss[1] * tx[1][c]);
+              const double Dyl =
+                wy * ((1 - gauss[0]) * ty[0][c] + (1 - gauss[1]) * ty[1][c]);
+              const double Dyr =
+                wy * (gauss[0] * ty[0][c] + gauss[1] * ty[1][c]);
+              out[c]     = -Dxb - Dyl;
+              out[2 + c] = Dxb - Dyr;
+              out[4 + c] = -Dxt + Dyl;
+              out[6 + c] = Dxt + Dyr;
+            }
+        }
+
+      } // namespace
+
+
+
+      Level
+      pixel_level(const unsigned int nx,
+                  const unsigned int ny,
+                  const double       hx,
+                  const double       hy)
+      {
+        Level level;
+        level.nx = nx;
+        level.ny = ny;
+        level.hx = hx;
+        level.hy = hy;
+        for (unsigned int l = 0; l < 6; ++l)
+          {
+            Voigt C{};
+            C[l] = 1;
+            for (unsigned int k = 0; k < 8; ++k)
+              {
+                double u[8] = {}, out[8];
+                u[k]        = 1;
+                pixel_action(C, 1 / hx, 1 / hy, hx * hy / 4, u, nullptr, out);
+                for (unsigned int r = 0; r < 8; ++r)
+                  level.basis[l][8 * r + k] = out[r];
+              }
+          }
+        return level;
+      }
+
+
+
+      void
+      Level::cell_matrix(const std::size_t c, double K[64]) const
+      {
+        if (!is_pixel_grid())
+          {
+            std::copy(&element[64 * c], &element[64 * c] + 64, K);
+            return;
+          }
+        for (unsigned int r = 0; r < 64; ++r)
+          K[r] = 0;
+        for (unsigned int l = 0; l < 6; ++l)
+          for (unsigned int r = 0; r < 64; ++r)
+            K[r] += voigt[l][c] * basis[l][r];
+      }
+
+
+
+      void
+      Level::vmult(Vector<double> &dst, const Vector<double> &src) const
+      {
+        dst = 0;
+        if (is_pixel_grid())
+          {
+            pixel_vmult(dst, src);
+            return;
+          }
+        const std::size_t n = nx, N = n_nodes();
+        for (std::size_t j = 0; j < ny; ++j)
+          {
+            const std::size_t r0 = n * j, r1 = n * (j + 1 == ny ? 0 : j + 1);
+            // the row's matrices stay in cache for the next case
+            for (unsigned int c = 0; c < n_cases; ++c)
+              {
+                const double       *u       = src.begin() + c * block_size();
+                double             *y       = dst.begin() + c * block_size();
+                const double *const urow[4] = {u + r0,
+                                               u + N + r0,
+                                               u + r1,
+                                               u + N + r1};
+                double *const       yrow[4] = {y + r0,
+                                               y + N + r0,
+                                               y + r1,
+                                               y + N + r1};
+                element_row(n, &element[64 * r0], urow, yrow);
+              }
+          }
+      }
+
+
+
+      void
+      Level::pixel_vmult(Vector<double> &dst, const Vector<double> &src) const
+      {
+        const std::size_t   n = nx, N = n_nodes();
+        std::vector<double> buffer(4 * (n + 1) + 8 * n);
+        PixelRow            row;
+        for (unsigned int k = 0; k < 4; ++k)
+          row.u[k] = &buffer[k * (n + 1)];
+        for (unsigned int k = 0; k < 8; ++k)
+          row.out[k] = &buffer[4 * (n + 1) + k * n];
+        for (std::size_t j = 0; j < ny; ++j)
+          {
+            const std::size_t r[2] = {n * j, n * (j + 1 == ny ? 0 : j + 1)};
+            for (unsigned int l = 0; l < 6; ++l)
+              row.C[l] = &voigt[l][r[0]];
+            // the row's tensors stay in cache for the next case
+            for (unsigned int c = 0; c < n_cases; ++c)
+              {
+                const double *u = src.begin() + c * block_size();
+                double       *y = dst.begin() + c * block_size();
+                // the rows' nodes with the first one again at the end
+                for (unsigned int k = 0; k < 4; ++k)
+                  {
+                    const double *from = u + (k % 2) * N + r[k / 2];
+                    double       *to   = &buffer[k * (n + 1)];
+                    std::copy(from, from + n, to);
+                    to[n] = from[0];
+                  }
+                pixel_row(n, 1 / hx, 1 / hy, hx * hy / 4, row);
+                // node i of each row gathers the cell on its right (local
+                // node 0 or 2) and the one on its left (1 or 3)
+                for (unsigned int side = 0; side < 2; ++side)
+                  for (unsigned int comp = 0; comp < 2; ++comp)
+                    {
+                      const double *right = row.out[4 * side + comp];
+                      const double *left  = row.out[4 * side + 2 + comp];
+                      double       *ys    = y + comp * N + r[side];
+                      ys[0] += right[0] + left[n - 1];
+                      for (std::size_t i = 1; i < n; ++i)
+                        ys[i] += right[i] + left[i - 1];
+                    }
+              }
+          }
+      }
+
+
+
+      void
+      Level::compute_diagonal()
+      {
+        diagonal.reinit(block_size());
+        double K[64];
+        for (unsigned int j = 0; j < ny; ++j)
+          for (unsigned int i = 0; i < nx; ++i)
+            {
+              cell_matrix(i + nx * std::size_t(j), K);
+              double d[8];
+              for (unsigned int r = 0; r < 8; ++r)
+                d[r] = K[9 * r];
+              scatter_add(*this, i, j, d, diagonal.begin());
+            }
+      }
+
+
+
+      void
+      pixel_strains(const double  u[8],
+                    const double *A,
+                    const double  hx,
+                    const double  hy,
+                    double        eps[4][3])
+      {
+        for (unsigned int qy = 0; qy < 2; ++qy)
+          for (unsigned int qx = 0; qx < 2; ++qx)
+            {
+              const double eta = gauss[qy], xi = gauss[qx];
+              double       gx[2], gy[2];
+              for (unsigned int c = 0; c < 2; ++c)
+                {
+                  gx[c] = ((1 - eta) * (u[2 + c] - u[c]) +
+                           eta * (u[6 + c] - u[4 + c])) /
+                          hx;
+                  gy[c] = ((1 - xi) * (u[4 + c] - u[c]) +
+                           xi * (u[6 + c] - u[2 + c])) /
+                          hy;
+                }
+              double *e = eps[2 * qy + qx];
+              e[0]      = gx[0] + (A ? A[0] : 0.);
+              e[1]      = gy[1] + (A ? A[1] : 0.);
+              e[2]      = gy[0] + gx[1] + (A ? A[2] : 0.);
+            }
+      }
+
+
+
+      void
+      pixel_load(const Voigt &C,
+                 const double A[3],
+                 const double hx,
+                 const double hy,
+                 double       f[8])
+      {
+        pixel_action(C, 1 / hx, 1 / hy, hx * hy / 4, nullptr, A, f);
+      }
+    } // namespace grid_multigrid
+  }   // namespace internal
+} // namespace forma
