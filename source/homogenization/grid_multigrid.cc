@@ -59,7 +59,9 @@ namespace forma
   void
   GridMultigridHomogenization::Impl::build_hierarchy()
   {
-    levels[0].compute_diagonal();
+    fine.compute_diagonal();
+    levels.clear();
+    levels.push_back(single_precision(fine));
     while (std::size_t(levels.back().nx) * levels.back().ny >
              parameters.coarsest_nodes &&
            (levels.back().nx > 1 || levels.back().ny > 1))
@@ -81,8 +83,7 @@ namespace forma
         data.degree              = parameters.smoothing_degree;
         data.smoothing_range     = 15;
         data.eig_cg_n_iterations = 12;
-        data.preconditioner =
-          std::make_shared<DiagonalMatrix<Vector<double>>>();
+        data.preconditioner = std::make_shared<DiagonalMatrix<Vector<float>>>();
         data.preconditioner->get_vector().reinit(levels[l].m());
         for (std::size_t i = 0; i < levels[l].m(); ++i)
           data.preconditioner->get_vector()(i) = 1. / levels[l].el(i, i);
@@ -97,11 +98,11 @@ namespace forma
   void
   GridMultigridHomogenization::Impl::factorize_coarsest()
   {
-    const Level       &level = levels.back();
-    const auto         n     = level.block_size();
-    const auto         N     = level.n_nodes();
-    FullMatrix<double> A(n, n);
-    double             K[64];
+    const Level<float> &level = levels.back();
+    const auto          n     = level.block_size();
+    const auto          N     = level.n_nodes();
+    FullMatrix<double>  A(n, n);
+    double              K[64];
     for (unsigned int j = 0; j < level.ny; ++j)
       for (unsigned int i = 0; i < level.nx; ++i)
         {
@@ -129,16 +130,16 @@ namespace forma
 
 
   void
-  GridMultigridHomogenization::Impl::v_cycle(const unsigned int    l,
-                                             Vector<double>       &x,
-                                             const Vector<double> &b) const
+  GridMultigridHomogenization::Impl::v_cycle(const unsigned int   l,
+                                             Vector<float>       &x,
+                                             const Vector<float> &b) const
   {
     if (l + 1 == levels.size())
       {
         const std::size_t B = levels[l].block_size();
         Vector<double>    block(B);
         x.reinit(b.size(), true);
-        for (unsigned int r = 0; r < Level::n_cases; ++r)
+        for (unsigned int r = 0; r < Level<float>::n_cases; ++r)
           {
             std::copy(b.begin() + r * B,
                       b.begin() + (r + 1) * B,
@@ -150,7 +151,7 @@ namespace forma
         return;
       }
     smoothers[l]->vmult(x, b);
-    Vector<double> &r = residual[l], &bc = coarse_rhs[l], &xc = correction[l];
+    Vector<float> &r = residual[l], &bc = coarse_rhs[l], &xc = correction[l];
     levels[l].vmult(r, x);
     r.sadd(-1., 1., b);
     restrict_to(levels[l], levels[l + 1], r, bc);
@@ -170,9 +171,9 @@ namespace forma
     AssertThrow(n_cells[0] > 0 && n_cells[1] > 0 && size[0] > 0 && size[1] > 0,
                 ExcMessage("the homogenization grid needs cells and a size"));
     impl->parameters = parameters;
-    impl->levels.push_back(pixel_level(
+    impl->fine       = (pixel_level<double>(
       n_cells[0], n_cells[1], size[0] / n_cells[0], size[1] / n_cells[1]));
-    impl->volume = size[0] * size[1];
+    impl->volume     = size[0] * size[1];
   }
 
 
@@ -185,8 +186,7 @@ namespace forma
   GridMultigridHomogenization::homogenize(
     const std::vector<SymmetricTensor<4, 2>> &pixel_tensors)
   {
-    const std::size_t n_pixels =
-      std::size_t(impl->levels[0].nx) * impl->levels[0].ny;
+    const std::size_t n_pixels = std::size_t(impl->fine.nx) * impl->fine.ny;
     AssertThrow(pixel_tensors.size() == n_pixels,
                 ExcMessage(
                   "homogenize(): " + std::to_string(pixel_tensors.size()) +
@@ -203,19 +203,19 @@ namespace forma
     const std::function<SymmetricTensor<4, 2>(std::size_t)> &pixel_tensor)
   {
     Impl             &m        = *impl;
-    const std::size_t n_pixels = std::size_t(m.levels[0].nx) * m.levels[0].ny;
+    const std::size_t n_pixels = std::size_t(m.fine.nx) * m.fine.ny;
     m.smoothers.clear(); // they watch the levels
-    m.levels.resize(1);
-    for (auto &entry : m.levels[0].voigt)
+    m.levels.clear();
+    for (auto &entry : m.fine.voigt)
       entry.resize(n_pixels);
     for (std::size_t c = 0; c < n_pixels; ++c)
       {
         const Voigt V = voigt_of(pixel_tensor(c));
         for (unsigned int l = 0; l < 6; ++l)
-          m.levels[0].voigt[l][c] = V[l];
+          m.fine.voigt[l][c] = V[l];
       }
     m.build_hierarchy();
-    const Level &fine = m.levels[0];
+    const Level<double> &fine = m.fine;
 
     // b = -int B^T C A_a for the three test strains; `scale` is its norm
     // before the pixels' loads cancel (exactly, in a uniform material).
@@ -291,8 +291,8 @@ namespace forma
   GridMultigridHomogenization::material_gradient(
     const std::vector<std::vector<SymmetricTensor<4, 2>>> &derivative) const
   {
-    const Impl  &m    = *impl;
-    const Level &fine = m.levels[0];
+    const Impl          &m    = *impl;
+    const Level<double> &fine = m.fine;
     AssertThrow(fine.is_pixel_grid() && m.solution.size() == fine.m(),
                 ExcMessage("material_gradient() needs a homogenize() first"));
     AssertThrow(derivative.size() == fine.voigt[0].size(),
@@ -340,7 +340,7 @@ namespace forma
   GridMultigridHomogenization::levels() const
   {
     std::vector<std::array<unsigned int, 2>> l;
-    for (const Level &level : impl->levels)
+    for (const Level<float> &level : impl->levels)
       l.push_back({{level.nx, level.ny}});
     return l;
   }

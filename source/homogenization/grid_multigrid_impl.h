@@ -33,18 +33,20 @@ namespace forma
   struct GridMultigridHomogenization::Impl
   {
     using Smoother =
-      dealii::PreconditionChebyshev<Level, dealii::Vector<double>>;
+      dealii::PreconditionChebyshev<Level<float>, dealii::Vector<float>>;
 
-    Parameters                             parameters;
-    std::vector<Level>                     levels;
+    Parameters parameters;
+    /// The pixels in double precision: the operator CG solves.
+    Level<double> fine;
+    /// The V-cycle's grids in single precision, the pixels' first.
+    std::vector<Level<float>>              levels;
     std::vector<std::unique_ptr<Smoother>> smoothers;
     dealii::LAPACKFullMatrix<double>       coarsest;
     /// the fluctuations of the three test strains, one block each
     dealii::Vector<double> solution;
     /// Per level: residual, and the coarse right-hand side and correction.
-    mutable std::vector<dealii::Vector<double>> residual, coarse_rhs,
-      correction;
-    double volume = 0;
+    mutable std::vector<dealii::Vector<float>> residual, coarse_rhs, correction;
+    double                                     volume = 0;
 
     void
     build_hierarchy();
@@ -54,9 +56,9 @@ namespace forma
 
     /// x = V-cycle(b) on level l.
     void
-    v_cycle(const unsigned int            l,
-            dealii::Vector<double>       &x,
-            const dealii::Vector<double> &b) const;
+    v_cycle(const unsigned int           l,
+            dealii::Vector<float>       &x,
+            const dealii::Vector<float> &b) const;
 
     /// The strains at the Gauss points of pixel c under test strain a.
     void
@@ -66,15 +68,21 @@ namespace forma
             double             eps[4][3]) const
     {
       double u[8];
-      gather(levels[0], i, j, solution.begin() + a * levels[0].block_size(), u);
-      pixel_strains(u, test_strain[a], levels[0].hx, levels[0].hy, eps);
+      gather(fine, i, j, solution.begin() + a * fine.block_size(), u);
+      pixel_strains(u, test_strain[a], fine.hx, fine.hy, eps);
     }
 
     void
     vmult(dealii::Vector<double> &x, const dealii::Vector<double> &b) const
     {
-      v_cycle(0, x, b);
+      b_single = b;
+      x_single.reinit(b.size(), true);
+      v_cycle(0, x_single, b_single);
+      x = x_single;
     }
+
+    /// vmult()'s vectors in single precision
+    mutable dealii::Vector<float> x_single, b_single;
   };
 
 

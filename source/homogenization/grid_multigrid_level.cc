@@ -91,13 +91,14 @@ namespace forma
 
 
 
-      Level
+      template <typename Number>
+      Level<Number>
       pixel_level(const unsigned int nx,
                   const unsigned int ny,
                   const double       hx,
                   const double       hy)
       {
-        Level level;
+        Level<Number> level;
         level.nx = nx;
         level.ny = ny;
         level.hx = hx;
@@ -120,8 +121,9 @@ namespace forma
 
 
 
+      template <typename Number>
       void
-      Level::cell_matrix(const std::size_t c, double K[64]) const
+      Level<Number>::cell_matrix(const std::size_t c, double K[64]) const
       {
         if (!is_pixel_grid())
           {
@@ -137,8 +139,9 @@ namespace forma
 
 
 
+      template <typename Number>
       void
-      Level::vmult(Vector<double> &dst, const Vector<double> &src) const
+      Level<Number>::vmult(Vector<Number> &dst, const Vector<Number> &src) const
       {
         dst = 0;
         if (is_pixel_grid())
@@ -153,13 +156,13 @@ namespace forma
             // the row's matrices stay in cache for the next case
             for (unsigned int c = 0; c < n_cases; ++c)
               {
-                const double       *u       = src.begin() + c * block_size();
-                double             *y       = dst.begin() + c * block_size();
-                const double *const urow[4] = {u + r0,
+                const Number       *u       = src.begin() + c * block_size();
+                Number             *y       = dst.begin() + c * block_size();
+                const Number *const urow[4] = {u + r0,
                                                u + N + r0,
                                                u + r1,
                                                u + N + r1};
-                double *const       yrow[4] = {y + r0,
+                Number *const       yrow[4] = {y + r0,
                                                y + N + r0,
                                                y + r1,
                                                y + N + r1};
@@ -170,12 +173,14 @@ namespace forma
 
 
 
+      template <typename Number>
       void
-      Level::pixel_vmult(Vector<double> &dst, const Vector<double> &src) const
+      Level<Number>::pixel_vmult(Vector<Number>       &dst,
+                                 const Vector<Number> &src) const
       {
         const std::size_t   n = nx, N = n_nodes();
-        std::vector<double> buffer(4 * (n + 1) + 8 * n);
-        PixelRow            row;
+        std::vector<Number> buffer(4 * (n + 1) + 8 * n);
+        PixelRow<Number>    row;
         for (unsigned int k = 0; k < 4; ++k)
           row.u[k] = &buffer[k * (n + 1)];
         for (unsigned int k = 0; k < 8; ++k)
@@ -188,13 +193,13 @@ namespace forma
             // the row's tensors stay in cache for the next case
             for (unsigned int c = 0; c < n_cases; ++c)
               {
-                const double *u = src.begin() + c * block_size();
-                double       *y = dst.begin() + c * block_size();
+                const Number *u = src.begin() + c * block_size();
+                Number       *y = dst.begin() + c * block_size();
                 // the rows' nodes with the first one again at the end
                 for (unsigned int k = 0; k < 4; ++k)
                   {
-                    const double *from = u + (k % 2) * N + r[k / 2];
-                    double       *to   = &buffer[k * (n + 1)];
+                    const Number *from = u + (k % 2) * N + r[k / 2];
+                    Number       *to   = &buffer[k * (n + 1)];
                     std::copy(from, from + n, to);
                     to[n] = from[0];
                   }
@@ -204,9 +209,9 @@ namespace forma
                 for (unsigned int side = 0; side < 2; ++side)
                   for (unsigned int comp = 0; comp < 2; ++comp)
                     {
-                      const double *right = row.out[4 * side + comp];
-                      const double *left  = row.out[4 * side + 2 + comp];
-                      double       *ys    = y + comp * N + r[side];
+                      const Number *right = row.out[4 * side + comp];
+                      const Number *left  = row.out[4 * side + 2 + comp];
+                      Number       *ys    = y + comp * N + r[side];
                       ys[0] += right[0] + left[n - 1];
                       for (std::size_t i = 1; i < n; ++i)
                         ys[i] += right[i] + left[i - 1];
@@ -217,8 +222,9 @@ namespace forma
 
 
 
+      template <typename Number>
       void
-      Level::compute_diagonal()
+      Level<Number>::compute_diagonal()
       {
         diagonal.reinit(block_size());
         double K[64];
@@ -232,6 +238,31 @@ namespace forma
               scatter_add(*this, i, j, d, diagonal.begin());
             }
       }
+
+
+
+      Level<float>
+      single_precision(const Level<double> &level)
+      {
+        Level<float> copy;
+        copy.nx    = level.nx;
+        copy.ny    = level.ny;
+        copy.hx    = level.hx;
+        copy.hy    = level.hy;
+        copy.basis = level.basis;
+        for (unsigned int l = 0; l < 6; ++l)
+          copy.voigt[l].assign(level.voigt[l].begin(), level.voigt[l].end());
+        copy.element.assign(level.element.begin(), level.element.end());
+        copy.diagonal = level.diagonal;
+        return copy;
+      }
+
+
+
+      template struct Level<double>;
+      template struct Level<float>;
+      template Level<double>
+      pixel_level<double>(unsigned int, unsigned int, double, double);
 
 
 

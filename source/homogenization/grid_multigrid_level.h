@@ -30,8 +30,11 @@ namespace forma
        * grid's tensors or matrices serves all three. The finest grid keeps one
        * Voigt tensor per cell and integrates on the fly; coarser grids
        * keep the Galerkin element matrices P^T K P of their cells (8 x 8,
-       * local nodes (0,0), (1,0), (0,1), (1,1)).
+       * local nodes (0,0), (1,0), (0,1), (1,1)). Number is double for the
+       * operator CG solves, float for the V-cycle that preconditions it
+       * (half the memory traffic).
        */
+      template <typename Number>
       struct Level : public dealii::Subscriptor
       {
         static constexpr unsigned int n_cases = 3;
@@ -40,11 +43,11 @@ namespace forma
         double       hx = 0, hy = 0; ///< finest grid: cell size
         /// finest grid: the pixels' Voigt tensors, entry by entry
         /// (voigt[l][pixel]: rows of pixels load as vectors)
-        std::array<std::vector<double>, 6> voigt;
+        std::array<std::vector<Number>, 6> voigt;
         /// finest grid: the pixel matrix of each unit Voigt entry
         std::array<std::array<double, 64>, 6> basis;
-        std::vector<double>    element;  ///< coarser grids: 64 per cell
-        dealii::Vector<double> diagonal; ///< of one block
+        std::vector<Number>    element;  ///< coarser grids: 64 per cell
+        dealii::Vector<Number> diagonal; ///< of one block
         /**
          * The interpolation from the next coarser grid (set by coarsen()):
          * node (i, j) takes sum_ab W_ab u(I + a, J + b), I = i / 2,
@@ -82,7 +85,7 @@ namespace forma
           return m();
         }
 
-        double
+        Number
         el(const size_type i, const size_type j) const
         {
           (void)j;
@@ -91,17 +94,17 @@ namespace forma
 
         /// dst = A src, block by block
         void
-        vmult(dealii::Vector<double>       &dst,
-              const dealii::Vector<double> &src) const;
+        vmult(dealii::Vector<Number>       &dst,
+              const dealii::Vector<Number> &src) const;
 
         /// vmult() on the finest grid, a row of pixels at a time
         void
-        pixel_vmult(dealii::Vector<double>       &dst,
-                    const dealii::Vector<double> &src) const;
+        pixel_vmult(dealii::Vector<Number>       &dst,
+                    const dealii::Vector<Number> &src) const;
 
         void
-        Tvmult(dealii::Vector<double>       &dst,
-               const dealii::Vector<double> &src) const
+        Tvmult(dealii::Vector<Number>       &dst,
+               const dealii::Vector<Number> &src) const
         {
           vmult(dst, src);
         }
@@ -134,7 +137,8 @@ namespace forma
       };
 
       /// The finest grid: nx x ny pixels of size hx x hy (tensors unset).
-      Level
+      template <typename Number>
+      Level<Number>
       pixel_level(const unsigned int nx,
                   const unsigned int ny,
                   const double       hx,
@@ -151,22 +155,29 @@ namespace forma
        * given its neighbours. They follow the stiff phase across a strong
        * contrast, where bilinear interpolation mixes it with the soft one.
        */
-      Level
-      coarsen(Level &fine, const bool operator_dependent);
+      template <typename Number>
+      Level<Number>
+      coarsen(Level<Number> &fine, const bool operator_dependent);
+
+      /// A copy of a grid in single precision (tensors and matrices).
+      Level<float>
+      single_precision(const Level<double> &level);
 
       /// fine += P coarse
+      template <typename Number>
       void
-      prolongate_add(const Level                  &fine,
-                     const Level                  &coarse,
-                     dealii::Vector<double>       &fine_vector,
-                     const dealii::Vector<double> &coarse_vector);
+      prolongate_add(const Level<Number>          &fine,
+                     const Level<Number>          &coarse,
+                     dealii::Vector<Number>       &fine_vector,
+                     const dealii::Vector<Number> &coarse_vector);
 
       /// coarse = P^T fine
+      template <typename Number>
       void
-      restrict_to(const Level                  &fine,
-                  const Level                  &coarse,
-                  const dealii::Vector<double> &fine_vector,
-                  dealii::Vector<double>       &coarse_vector);
+      restrict_to(const Level<Number>          &fine,
+                  const Level<Number>          &coarse,
+                  const dealii::Vector<Number> &fine_vector,
+                  dealii::Vector<Number>       &coarse_vector);
 
       /**
        * The Voigt strains at the 2 x 2 Gauss points of a pixel with nodal
@@ -181,8 +192,11 @@ namespace forma
                     double        eps[4][3]);
 
       /// The nodes of cell (i, j), local order.
+      template <typename Number>
       inline std::array<std::size_t, 4>
-      cell_nodes(const Level &level, const unsigned int i, const unsigned int j)
+      cell_nodes(const Level<Number> &level,
+                 const unsigned int   i,
+                 const unsigned int   j)
       {
         const std::size_t i1 = (i + 1) % level.nx, j1 = (j + 1) % level.ny;
         return {{i + level.nx * std::size_t(j),
@@ -192,12 +206,13 @@ namespace forma
       }
 
       /// Gather the 8 nodal values of cell (i, j) from a block at v.
+      template <typename Number>
       inline void
-      gather(const Level       &level,
-             const unsigned int i,
-             const unsigned int j,
-             const double      *v,
-             double             u[8])
+      gather(const Level<Number> &level,
+             const unsigned int   i,
+             const unsigned int   j,
+             const double        *v,
+             double               u[8])
       {
         const auto        node = cell_nodes(level, i, j);
         const std::size_t N    = level.n_nodes();
@@ -209,12 +224,13 @@ namespace forma
       }
 
       /// Scatter-add the 8 local values of cell (i, j) to a block at v.
+      template <typename Number, typename Value>
       inline void
-      scatter_add(const Level       &level,
-                  const unsigned int i,
-                  const unsigned int j,
-                  const double       y[8],
-                  double            *v)
+      scatter_add(const Level<Number> &level,
+                  const unsigned int   i,
+                  const unsigned int   j,
+                  const double         y[8],
+                  Value               *v)
       {
         const auto        node = cell_nodes(level, i, j);
         const std::size_t N    = level.n_nodes();
@@ -229,20 +245,28 @@ namespace forma
       /// components of u on the row's lower and upper nodes (x0, y0, x1,
       /// y1: n + 1 each, node n being the row's first again) and the
       /// outputs of local nodes 0..3 (x, y each).
+      template <typename Number>
       struct PixelRow
       {
-        const double *C[6];
-        const double *u[4];
-        double       *out[8];
+        const Number *C[6];
+        const Number *u[4];
+        Number       *out[8];
       };
 
       /// The pixel operator on n pixels of a row.
       void
-      pixel_row(const std::size_t n,
-                const double      ihx,
-                const double      ihy,
-                const double      w,
-                const PixelRow   &row);
+      pixel_row(const std::size_t       n,
+                const double            ihx,
+                const double            ihy,
+                const double            w,
+                const PixelRow<double> &row);
+
+      void
+      pixel_row(const std::size_t      n,
+                const double           ihx,
+                const double           ihy,
+                const double           w,
+                const PixelRow<float> &row);
 
       /**
        * The element matrices K (64 per cell, symmetric) of the n cells of
@@ -256,6 +280,12 @@ namespace forma
                   const double       *K,
                   const double *const u[4],
                   double *const       y[4]);
+
+      void
+      element_row(const std::size_t  n,
+                  const float       *K,
+                  const float *const u[4],
+                  float *const       y[4]);
 
       /// The load of a pixel under the constant strain A: int B^T C A.
       void

@@ -24,8 +24,8 @@ namespace forma
     const std::vector<std::string>         &cell_data_names,
     const std::vector<std::vector<double>> &cell_data) const
   {
-    const Impl  &m    = *impl;
-    const Level &fine = m.levels[0];
+    const Impl          &m    = *impl;
+    const Level<double> &fine = m.fine;
     AssertThrow(m.solution.size() == fine.m(),
                 ExcMessage("write_vtu() needs a homogenize() first"));
     AssertThrow(cell_data.size() == cell_data_names.size(),

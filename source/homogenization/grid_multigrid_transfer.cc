@@ -46,11 +46,12 @@ namespace forma
 
         /// Node (i, j)'s row of the operator: S[dx + 1][dy + 1] couples it
         /// to the node at offset (dx, dy), from the four cells around it.
+        template <typename Number>
         void
-        node_stencil(const Level       &level,
-                     const unsigned int i,
-                     const unsigned int j,
-                     Block              S[3][3])
+        node_stencil(const Level<Number> &level,
+                     const unsigned int   i,
+                     const unsigned int   j,
+                     Block                S[3][3])
         {
           for (unsigned int x = 0; x < 3; ++x)
             for (unsigned int y = 0; y < 3; ++y)
@@ -109,8 +110,9 @@ namespace forma
           set_weight(w, along_x ? 1 : 0, along_x ? 0 : 1, M * Abar[2]);
         }
 
+        template <typename Number>
         void
-        set_prolongation(Level             &fine,
+        set_prolongation(Level<Number>     &fine,
                          const unsigned int ncx,
                          const unsigned int ncy,
                          const bool         operator_dependent)
@@ -188,10 +190,11 @@ namespace forma
 
 
 
-      Level
-      coarsen(Level &fine, const bool operator_dependent)
+      template <typename Number>
+      Level<Number>
+      coarsen(Level<Number> &fine, const bool operator_dependent)
       {
-        Level coarse;
+        Level<Number> coarse;
         coarse.nx = (fine.nx + 1) / 2;
         coarse.ny = (fine.ny + 1) / 2;
         set_prolongation(fine, coarse.nx, coarse.ny, operator_dependent);
@@ -227,7 +230,7 @@ namespace forma
                           P[k][X + 2 * Y] += weight(w, a, b);
                       }
                 }
-              double *Kc =
+              Number *Kc =
                 &coarse.element[64 * (I + coarse.nx * std::size_t(J))];
               // Kc += P^T K P, by blocks
               for (unsigned int L = 0; L < 4; ++L)
@@ -268,9 +271,11 @@ namespace forma
          * its coarse parents with a weight (one on coarse nodes, two on
          * coarse lines, four inside coarse cells), row by row.
          */
-        template <typename F>
+        template <typename Number, typename F>
         void
-        for_each_parent(const Level &fine, const Level &coarse, const F &f)
+        for_each_parent(const Level<Number> &fine,
+                        const Level<Number> &coarse,
+                        const F             &f)
         {
           for (std::size_t j = 0; j < fine.ny; ++j)
             {
@@ -294,16 +299,17 @@ namespace forma
 
 
 
+      template <typename Number>
       void
-      prolongate_add(const Level          &fine,
-                     const Level          &coarse,
-                     Vector<double>       &fine_vector,
-                     const Vector<double> &coarse_vector)
+      prolongate_add(const Level<Number>  &fine,
+                     const Level<Number>  &coarse,
+                     Vector<Number>       &fine_vector,
+                     const Vector<Number> &coarse_vector)
       {
-        constexpr unsigned int n_cases = Level::n_cases;
+        constexpr unsigned int n_cases = Level<Number>::n_cases;
         const std::size_t      N = fine.n_nodes(), Nc = coarse.n_nodes();
-        double                *u[2 * n_cases];
-        const double          *uc[2 * n_cases];
+        Number                *u[2 * n_cases];
+        const Number          *uc[2 * n_cases];
         for (unsigned int k = 0; k < 2 * n_cases; ++k)
           {
             u[k]  = fine_vector.begin() + k * N;
@@ -315,7 +321,7 @@ namespace forma
           [&](const std::size_t f, const float *W, const std::size_t c) {
             for (unsigned int r = 0; r < n_cases; ++r)
               {
-                const double x = uc[2 * r][c], y = uc[2 * r + 1][c];
+                const Number x = uc[2 * r][c], y = uc[2 * r + 1][c];
                 u[2 * r][f] += W[0] * x + W[1] * y;
                 u[2 * r + 1][f] += W[2] * x + W[3] * y;
               }
@@ -324,17 +330,18 @@ namespace forma
 
 
 
+      template <typename Number>
       void
-      restrict_to(const Level          &fine,
-                  const Level          &coarse,
-                  const Vector<double> &fine_vector,
-                  Vector<double>       &coarse_vector)
+      restrict_to(const Level<Number>  &fine,
+                  const Level<Number>  &coarse,
+                  const Vector<Number> &fine_vector,
+                  Vector<Number>       &coarse_vector)
       {
-        constexpr unsigned int n_cases = Level::n_cases;
+        constexpr unsigned int n_cases = Level<Number>::n_cases;
         coarse_vector.reinit(coarse.m());
         const std::size_t N = fine.n_nodes(), Nc = coarse.n_nodes();
-        const double     *u[2 * n_cases];
-        double           *uc[2 * n_cases];
+        const Number     *u[2 * n_cases];
+        Number           *uc[2 * n_cases];
         for (unsigned int k = 0; k < 2 * n_cases; ++k)
           {
             u[k]  = fine_vector.begin() + k * N;
@@ -347,12 +354,28 @@ namespace forma
                             const std::size_t c) {
                           for (unsigned int r = 0; r < n_cases; ++r)
                             {
-                              const double x = u[2 * r][f], y = u[2 * r + 1][f];
+                              const Number x = u[2 * r][f], y = u[2 * r + 1][f];
                               uc[2 * r][c] += W[0] * x + W[2] * y;
                               uc[2 * r + 1][c] += W[1] * x + W[3] * y;
                             }
                         });
       }
+
+
+      template Level<double>
+      coarsen(Level<double> &, bool);
+      template Level<float>
+      coarsen(Level<float> &, bool);
+      template void
+      prolongate_add(const Level<float> &,
+                     const Level<float> &,
+                     Vector<float> &,
+                     const Vector<float> &);
+      template void
+      restrict_to(const Level<float> &,
+                  const Level<float> &,
+                  const Vector<float> &,
+                  Vector<float> &);
     } // namespace grid_multigrid
   }   // namespace internal
 } // namespace forma

@@ -16,21 +16,25 @@ namespace forma
    * Periodic homogenization of a 2D image: the same Q1 finite element
    * problem as PeriodicHomogenization on a regular grid (one constant
    * tensor per pixel, 2 x 2 Gauss points, the mutual energies of the unit
-   * test strains), solved without a matrix. CG on the periodic grid,
-   * preconditioned by a geometric multigrid V-cycle whose coarse operators
-   * are Galerkin products P^T A P (kept as element matrices of the coarse
-   * grids, so strong contrasts such as void survive coarsening), with
-   * Chebyshev-Jacobi smoothing and a dense solve on the coarsest grid. Odd
-   * grid sizes coarsen too (one coarse element then spans a single cell).
+   * test strains), solved without a matrix. CG on the periodic grid in
+   * double precision, preconditioned by a geometric multigrid V-cycle in
+   * single precision (half the memory traffic): coarse operators are
+   * Galerkin products P^T A P, kept as element matrices of the coarse grids,
+   * with black-box (operator-dependent) interpolation, so strong contrasts
+   * such as void survive coarsening; Chebyshev-Jacobi smoothing; a dense
+   * solve on the coarsest grid. Odd grid sizes coarsen too (one coarse
+   * element then spans a single cell). The pixel operator runs a row of
+   * pixels at a time as AVX-512/AVX2 vector code where the CPU has it.
    *
    * The three test strains are solved together (one CG on the three
    * fields), so every pass over the pixels' tensors and the coarse grids'
-   * matrices serves all three. Memory is about 60 doubles per pixel (the
-   * finest grid keeps the pixels' tensors, not a matrix); one process.
-   * C^H is a minimum of energies, so its error is about quadratic in the
-   * solver's: `tolerance` 1e-6 gives C^H to 1e-10 relative on the test
-   * images (random two-phase pixels at contrast 1e-3, family structures
-   * with void 1e-6), 1e-5 to 6e-9.
+   * matrices serves all three. Memory is about 100 doubles per pixel (no
+   * matrix on the pixels); one process. C^H is a minimum of energies, so
+   * its error is about quadratic in the solver's: `tolerance` 1e-6 gives
+   * C^H to 1e-10 relative on the test images (random two-phase pixels at
+   * contrast 1e-3, family structures with void 1e-6), 1e-5 to 6e-9.
+   * Strongly anisotropic pixels (laminates with void) defeat the point
+   * smoother: hundreds of CG steps.
    */
   class GridMultigridHomogenization
   {
