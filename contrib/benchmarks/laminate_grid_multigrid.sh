@@ -3,14 +3,15 @@
 # the direct solver (CHOLMOD) on the symmetric cells (auto, the default),
 # the direct solver on the whole rectangle, and the matrix-free multigrid
 # (whole rectangle) at relative residuals 1e-10 (the default; exact
-# derivatives) and 1e-6 (C^H to 1e-10). Two kinds of grid:
+# derivatives) and 1e-6 (C^H to 1e-10). Three kinds of grid:
 #   random  random two-phase images (55% stiff pixels, contrast 1e-3)
 #   blobs   the same white noise blurred over 9 x 9 pixels and cut at 55%
 #           stiff: grains of about 8 pixels, as in scanned microstructures
 #   hexagon the Hexagon structure p1 = 0.8, p3 = 0.1, p4 = 0.8 (void 1e-6)
 # Prints one CSV row per run: seconds of the homogenization (its log line),
-# the process's peak memory, and |C - C_direct| / |C| against the first
-# run on that grid.
+# the process's peak memory, and |C - C_ref| / |C| against the first run on
+# that grid (the direct solver up to DIRECT_LIMIT, beyond it multigrid at
+# 1e-10).
 #
 #   bash contrib/benchmarks/laminate_grid_multigrid.sh > results/laminate_grid_multigrid.csv
 set -euo pipefail

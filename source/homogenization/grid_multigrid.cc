@@ -7,6 +7,8 @@
 
 #include "grid_multigrid_impl.h"
 
+#include <cmath>
+#include <sstream>
 #include <string>
 
 // GridMultigridHomogenization: the hierarchy, the V-cycle, the CG solves of
@@ -59,6 +61,7 @@ namespace forma
   void
   GridMultigridHomogenization::Impl::build_hierarchy()
   {
+    smoothers.clear(); // they watch the levels
     fine.compute_diagonal();
     levels.clear();
     levels.push_back(single_precision(fine));
@@ -80,7 +83,9 @@ namespace forma
     for (unsigned int l = 0; l + 1 < levels.size(); ++l)
       {
         Smoother::AdditionalData data;
-        data.degree              = parameters.smoothing_degree;
+        data.degree = parameters.smoothing_degree;
+        // Smooth the upper 1/15 of the spectrum (the rest is the coarse
+        // grid's); 12 Lanczos steps bound the top eigenvalue well enough.
         data.smoothing_range     = 15;
         data.eig_cg_n_iterations = 12;
         data.preconditioner = std::make_shared<DiagonalMatrix<Vector<float>>>();
@@ -117,8 +122,8 @@ namespace forma
               A(node[r / 2] + (r % 2) * N, node[k / 2] + (k % 2) * N) +=
                 K[8 * r + k];
         }
-    // The translations are the null space: fix node 0 (the right-hand sides
-    // are orthogonal to them, so this gives an exact solution).
+    // The translations are the null space: fix node 0 (v_cycle() makes the
+    // right-hand sides orthogonal to them, so this solves exactly).
     for (const std::size_t d : {std::size_t(0), std::size_t(N)})
       for (std::size_t k = 0; k < n; ++k)
         A(d, k) = A(k, d) = (k == d) ? 1. : 0.;
@@ -144,7 +149,19 @@ namespace forma
             std::copy(b.begin() + r * B,
                       b.begin() + (r + 1) * B,
                       block.begin());
-            block(0) = block(levels[l].n_nodes()) = 0;
+            // In exact arithmetic the right-hand side is orthogonal to the
+            // translations; remove what float rounding left of them, then
+            // pin node 0.
+            const std::size_t N = levels[l].n_nodes();
+            for (unsigned int c = 0; c < 2; ++c)
+              {
+                double mean = 0;
+                for (std::size_t k = 0; k < N; ++k)
+                  mean += block(c * N + k);
+                for (std::size_t k = 0; k < N; ++k)
+                  block(c * N + k) -= mean / N;
+              }
+            block(0) = block(N) = 0;
             coarsest.solve(block);
             std::copy(block.begin(), block.end(), x.begin() + r * B);
           }
@@ -170,6 +187,14 @@ namespace forma
   {
     AssertThrow(n_cells[0] > 0 && n_cells[1] > 0 && size[0] > 0 && size[1] > 0,
                 ExcMessage("the homogenization grid needs cells and a size"));
+    AssertThrow(parameters.tolerance > 0 && parameters.max_iterations > 0 &&
+                  parameters.smoothing_degree > 0 &&
+                  parameters.coarsest_nodes >= 16 &&
+                  parameters.coarsest_nodes <= 4096,
+                ExcMessage("grid multigrid: the tolerance, iterations and "
+                           "smoothing degree must be positive, the coarsest "
+                           "grid 16 to 4096 nodes (a dense solve; smaller "
+                           "grids are too small to smooth)"));
     impl->parameters = parameters;
     impl->fine       = (pixel_level<double>(
       n_cells[0], n_cells[1], size[0] / n_cells[0], size[1] / n_cells[1]));
@@ -198,30 +223,42 @@ namespace forma
 
 
 
-  GridMultigridHomogenization::Result
-  GridMultigridHomogenization::homogenize(
+  void
+  GridMultigridHomogenization::Impl::set_pixels(
     const std::function<SymmetricTensor<4, 2>(std::size_t)> &pixel_tensor)
   {
-    Impl             &m        = *impl;
-    const std::size_t n_pixels = std::size_t(m.fine.nx) * m.fine.ny;
-    m.smoothers.clear(); // they watch the levels
-    m.levels.clear();
-    for (auto &entry : m.fine.voigt)
+    const std::size_t n_pixels = fine.n_nodes();
+    for (auto &entry : fine.voigt)
       entry.resize(n_pixels);
     for (std::size_t c = 0; c < n_pixels; ++c)
       {
         const Voigt V = voigt_of(pixel_tensor(c));
+        // positive definite: the leading minors of the Voigt matrix
+        const double m2 = V[0] * V[3] - V[1] * V[1];
+        const double m3 = V[0] * (V[3] * V[5] - V[4] * V[4]) -
+                          V[1] * (V[1] * V[5] - V[4] * V[2]) +
+                          V[2] * (V[1] * V[4] - V[3] * V[2]);
+        AssertThrow(V[0] > 0 && m2 > 0 && m3 > 0 && std::isfinite(m3),
+                    ExcMessage("grid multigrid: the tensor of pixel (" +
+                               std::to_string(c % fine.nx) + ", " +
+                               std::to_string(c / fine.nx) +
+                               ") is not positive definite (a void needs "
+                               "a weak phase)"));
         for (unsigned int l = 0; l < 6; ++l)
-          m.fine.voigt[l][c] = V[l];
+          fine.voigt[l][c] = V[l];
       }
-    m.build_hierarchy();
-    const Level<double> &fine = m.fine;
+  }
 
-    // b = -int B^T C A_a for the three test strains; `scale` is its norm
+
+
+  double
+  GridMultigridHomogenization::Impl::assemble_loads(Vector<double> &b) const
+  {
+    // b = -int B^T C A_a for the three test strains; returns its norm
     // before the pixels' loads cancel (exactly, in a uniform material).
     const std::size_t B = fine.block_size();
-    Vector<double>    b(fine.m());
-    double            f[8], scale = 0;
+    b.reinit(fine.m());
+    double f[8], scale = 0;
     for (unsigned int a = 0; a < 3; ++a)
       for (unsigned int j = 0; j < fine.ny; ++j)
         for (unsigned int i = 0; i < fine.nx; ++i)
@@ -238,50 +275,83 @@ namespace forma
               }
             scatter_add(fine, i, j, f, b.begin() + a * B);
           }
-    m.solution.reinit(fine.m());
-    Result       result;
-    const double norm = b.l2_norm();
-    if (norm > 1e-12 * std::sqrt(scale))
-      {
-        SolverControl            control(m.parameters.max_iterations,
-                              m.parameters.tolerance * norm,
-                              false,
-                              false);
-        SolverCG<Vector<double>> cg(control);
-        try
-          {
-            cg.solve(fine, m.solution, b, m);
-          }
-        catch (const SolverControl::NoConvergence &e)
-          {
-            AssertThrow(false,
-                        ExcMessage("grid multigrid: CG did not reach the "
-                                   "relative residual " +
-                                   std::to_string(m.parameters.tolerance) +
-                                   " in " + std::to_string(e.last_step) +
-                                   " steps"));
-          }
-        result.iterations = control.last_step();
-      }
+    return std::sqrt(scale);
+  }
 
+
+
+  unsigned int
+  GridMultigridHomogenization::Impl::solve(const Vector<double> &b)
+  {
+    // Single-precision rounding makes the V-cycle vary slightly from call
+    // to call: flexible CG keeps its steps conjugate anyway.
+    SolverControl                    control(parameters.max_iterations,
+                          parameters.tolerance * b.l2_norm(),
+                          false,
+                          false);
+    SolverFlexibleCG<Vector<double>> cg(control);
+    try
+      {
+        cg.solve(fine, solution, b, *this);
+      }
+    catch (const SolverControl::NoConvergence &e)
+      {
+        std::ostringstream message;
+        message << "grid multigrid: CG reached the relative residual "
+                << e.last_residual / b.l2_norm() << ", not "
+                << parameters.tolerance << ", in " << e.last_step
+                << " steps (strongly anisotropic pixels? use the direct "
+                   "solver)";
+        AssertThrow(false, ExcMessage(message.str()));
+      }
+    return control.last_step();
+  }
+
+
+
+  SymmetricTensor<4, 2>
+  GridMultigridHomogenization::Impl::mutual_energies() const
+  {
     double V[3][3] = {};
     for (unsigned int j = 0; j < fine.ny; ++j)
       for (unsigned int i = 0; i < fine.nx; ++i)
         {
           double eps[3][4][3];
           for (unsigned int a = 0; a < 3; ++a)
-            m.strains(i, j, a, eps[a]);
+            strains(i, j, a, eps[a]);
           const Voigt C = fine.pixel(i + fine.nx * std::size_t(j));
           for (unsigned int q = 0; q < 4; ++q)
             for (unsigned int a = 0; a < 3; ++a)
               for (unsigned int b = a; b < 3; ++b)
                 V[a][b] += energy(C, eps[a][q], eps[b][q]);
         }
-    const double w = fine.hx * fine.hy / 4 / m.volume;
+    const double w = fine.hx * fine.hy / 4 / volume;
     for (unsigned int a = 0; a < 3; ++a)
       for (unsigned int b = a; b < 3; ++b)
         V[b][a] = V[a][b] = V[a][b] * w;
-    result.C = tensor_of(V);
+    return tensor_of(V);
+  }
+
+
+
+  GridMultigridHomogenization::Result
+  GridMultigridHomogenization::homogenize(
+    const std::function<SymmetricTensor<4, 2>(std::size_t)> &pixel_tensor)
+  {
+    Impl &m  = *impl;
+    m.solved = false;
+    m.smoothers.clear(); // they watch the levels
+    m.levels.clear();
+    m.set_pixels(pixel_tensor);
+    m.build_hierarchy();
+    Vector<double> b;
+    const double   scale = m.assemble_loads(b);
+    m.solution.reinit(m.fine.m());
+    Result result;
+    if (b.l2_norm() > 1e-12 * scale)
+      result.iterations = m.solve(b);
+    m.solved = true;
+    result.C = m.mutual_energies();
     return result;
   }
 
@@ -293,7 +363,7 @@ namespace forma
   {
     const Impl          &m    = *impl;
     const Level<double> &fine = m.fine;
-    AssertThrow(fine.is_pixel_grid() && m.solution.size() == fine.m(),
+    AssertThrow(m.solved,
                 ExcMessage("material_gradient() needs a homogenize() first"));
     AssertThrow(derivative.size() == fine.voigt[0].size(),
                 ExcMessage("material_gradient(): one derivative per pixel"));

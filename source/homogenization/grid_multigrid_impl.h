@@ -5,6 +5,7 @@
 // installed): the hierarchy and solves (grid_multigrid.cc) and the output
 // (grid_multigrid_output.cc).
 
+#include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/lac/lapack_full_matrix.h>
 #include <deal.II/lac/precondition.h>
 
@@ -12,6 +13,7 @@
 
 #include "grid_multigrid_level.h"
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -28,10 +30,11 @@ namespace forma
     } // namespace grid_multigrid
   }   // namespace internal
 
-  using namespace internal::grid_multigrid;
-
   struct GridMultigridHomogenization::Impl
   {
+    using Voigt = internal::grid_multigrid::Voigt;
+    template <typename Number>
+    using Level = internal::grid_multigrid::Level<Number>;
     using Smoother =
       dealii::PreconditionChebyshev<Level<float>, dealii::Vector<float>>;
 
@@ -48,8 +51,29 @@ namespace forma
     mutable std::vector<dealii::Vector<float>> residual, coarse_rhs, correction;
     double                                     volume = 0;
 
+    /// The pixels' tensors, checked positive definite.
+    void
+    set_pixels(const std::function<dealii::SymmetricTensor<4, 2>(std::size_t)>
+                 &pixel_tensor);
+
     void
     build_hierarchy();
+
+    /// The loads of the three test strains; returns their norm before the
+    /// pixels' contributions cancel.
+    double
+    assemble_loads(dealii::Vector<double> &b) const;
+
+    /// CG on the three fields; returns its steps.
+    unsigned int
+    solve(const dealii::Vector<double> &b);
+
+    /// C^H from the solution.
+    dealii::SymmetricTensor<4, 2>
+    mutual_energies() const;
+
+    /// The last homogenize() succeeded: `solution` is its.
+    bool solved = false;
 
     void
     factorize_coarsest();
@@ -60,7 +84,7 @@ namespace forma
             dealii::Vector<float>       &x,
             const dealii::Vector<float> &b) const;
 
-    /// The strains at the Gauss points of pixel c under test strain a.
+    /// The strains at the Gauss points of pixel (i, j) under test strain a.
     void
     strains(const unsigned int i,
             const unsigned int j,
@@ -68,8 +92,10 @@ namespace forma
             double             eps[4][3]) const
     {
       double u[8];
-      gather(fine, i, j, solution.begin() + a * fine.block_size(), u);
-      pixel_strains(u, test_strain[a], fine.hx, fine.hy, eps);
+      internal::grid_multigrid::gather(
+        fine, i, j, solution.begin() + a * fine.block_size(), u);
+      internal::grid_multigrid::pixel_strains(
+        u, internal::grid_multigrid::test_strain[a], fine.hx, fine.hy, eps);
     }
 
     void

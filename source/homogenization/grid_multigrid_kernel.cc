@@ -144,8 +144,13 @@ namespace forma
 
 
 
-#define FORMA_CLONES \
-  __attribute__((target_clones("avx512f", "avx2", "default")))
+// Vector clones need GCC's function multi-versioning on x86-64.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#  define FORMA_CLONES \
+    __attribute__((target_clones("avx512f", "avx2", "default")))
+#else
+#  define FORMA_CLONES
+#endif
 
       FORMA_CLONES void
       pixel_row(const std::size_t       n,

@@ -232,9 +232,18 @@ namespace forma
           for (unsigned int i = 0; i < nx; ++i)
             {
               cell_matrix(i + nx * std::size_t(j), K);
-              double d[8];
+              // a grid one cell wide or high: a cell's nodes coincide
+              const auto node = cell_nodes(*this, i, j);
+              double     d[8] = {};
               for (unsigned int r = 0; r < 8; ++r)
-                d[r] = K[9 * r];
+                for (unsigned int k = 0; k < 8; ++k)
+                  if (node[k / 2] == node[r / 2] && k % 2 == r % 2)
+                    d[r] += K[8 * r + k];
+              // scatter_add() adds d[r] at every r of a node: once per node
+              for (unsigned int r = 0; r < 8; ++r)
+                for (unsigned int k = 0; k < r; ++k)
+                  if (node[k / 2] == node[r / 2] && k % 2 == r % 2)
+                    d[r] = 0;
               scatter_add(*this, i, j, d, diagonal.begin());
             }
       }

@@ -23,8 +23,8 @@ namespace forma
 
       /**
        * An nx x ny periodic grid of Q1 cells: node (i, j) is number
-       * i + nx j, its dofs component n_nodes + node (rows of nodes load
-       * as vectors). Vectors hold the three test
+       * i + nx j, and the dof of its component c is c n_nodes + node (rows
+       * of nodes load as vectors). Vectors hold the three test
        * strains' fields one after the other (`n_cases` blocks of
        * block_size()), and the operator acts on each: one pass over the
        * grid's tensors or matrices serves all three. The finest grid keeps one
@@ -45,7 +45,7 @@ namespace forma
         /// (voigt[l][pixel]: rows of pixels load as vectors)
         std::array<std::vector<Number>, 6> voigt;
         /// finest grid: the pixel matrix of each unit Voigt entry
-        std::array<std::array<double, 64>, 6> basis;
+        std::array<std::array<double, 64>, 6> basis{};
         std::vector<Number>    element;  ///< coarser grids: 64 per cell
         dealii::Vector<Number> diagonal; ///< of one block
         /**

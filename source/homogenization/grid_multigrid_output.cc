@@ -17,6 +17,7 @@
 namespace forma
 {
   using namespace dealii;
+  using namespace internal::grid_multigrid;
 
   void
   GridMultigridHomogenization::write_vtu(

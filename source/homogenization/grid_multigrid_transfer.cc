@@ -112,10 +112,7 @@ namespace forma
 
         template <typename Number>
         void
-        set_prolongation(Level<Number>     &fine,
-                         const unsigned int ncx,
-                         const unsigned int ncy,
-                         const bool         operator_dependent)
+        set_prolongation(Level<Number> &fine, const bool operator_dependent)
         {
           const unsigned int nx = fine.nx, ny = fine.ny;
           fine.prolongation.assign(std::size_t(nx) * ny, {});
@@ -124,8 +121,6 @@ namespace forma
                 const unsigned int j) -> std::array<float, 16> & {
             return fine.prolongation[i % nx + nx * std::size_t(j % ny)];
           };
-          (void)ncx;
-          (void)ncy;
           Block S[3][3];
           // Coarse nodes and the nodes on coarse lines first: the nodes
           // inside coarse cells interpolate through them.
@@ -197,7 +192,7 @@ namespace forma
         Level<Number> coarse;
         coarse.nx = (fine.nx + 1) / 2;
         coarse.ny = (fine.ny + 1) / 2;
-        set_prolongation(fine, coarse.nx, coarse.ny, operator_dependent);
+        set_prolongation(fine, operator_dependent);
         coarse.element.assign(64 * std::size_t(coarse.nx) * coarse.ny, 0.);
         double K[64];
         for (unsigned int j = 0; j < fine.ny; ++j)
@@ -362,8 +357,6 @@ namespace forma
       }
 
 
-      template Level<double>
-      coarsen(Level<double> &, bool);
       template Level<float>
       coarsen(Level<float> &, bool);
       template void

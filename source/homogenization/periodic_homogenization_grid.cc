@@ -1,4 +1,5 @@
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/mpi.h>
 
 #include <forma/homogenization/grid_multigrid.h>
 #include <forma/homogenization/periodic_homogenization.h>
@@ -128,7 +129,9 @@ namespace forma
             for (unsigned int k = 0; k < data.size(); ++k)
               data[k][p] = v.at(k);
           }
-        grid->write_vtu(file_stem, cell_data_names, data);
+        // every process holds the whole grid: one writes it
+        if (Utilities::MPI::this_mpi_process(comm) == 0)
+          grid->write_vtu(file_stem, cell_data_names, data);
       }
     (void)file_stem;
     (void)cell_data_names;

@@ -364,7 +364,7 @@ namespace forma
         "symmetry and periodicity constraints). multigrid: no matrix, CG "
         "with a Galerkin multigrid on the pixel grid, the same C^H to "
         "1e-8 in a fraction of the memory (the whole rectangle: Use "
-        "symmetry is ignored; no shape derivative on a conforming mesh).");
+        "symmetry is ignored; conforming meshes use auto).");
       prm.declare_entry(
         "Solver tolerance",
         "1e-10",

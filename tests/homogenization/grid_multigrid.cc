@@ -41,7 +41,9 @@ namespace
           const Point<2>                           &size,
           const unsigned int                        nx,
           const unsigned int                        ny,
-          const std::vector<SymmetricTensor<4, 2>> &pixels)
+          const std::vector<SymmetricTensor<4, 2>> &pixels,
+          const unsigned int                        coarsest_nodes     = 256,
+          const bool                                operator_dependent = true)
   {
     PeriodicHomogenization<2>::SolverParameters sp;
     sp.type = "direct";
@@ -58,7 +60,9 @@ namespace
     // A tight tolerance: the material derivative's error is first order in
     // the solver's (C^H's about second order).
     GridMultigridHomogenization::Parameters p;
-    p.tolerance = 1e-10;
+    p.tolerance          = 1e-10;
+    p.coarsest_nodes     = coarsest_nodes;
+    p.operator_dependent = operator_dependent;
     GridMultigridHomogenization mg(size, {{nx, ny}}, p);
     const auto                  r = mg.homogenize(pixels);
     const double       error      = (r.C - C_direct).norm() / C_direct.norm();
@@ -118,6 +122,22 @@ main(int argc, char **argv)
   compare(
     "random, two cells high", Point<2>(1, 0.1), 40, 2, random_image(40, 2, 3));
 
+  // Small grids coarsened as far as allowed (16 nodes): odd sizes, and
+  // grids one or two cells high, with both interpolations.
+  for (const bool od : {true, false})
+    for (const auto &[nx, ny] :
+         std::vector<std::pair<unsigned int, unsigned int>>{{9, 5},
+                                                            {40, 2},
+                                                            {12, 3}})
+      compare(std::string("tiny grids, ") +
+                (od ? "operator-dependent" : "bilinear"),
+              Point<2>(1, 0.6),
+              nx,
+              ny,
+              random_image(nx, ny, nx + ny),
+              16,
+              od);
+
   const unsigned int ny = 30, nx = 52;
   const double W = HexagonalLaminate::width, H = HexagonalLaminate::height;
   const auto   base =
@@ -146,6 +166,22 @@ main(int argc, char **argv)
               pixels);
     }
 
+  expect_refusal(
+    "a void pixel without a weak phase",
+    [] {
+      GridMultigridHomogenization mg(Point<2>(1, 1), {{4, 4}}, {});
+      auto                        pixels = random_image(4, 4, 1);
+      pixels[5]                          = SymmetricTensor<4, 2>();
+      mg.homogenize(pixels);
+    },
+    "pixel (1, 1) is not positive definite");
+  expect_refusal(
+    "material_gradient() before homogenize()",
+    [] {
+      GridMultigridHomogenization mg(Point<2>(1, 1), {{4, 4}}, {});
+      mg.material_gradient({});
+    },
+    "needs a homogenize() first");
   expect_refusal(
     "12 tensors for a 4 x 4 grid",
     [] {

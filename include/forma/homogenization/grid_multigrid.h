@@ -49,7 +49,8 @@ namespace forma
       /// Interpolation from the stencils (black-box multigrid) instead of
       /// bilinear: far fewer CG steps across strong contrasts.
       bool operator_dependent = true;
-      /// Grids with at most this many nodes are solved directly.
+      /// Grids with at most this many nodes (16 to 4096) are solved
+      /// directly.
       unsigned int coarsest_nodes = 256;
     };
 
