@@ -27,8 +27,7 @@ namespace forma
   {
     const Impl          &m    = *impl;
     const Level<double> &fine = m.fine;
-    AssertThrow(m.solution.size() == fine.m(),
-                ExcMessage("write_vtu() needs a homogenize() first"));
+    AssertThrow(m.solved, ExcMessage("write_vtu() needs a homogenize() first"));
     AssertThrow(cell_data.size() == cell_data_names.size(),
                 ExcMessage("write_vtu(): one name per cell data field"));
     Triangulation<2> tria;
