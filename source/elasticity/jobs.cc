@@ -4,6 +4,7 @@
 
 #include <forma/adjoint/gradient_check.h>
 #include <forma/base/application.h>
+#include <forma/base/records.h>
 #include <forma/base/run_context.h>
 #include <forma/elasticity/jobs.h>
 #include <forma/elasticity/load_cases.h>
@@ -27,14 +28,6 @@ namespace
       return "n/a";
     std::ostringstream s;
     s << std::fixed << std::setprecision(digits) << x;
-    return s.str();
-  }
-
-  std::string
-  significant(const double x, const int digits)
-  {
-    std::ostringstream s;
-    s << std::setprecision(digits) << x;
     return s.str();
   }
 
@@ -86,12 +79,12 @@ namespace
         context.log(line);
       });
 
-    context.print("J = " + significant(result.value, 6) + ", dJ . theta = " +
-                  significant(result.directional_derivative, 6));
+    context.print("J = " + forma::sig(result.value, 6) + ", dJ . theta = " +
+                  forma::sig(result.directional_derivative, 6));
     for (unsigned int k = 0; k < result.epsilons.size(); ++k)
-      context.log("  epsilon " + significant(result.epsilons[k], 4) +
-                  ": J = " + significant(result.values[k], 16) +
-                  ", Taylor error " + significant(result.errors[k], 4));
+      context.log("  epsilon " + forma::sig(result.epsilons[k], 4) +
+                  ": J = " + forma::sig(result.values[k], 16) +
+                  ", Taylor error " + forma::sig(result.errors[k], 4));
     std::string rates;
     for (const double r : result.rates)
       rates += (rates.empty() ? "" : " ") + fixed(r, 1);
@@ -114,8 +107,8 @@ namespace
         context.print(
           "on adaptive time steps: " +
           std::to_string(a["time_steps"].get<unsigned int>()) + " steps from " +
-          significant(a["smallest_time_step"].get<double>(), 3) + " to " +
-          significant(a["largest_time_step"].get<double>(), 3));
+          forma::sig(a["smallest_time_step"].get<double>(), 3) + " to " +
+          forma::sig(a["largest_time_step"].get<double>(), 3));
         if (parameters.variable_order)
           {
             std::string counts;

@@ -10,6 +10,7 @@
 
 #include <forma/adjoint/objective.h>
 #include <forma/base/plot.h>
+#include <forma/base/records.h>
 #include <forma/base/run_context.h>
 #include <forma/elasticity/element_removal.h>
 #include <forma/elasticity/load_cases.h>
@@ -29,14 +30,6 @@ namespace forma
 {
   namespace
   {
-    std::string
-    significant(const double x, const int digits)
-    {
-      std::ostringstream s;
-      s << std::setprecision(digits) << x;
-      return s.str();
-    }
-
     std::string
     at_iteration(const std::size_t k)
     {
@@ -69,7 +62,7 @@ namespace forma
                 shape ? "max vertex offset from the mesh" : "max change";
               json[b.name + ": " + what] = m;
               text += (text.empty() ? "" : "; ") + b.name + ": " + what + " " +
-                      significant(m, 3);
+                      sig(m, 3);
               continue;
             }
           if (b.size > 8)
@@ -79,7 +72,7 @@ namespace forma
                 m = std::max(m, std::abs(q[i]));
               json[b.name + ": max |value|"] = m;
               text += (text.empty() ? "" : "; ") + b.name + ": max |value| " +
-                      significant(m, 3);
+                      sig(m, 3);
               continue;
             }
           std::vector<double> v(q.begin() + b.offset,
@@ -87,7 +80,7 @@ namespace forma
           json[b.name] = v;
           text += (text.empty() ? "" : "; ") + b.name + ":";
           for (const double x : v)
-            text += " " + significant(x, 6);
+            text += " " + sig(x, 6);
         }
       return text;
     }
@@ -99,8 +92,7 @@ namespace forma
     {
       std::string text;
       for (const auto &[name, weight] : simulator.ramped_weights())
-        text +=
-          (text.empty() ? "" : ", ") + name + " " + significant(weight, 4);
+        text += (text.empty() ? "" : ", ") + name + " " + sig(weight, 4);
       return text;
     }
 
@@ -648,7 +640,7 @@ namespace forma
           if (std::find(removed.begin(), removed.end(), true) == removed.end())
             {
               context.print(at + "element removal: no cell below " +
-                            significant(settings.element_removal, 3) +
+                            sig(settings.element_removal, 3) +
                             " of the largest stress");
               return false;
             }
@@ -677,7 +669,7 @@ namespace forma
       const double volume = simulator.state_statistics()["volume"];
       simulator.cap_volume_bounds();
       context.print("  volume bounds lowered to the volume left, " +
-                    significant(volume, 5));
+                    sig(volume, 5));
       remeshes.push_back({{"iteration", last},
                           {"description", line},
                           {"element_removal", true},
@@ -831,10 +823,10 @@ namespace forma
                                  !converged && outer_possible &&
                                  n_outer < settings.outer_iterations;
           if (converged)
-            result.stop_reason =
-              "Algorithm 1 converged: outer iteration " +
-              std::to_string(n_outer) + " lowered J by less than " +
-              significant(settings.relative_decrease, 3) + " |J0|";
+            result.stop_reason = "Algorithm 1 converged: outer iteration " +
+                                 std::to_string(n_outer) +
+                                 " lowered J by less than " +
+                                 sig(settings.relative_decrease, 3) + " |J0|";
           if (settings.hold_blocked_vertices && stagnated(result) &&
               n_holds < 10 && !outer_due && hold_blocked())
             continue;
@@ -1032,8 +1024,8 @@ namespace forma
     OptimizeJob<dim>::objective_line() const
     {
       const auto change = [](const double a, const double b) {
-        return significant(a, 6) + " -> " + significant(b, 6) + " (ratio " +
-               significant(b / a, 4) + ")";
+        return sig(a, 6) + " -> " + sig(b, 6) + " (ratio " + sig(b / a, 4) +
+               ")";
       };
       const double J0 = result.history.front(), J1 = result.history.back();
       if (stage_terms.empty())
@@ -1057,19 +1049,18 @@ namespace forma
                     " iterations: " + result.stop_reason);
       context.log("outer iterations (meshes) " + std::to_string(n_outer) +
                   ", relative gradient norm " +
-                  significant(relative_gradient_norm(), 3) +
+                  sig(relative_gradient_norm(), 3) +
                   ", the last one's reduction of J " +
-                  significant(last_outer_reduction(), 3) + "% of J0");
+                  sig(last_outer_reduction(), 3) + "% of J0");
       context.print(objective_line());
       for (const auto &[key, label] :
            {std::pair<std::string, std::string>{"max_stress",
                                                 "max stress (Frobenius)"},
             {"max_von_mises_stress", "max von Mises stress"},
             {"volume", "volume"}})
-        context.print(
-          label + " " + significant(double(state0[key]), 5) + " -> " +
-          significant(double(state1[key]), 5) + " (ratio " +
-          significant(double(state1[key]) / double(state0[key]), 4) + ")");
+        context.print(label + " " + sig(double(state0[key]), 5) + " -> " +
+                      sig(double(state1[key]), 5) + " (ratio " +
+                      sig(double(state1[key]) / double(state0[key]), 4) + ")");
       if (!design_text.empty())
         context.print("final design: " + design_text);
     }

@@ -112,11 +112,7 @@ namespace forma
       for (unsigned int i = 0; i < level.nx; ++i)
         {
           level.cell_matrix(i + level.nx * std::size_t(j), K);
-          const unsigned int i1 = (i + 1) % level.nx, j1 = (j + 1) % level.ny;
-          const std::size_t  node[4] = {i + level.nx * std::size_t(j),
-                                        i1 + level.nx * std::size_t(j),
-                                        i + level.nx * std::size_t(j1),
-                                        i1 + level.nx * std::size_t(j1)};
+          const auto node = cell_nodes(level, i, j);
           for (unsigned int r = 0; r < 8; ++r)
             for (unsigned int k = 0; k < 8; ++k)
               A(node[r / 2] + (r % 2) * N, node[k / 2] + (k % 2) * N) +=
@@ -263,11 +259,7 @@ namespace forma
       for (unsigned int j = 0; j < fine.ny; ++j)
         for (unsigned int i = 0; i < fine.nx; ++i)
           {
-            pixel_load(fine.pixel(i + fine.nx * std::size_t(j)),
-                       test_strain[a],
-                       fine.hx,
-                       fine.hy,
-                       f);
+            pixel_load(fine, i + fine.nx * std::size_t(j), test_strain[a], f);
             for (double &v : f)
               {
                 v = -v;

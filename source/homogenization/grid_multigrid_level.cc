@@ -19,74 +19,6 @@ namespace forma
         const double gauss[2] = {0.5 - 0.5 / std::sqrt(3.),
                                  0.5 + 0.5 / std::sqrt(3.)};
 
-        /**
-         * out = int B^T C (B u + A) over a pixel (u or A may be null). With
-         * the differences along its edges, du/dx = ((1 - eta) (u1 - u0) +
-         * eta (u3 - u2)) / hx takes one value per Gauss row eta and
-         * du/dy = ((1 - xi) (u2 - u0) + xi (u3 - u1)) / hy one per Gauss
-         * column xi; the same weights carry the stresses back.
-         */
-        inline void
-        pixel_action(const Voigt  &C,
-                     const double  ihx,
-                     const double  ihy,
-                     const double  w,
-                     const double *u,
-                     const double *A,
-                     double        out[8])
-        {
-          // gx[q][c] = du_c/dx at eta_q, gy[q][c] = du_c/dy at xi_q
-          double gx[2][2] = {}, gy[2][2] = {};
-          if (u != nullptr)
-            for (unsigned int c = 0; c < 2; ++c)
-              {
-                const double dxb = u[2 + c] - u[c], dxt = u[6 + c] - u[4 + c];
-                const double dyl = u[4 + c] - u[c], dyr = u[6 + c] - u[2 + c];
-                for (unsigned int q = 0; q < 2; ++q)
-                  {
-                    gx[q][c] = ((1 - gauss[q]) * dxb + gauss[q] * dxt) * ihx;
-                    gy[q][c] = ((1 - gauss[q]) * dyl + gauss[q] * dyr) * ihy;
-                  }
-              }
-          // Duals of gx and gy summed over the other Gauss coordinate.
-          double tx[2][2] = {}, ty[2][2] = {};
-          for (unsigned int qy = 0; qy < 2; ++qy)
-            for (unsigned int qx = 0; qx < 2; ++qx)
-              {
-                double e0 = gx[qy][0], e1 = gy[qx][1],
-                       e2 = gy[qx][0] + gx[qy][1];
-                if (A != nullptr)
-                  {
-                    e0 += A[0];
-                    e1 += A[1];
-                    e2 += A[2];
-                  }
-                const double s0 = C[0] * e0 + C[1] * e1 + C[2] * e2;
-                const double s1 = C[1] * e0 + C[3] * e1 + C[4] * e2;
-                const double s2 = C[2] * e0 + C[4] * e1 + C[5] * e2;
-                tx[qy][0] += s0;
-                tx[qy][1] += s2;
-                ty[qx][0] += s2;
-                ty[qx][1] += s1;
-              }
-          const double wx = w * ihx, wy = w * ihy;
-          for (unsigned int c = 0; c < 2; ++c)
-            {
-              const double Dxb =
-                wx * ((1 - gauss[0]) * tx[0][c] + (1 - gauss[1]) * tx[1][c]);
-              const double Dxt =
-                wx * (gauss[0] * tx[0][c] + gauss[1] * tx[1][c]);
-              const double Dyl =
-                wy * ((1 - gauss[0]) * ty[0][c] + (1 - gauss[1]) * ty[1][c]);
-              const double Dyr =
-                wy * (gauss[0] * ty[0][c] + gauss[1] * ty[1][c]);
-              out[c]     = -Dxb - Dyl;
-              out[2 + c] = Dxb - Dyr;
-              out[4 + c] = -Dxt + Dyl;
-              out[6 + c] = Dxt + Dyr;
-            }
-        }
-
       } // namespace
 
 
@@ -103,15 +35,27 @@ namespace forma
         level.ny = ny;
         level.hx = hx;
         level.hy = hy;
+        // The pixel matrix of each unit Voigt entry, column by column, from
+        // the row kernel on a row of one pixel.
         for (unsigned int l = 0; l < 6; ++l)
           {
-            Voigt C{};
-            C[l] = 1;
+            double C[6] = {}, u[4][2], out[8];
+            C[l]        = 1;
+            PixelRow<double> row;
+            for (unsigned int e = 0; e < 6; ++e)
+              row.C[e] = &C[e];
+            for (unsigned int k = 0; k < 8; ++k)
+              row.out[k] = &out[k];
             for (unsigned int k = 0; k < 8; ++k)
               {
-                double u[8] = {}, out[8];
-                u[k]        = 1;
-                pixel_action(C, 1 / hx, 1 / hy, hx * hy / 4, u, nullptr, out);
+                // local node k / 2, component k % 2: row (lower or upper)
+                // and component pick u's array, the node's x its entry
+                for (unsigned int a = 0; a < 4; ++a)
+                  u[a][0] = u[a][1] = 0;
+                u[2 * (k / 4) + k % 2][(k / 2) % 2] = 1;
+                for (unsigned int a = 0; a < 4; ++a)
+                  row.u[a] = u[a];
+                pixel_row(1, 1 / hx, 1 / hy, hx * hy / 4, row);
                 for (unsigned int r = 0; r < 8; ++r)
                   level.basis[l][8 * r + k] = out[r];
               }
@@ -306,13 +250,29 @@ namespace forma
 
 
       void
-      pixel_load(const Voigt &C,
-                 const double A[3],
-                 const double hx,
-                 const double hy,
-                 double       f[8])
+      pixel_load(const Level<double> &level,
+                 const std::size_t    c,
+                 const double         A[3],
+                 double               f[8])
       {
-        pixel_action(C, 1 / hx, 1 / hy, hx * hy / 4, nullptr, A, f);
+        // int B^T C A = K u_A for the affine u_A whose strain is A, which
+        // Q1 represents exactly: u_A(x, y) = (A0 x + A2 y / 2,
+        // A2 x / 2 + A1 y) at the local nodes.
+        double u[8];
+        for (unsigned int k = 0; k < 4; ++k)
+          {
+            const double x = (k % 2) * level.hx, y = (k / 2) * level.hy;
+            u[2 * k]     = A[0] * x + A[2] * y / 2;
+            u[2 * k + 1] = A[2] * x / 2 + A[1] * y;
+          }
+        double K[64];
+        level.cell_matrix(c, K);
+        for (unsigned int r = 0; r < 8; ++r)
+          {
+            f[r] = 0;
+            for (unsigned int k = 0; k < 8; ++k)
+              f[r] += K[8 * r + k] * u[k];
+          }
       }
     } // namespace grid_multigrid
   }   // namespace internal

@@ -289,11 +289,10 @@ namespace forma
 
       /// The load of a pixel under the constant strain A: int B^T C A.
       void
-      pixel_load(const Voigt &C,
-                 const double A[3],
-                 const double hx,
-                 const double hy,
-                 double       f[8]);
+      pixel_load(const Level<double> &level,
+                 const std::size_t    c,
+                 const double         A[3],
+                 double               f[8]);
     } // namespace grid_multigrid
   }   // namespace internal
 } // namespace forma
