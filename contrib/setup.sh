@@ -12,7 +12,7 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 action=${1:-}
 case "$action" in ""|--run|--test) ;; *) echo "usage: $0 [--run|--test]" >&2; exit 2;; esac
 
-packages=(libdeal.ii-dev libgmsh-dev libsuitesparse-dev libopenblas0-serial numdiff cmake make g++ perl ccache nlohmann-json3-dev libeigen3-dev libcgal-dev libcairo2-dev libpng-dev fonts-dejavu-core python3-matplotlib openmpi-bin)
+packages=(libdeal.ii-dev libgmsh-dev libsuitesparse-dev libopenblas0-serial numdiff cmake make g++ perl ccache nlohmann-json3-dev libeigen3-dev libcgal-dev libcairo2-dev libpng-dev libtiff-dev fonts-dejavu-core python3-matplotlib openmpi-bin)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

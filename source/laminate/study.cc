@@ -421,7 +421,8 @@ namespace forma
         "Image file",
         "",
         Patterns::Anything(),
-        "Type = image: a grayscale PGM (P2/P5) or PNG (1-16 bits) image, or "
+        "Type = image: a grayscale PGM (P2/P5), PNG (1-16 bits) or TIFF "
+        "(1-16 bits or floats in [0, 1]; the first image) image, or "
         "a CSV matrix of densities in [0, 1]; relative to the .prm file.");
       prm.declare_entry("Image width",
                         "1",

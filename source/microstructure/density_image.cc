@@ -3,6 +3,7 @@
 #include <forma/microstructure/density_image.h>
 
 #include "png_gray.h"
+#include "tiff_gray.h"
 
 #include <algorithm>
 #include <cctype>
@@ -31,6 +32,21 @@ namespace forma
       AssertThrow(false,
                   ExcMessage("'" + file + "' ends inside its PGM header"));
       return token;
+    }
+
+    // ".png" of "Cell.PNG"; empty without a dot in the file name.
+    std::string
+    lowercase_extension(const std::string &file)
+    {
+      const std::size_t dot   = file.rfind('.');
+      const std::size_t slash = file.rfind('/');
+      if (dot == std::string::npos ||
+          (slash != std::string::npos && dot < slash))
+        return "";
+      std::string extension = file.substr(dot);
+      for (char &c : extension)
+        c = std::tolower(static_cast<unsigned char>(c));
+      return extension;
     }
 
     unsigned int
@@ -65,8 +81,7 @@ namespace forma
                 ExcMessage("cannot open the structure image '" + file + "'"));
     DensityImage        image;
     std::vector<double> top_down;
-    const std::string   extension =
-      file.size() > 4 ? file.substr(file.size() - 4) : "";
+    const std::string   extension = lowercase_extension(file);
     if (extension == ".pgm")
       {
         std::string magic;
@@ -129,6 +144,8 @@ namespace forma
       }
     else if (extension == ".png")
       top_down = internal::read_png_gray(file, image.nx, image.ny);
+    else if (extension == ".tif" || extension == ".tiff")
+      top_down = internal::read_tiff_gray(file, image.nx, image.ny);
     else if (extension == ".csv")
       {
         std::string  line;
@@ -179,8 +196,9 @@ namespace forma
       }
     else
       AssertThrow(false,
-                  ExcMessage("structure image '" + file +
-                             "': use a .pgm or .png image or a .csv matrix"));
+                  ExcMessage(
+                    "structure image '" + file +
+                    "': use a .pgm, .png or .tif image or a .csv matrix"));
     AssertThrow(image.nx >= 2 && image.ny >= 2,
                 ExcMessage("structure image '" + file + "' has " +
                            std::to_string(image.nx) + " x " +

@@ -184,10 +184,10 @@ main()
     [] { DensityImage::read("nowhere.png", false); },
     "cannot open the structure image 'nowhere.png'");
   std::filesystem::copy_file("gray8.png",
-                             "gray8.tif",
+                             "gray8.gif",
                              std::filesystem::copy_options::overwrite_existing);
   expect_refusal(
     "an unknown extension",
-    [] { DensityImage::read("gray8.tif", false); },
-    "use a .pgm or .png image or a .csv matrix");
+    [] { DensityImage::read("gray8.gif", false); },
+    "use a .pgm, .png or .tif image");
 }

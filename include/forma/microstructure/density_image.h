@@ -10,9 +10,10 @@ namespace forma
    * A user's structure as a matrix of densities in [0, 1] (1 = base
    * material, 0 = void), read from a grayscale PGM image (P2 or P5; gray
    * value / max value, white = solid unless inverted), a grayscale PNG
-   * (1 to 16 bits; value / largest value of its depth, no gamma) or a CSV
-   * file (one
-   * image row per line, comma or whitespace separated). Row 0 of the file
+   * (1 to 16 bits; value / largest value of its depth, no gamma), a
+   * grayscale TIFF (the first image; 1 to 16 bits as PNG, or floats in
+   * [0, 1]) or a CSV file (one image row per line, comma or whitespace
+   * separated). Row 0 of the file
    * is the top of the cell, as in an image; `density(i, j)` counts j from
    * the bottom.
    */
@@ -30,8 +31,8 @@ namespace forma
     double
     mean() const;
 
-    /// Reads by extension (.pgm, .png or .csv); clear errors for malformed
-    /// files, values outside [0, 1] and ragged rows.
+    /// Reads by extension (.pgm, .png, .tif/.tiff or .csv, any case); clear
+    /// errors for malformed files, values outside [0, 1] and ragged rows.
     static DensityImage
     read(const std::string &file_name, const bool invert);
   };
