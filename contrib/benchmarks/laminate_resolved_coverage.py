@@ -51,11 +51,23 @@ def bisect(evaluate, lo, hi, x, falls, E_target=0.5):
     return x, r, error
 
 
+def own_bound(r, sign):
+    """Delta at E/E_b = 0.5 allowed by the HS bound of the sample's own
+    volume fraction: E_max(nu) = min(2 kappa_u (1 - nu), 2 mu_u (1 + nu))
+    = 0.5 at nu = 1 - 0.25 / kappa_u (right) or 0.25 / mu_u - 1 (left)."""
+    hs = r["hashin_shtrikman"]
+    nu = 1 - 0.25 / hs["kappa_upper"] if sign > 0 else \
+        0.25 / hs["mu_upper"] - 1
+    return sign * nu / 0.5
+
+
 def row(values, x, r, error, sign):
     if r is None:
-        return ",".join(values) + ",%.4f,,,,,%s" % (x, error.replace(",", ";"))
-    return ",".join(values) + ",%.4f,%.4f,%.4f,%.4f,%.3f," % (
-        x, r["E"], r["nu"], r["volume_fraction"], sign * r["nu"] / 0.5)
+        return ",".join(values) + ",%.4f,,,,,,%s" % (x,
+                                                     error.replace(",", ";"))
+    return ",".join(values) + ",%.4f,%.4f,%.4f,%.4f,%.3f,%.3f," % (
+        x, r["E"], r["nu"], r["volume_fraction"], sign * r["nu"] / 0.5,
+        own_bound(r, sign))
 
 
 def fit_eq_5_10(points):
@@ -110,7 +122,8 @@ def main():
     size = float(sys.argv[2]) if len(sys.argv) > 2 else 0.012
     with tempfile.TemporaryDirectory() as work:
         if side == "left":
-            print("p1,p4,n_beams,element_size,shift_p2,E,nu,phi,Delta_L,error")
+            print("p1,p4,n_beams,element_size,shift_p2,E,nu,phi,Delta_L,"
+                  "Delta_L_own_bound,error")
             for p1, p4, n in LEFT:
                 # E falls from about 0.9 (straight beams) to below 0.5 well
                 # before a shift of 0.3 at these p1.
@@ -123,7 +136,8 @@ def main():
         elif side == "envelope":
             envelope(work, size)
         else:
-            print("p1,n_beams,element_size,p4,E,nu,phi,Delta_R,error")
+            print("p1,n_beams,element_size,p4,E,nu,phi,Delta_R,Delta_R_own_bound,"
+                  "error")
             for p1, n in RIGHT:
                 x, r, error = bisect(
                     lambda x: mesh(work, "triangle", p1, 0.0, 1.0 / n, x, size),

@@ -108,6 +108,10 @@ namespace forma
                     dealii::ExcMessage(in + "is " + std::to_string(l.width) +
                                        " x " + std::to_string(l.height) +
                                        " pixels, more than 8192 x 8192"));
+        // Gray and a few extra samples (alpha, masks) at most.
+        AssertThrow(samples >= 1 && samples <= 8,
+                    dealii::ExcMessage(in + "has " + std::to_string(samples) +
+                                       " samples a pixel"));
         l.stride       = planar == PLANARCONFIG_CONTIG ? samples : 1;
         l.min_is_white = photometric == PHOTOMETRIC_MINISWHITE;
         l.bottom_up    = orientation == ORIENTATION_BOTLEFT;
@@ -177,6 +181,10 @@ namespace forma
         std::uint32_t tw = 0, th = 0;
         TIFFGetField(tiff, TIFFTAG_TILEWIDTH, &tw);
         TIFFGetField(tiff, TIFFTAG_TILELENGTH, &th);
+        AssertThrow(tw > 0 && th > 0 && tw <= 8192 && th <= 8192,
+                    dealii::ExcMessage("'" + file + "' has tiles of " +
+                                       std::to_string(tw) + " x " +
+                                       std::to_string(th) + " pixels"));
         std::vector<unsigned char> tile(TIFFTileSize(tiff));
         const std::size_t          row_bytes = TIFFTileRowSize(tiff);
         for (std::uint32_t y0 = 0; y0 < l.height; y0 += th)
