@@ -1,5 +1,7 @@
 #include "grid_multigrid_level.h"
 
+#include <cmath>
+
 // The transfers between GridMultigridHomogenization's grids: the
 // interpolation weights (bilinear or operator-dependent) and the Galerkin
 // coarse element matrices they give.
@@ -110,6 +112,35 @@ namespace forma
           set_weight(w, along_x ? 1 : 0, along_x ? 0 : 1, M * Abar[2]);
         }
 
+        /// Bilinear weights of a node on a coarse line (a, b: its offsets
+        /// 0 or 1 from its first coarse node) or inside a coarse cell.
+        void
+        bilinear_weights(const unsigned int     a,
+                         const unsigned int     b,
+                         std::array<float, 16> &w)
+        {
+          w.fill(0.f);
+          const double f    = a == 1 && b == 1 ? 0.25 : 0.5;
+          const Block  part = {{f, 0, 0, f}};
+          for (unsigned int k = 0; k < 4; ++k)
+            if (k % 2 <= a && k / 2 <= b)
+              set_weight(w, k % 2, k / 2, part);
+        }
+
+        /// Operator-dependent weights are affine (they sum to the identity)
+        /// and near [0, 1] where the stencil they come from is well
+        /// conditioned; a weight beyond 2 marks a nearly singular one
+        /// (solid and void meeting across a coarse cell at a point, thin
+        /// beams), whose interpolation would spoil the coarse grids.
+        bool
+        bounded(const std::array<float, 16> &w)
+        {
+          for (const float v : w)
+            if (!(std::abs(v) <= 2.f))
+              return false;
+          return true;
+        }
+
         template <typename Number>
         void
         set_prolongation(Level<Number> &fine, const bool operator_dependent)
@@ -133,15 +164,13 @@ namespace forma
                 else if (i % 2 == 1 && j % 2 == 1)
                   continue;
                 else if (!operator_dependent)
-                  {
-                    const Block half = {{0.5, 0, 0, 0.5}};
-                    set_weight(w, 0, 0, half);
-                    set_weight(w, i % 2, j % 2, half);
-                  }
+                  bilinear_weights(i % 2, j % 2, w);
                 else
                   {
                     node_stencil(fine, i, j, S);
                     line_weights(S, i % 2 == 1, w);
+                    if (!bounded(w))
+                      bilinear_weights(i % 2, j % 2, w);
                   }
               }
           for (unsigned int j = 1; j < ny; j += 2)
@@ -150,9 +179,7 @@ namespace forma
                 auto &w = node(i, j);
                 if (!operator_dependent)
                   {
-                    const Block quarter = {{0.25, 0, 0, 0.25}};
-                    for (unsigned int k = 0; k < 4; ++k)
-                      set_weight(w, k % 2, k / 2, quarter);
+                    bilinear_weights(1, 1, w);
                     continue;
                   }
                 node_stencil(fine, i, j, S);
@@ -179,6 +206,8 @@ namespace forma
                 for (unsigned int b = 0; b < 2; ++b)
                   for (unsigned int a = 0; a < 2; ++a)
                     set_weight(w, a, b, M * T[a][b]);
+                if (!bounded(w))
+                  bilinear_weights(1, 1, w);
               }
         }
       } // namespace
