@@ -17,20 +17,18 @@ laminate_resolved_coverage.py's.
   confirm SIDE p1 n p4|p2 [p4] SIZE...: one structure on conforming meshes
          of the given element sizes (right: p1 n p4; left: p1 n p2 p4)
 
-  python3 contrib/benchmarks/laminate_fine_grid_coverage.py right [p1:n ...] \
+  python3 contrib/benchmarks/laminate_fine_grid_coverage.py right [p1:n[:lo:hi:start] ...] \
       > contrib/benchmarks/results/laminate_fine_grid_coverage_right.csv
-  python3 contrib/benchmarks/laminate_fine_grid_coverage.py left [p1:p4:n ...]
+  python3 contrib/benchmarks/laminate_fine_grid_coverage.py left [p1:p4:n[:lo:hi:start] ...]
 """
-import json
 import math
 import os
-import subprocess
 import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from laminate_compare_meshes import APP, compare_meshes  # noqa: E402
-from laminate_resolved_coverage import bisect, own_bound  # noqa: E402
+from laminate_compare_meshes import compare_meshes, run  # noqa: E402
+from laminate_resolved_coverage import bisect, cases, own_bound  # noqa: E402
 
 FEATURE_CELLS = float(os.environ.get("FEATURE_CELLS", "4"))
 MAX_CELLS = int(os.environ.get("MAX_CELLS", "1600"))
@@ -42,37 +40,10 @@ LEFT = [(0.97, 0.95, 20), (0.97, 0.95, 40)]
 
 def homogenize(work, family, p1, p2, p3, p4, cells):
     """(summary, None) of one structure on the grid, or (None, error)."""
-    prm = os.path.join(work, "g.prm")
-    with open(prm, "w") as f:
-        f.write("""set Output directory = %s
-set Mode = homogenize
-subsection Base material
-  set Young's modulus = 1
-  set Poisson's ratio = 0
-end
-subsection Grid
-  set Cells along height = %d
-  set Solver = %s
-  set Solver tolerance = 1e-6
-end
-subsection Structure
-  set Type = %s
-  set p1 = %r
-  set p2 = %r
-  set p3 = %r
-  set p4 = %r
-end
-subsection Output
-  set Write vtu = false
-end
-""" % (os.path.join(work, "g"), cells, "multigrid" if cells > 100 else
-       "direct", family, p1, p2, p3, p4))
-    p = subprocess.run([APP, prm], capture_output=True, text=True)
-    if p.returncode != 0:
-        lines = p.stderr.strip().splitlines()
-        return None, lines[-1] if lines else "exit code %d" % p.returncode
-    with open(os.path.join(work, "g", "summary.json")) as f:
-        return json.load(f), None
+    return run(work, "homogenize", family, p1, p2, p3, p4,
+               "  set Cells along height = %d\n  set Solver = %s\n"
+               "  set Solver tolerance = 1e-6"
+               % (cells, "multigrid" if cells > 100 else "direct"))
 
 
 def resolved(work, family, p1, p2, p3, p4):
@@ -134,21 +105,19 @@ def main():
         elif side == "left":
             print("p1,p4,n_beams,shift_p2,cells,E,nu,phi,Delta_L,"
                   "Delta_L_own_bound,error")
-            for p1, p4, n in [(float(a), float(b), int(c)) for a, b, c in
-                              (x.split(":") for x in sys.argv[2:])] or LEFT:
+            for p1, p4, n, bracket in cases(LEFT, 3, 2):
                 x, r, error = bisect(
                     lambda x: resolved(work, "hexagon", p1, x, 1.0 / n, p4),
-                    0.0, 0.3, 0.1, True)
+                    *(bracket or (0.0, 0.3, 0.1)), True)
                 print(row(["%g" % p1, "%g" % p4, "%d" % n], x, r, error, -1))
                 sys.stdout.flush()
         else:
             print("p1,n_beams,p4,cells,E,nu,phi,Delta_R,Delta_R_own_bound,"
                   "error")
-            for p1, n in [(float(a), int(b)) for a, b in
-                          (c.split(":") for c in sys.argv[2:])] or RIGHT:
+            for p1, n, bracket in cases(RIGHT, 2, 2):
                 x, r, error = bisect(
                     lambda x: resolved(work, "triangle", p1, 0.0, 1.0 / n, x),
-                    0.05, 1.0, 0.5, False)
+                    *(bracket or (0.05, 1.0, 0.5)), False)
                 print(row(["%g" % p1, "%d" % n], x, r, error, 1))
                 sys.stdout.flush()
 

@@ -14,7 +14,10 @@ envelope: the left side's lowest nu at E/E_b = 0.1 ... 0.8 over a few left
        least squares), beside the thesis's 3.477, 3.098, 0.988.
 
   python3 contrib/benchmarks/laminate_resolved_coverage.py left|right \
-      [element size] > contrib/benchmarks/results/laminate_resolved_coverage_SIDE.csv
+      [element size [case...]] > contrib/benchmarks/results/laminate_resolved_coverage_SIDE.csv
+
+A case is p1:p4:n (left) or p1:n (right), optionally followed by the
+bisection's bracket and start, lo:hi:start (default: the lists below).
 """
 import os
 import sys
@@ -37,18 +40,23 @@ def mesh(work, family, p1, p2, p3, p4, size):
 
 
 def bisect(evaluate, lo, hi, x, falls, E_target=0.5):
-    """x in [lo, hi] with E(x) = E_target; E falls (or grows) with x."""
+    """x in [lo, hi] with E(x) = E_target; E falls (or grows) with x.
+    Returns the last x evaluated with its result; if E jumps across the
+    target (the geometry changes topology), an error says so."""
     r, error = None, None
     for _ in range(16):
         r, error = evaluate(x)
         if r is None or abs(r["E"] - E_target) < 4e-3 * E_target:
-            break
+            return x, r, error
         if (r["E"] > E_target) == falls:
             lo = x
         else:
             hi = x
+        if hi - lo < 1e-5:
+            break
         x = 0.5 * (lo + hi)
-    return x, r, error
+    return x, None, "E jumps across %g near %.5f (last E %.4f)" % (
+        E_target, x, r["E"])
 
 
 def own_bound(r, sign):
@@ -117,6 +125,18 @@ def envelope(work, size):
         print("# nu %.4f: E forma %.4f, thesis eq. 5.10 %.4f" % (nu, E, thesis))
 
 
+def cases(default, n_fields, first=3):
+    """The cases named on the command line from argument `first` on
+    (fields joined by ':', each optionally followed by the bisection's
+    lo:hi:start), or the default list with the default bracket (None)."""
+    named = [[float(v) for v in c.split(":")] for c in sys.argv[first:]]
+    if not named:
+        return [tuple(c) + (None,) for c in default]
+    return [tuple(c[:n_fields - 1]) + (int(c[n_fields - 1]),) +
+            (tuple(c[n_fields:]) if len(c) > n_fields else None,)
+            for c in named]
+
+
 def main():
     side = sys.argv[1] if len(sys.argv) > 1 else "left"
     size = float(sys.argv[2]) if len(sys.argv) > 2 else 0.012
@@ -124,12 +144,12 @@ def main():
         if side == "left":
             print("p1,p4,n_beams,element_size,shift_p2,E,nu,phi,Delta_L,"
                   "Delta_L_own_bound,error")
-            for p1, p4, n in LEFT:
+            for p1, p4, n, bracket in cases(LEFT, 3):
                 # E falls from about 0.9 (straight beams) to below 0.5 well
                 # before a shift of 0.3 at these p1.
                 x, r, error = bisect(
                     lambda x: mesh(work, "hexagon", p1, x, 1.0 / n, p4, size),
-                    0.0, 0.3, 0.14, True)
+                    *(bracket or (0.0, 0.3, 0.14)), True)
                 print(row(["%g" % p1, "%g" % p4, "%d" % n, "%g" % size], x, r,
                           error, -1))
                 sys.stdout.flush()
@@ -138,10 +158,10 @@ def main():
         else:
             print("p1,n_beams,element_size,p4,E,nu,phi,Delta_R,Delta_R_own_bound,"
                   "error")
-            for p1, n in RIGHT:
+            for p1, n, bracket in cases(RIGHT, 2):
                 x, r, error = bisect(
                     lambda x: mesh(work, "triangle", p1, 0.0, 1.0 / n, x, size),
-                    0.05, 1.0, 0.5, False)
+                    *(bracket or (0.05, 1.0, 0.5)), False)
                 print(row(["%g" % p1, "%d" % n, "%g" % size], x, r, error, 1))
                 sys.stdout.flush()
 
