@@ -55,8 +55,8 @@ def bisect(evaluate, lo, hi, x, falls, E_target=0.5):
         if hi - lo < 1e-5:
             break
         x = 0.5 * (lo + hi)
-    return x, None, "E jumps across %g near %.5f (last E %.4f)" % (
-        E_target, x, r["E"])
+    return x, None, ("E jumps across %g near %.5f, or the bracket misses "
+                     "it (last E %.4f)" % (E_target, x, r["E"]))
 
 
 def own_bound(r, sign):
@@ -130,6 +130,10 @@ def cases(default, n_fields, first=3):
     (fields joined by ':', each optionally followed by the bisection's
     lo:hi:start), or the default list with the default bracket (None)."""
     named = [[float(v) for v in c.split(":")] for c in sys.argv[first:]]
+    for c in named:
+        if len(c) not in (n_fields, n_fields + 3):
+            sys.exit("a case needs %d fields (or %d with lo:hi:start), not %d"
+                     % (n_fields, n_fields + 3, len(c)))
     if not named:
         return [tuple(c) + (None,) for c in default]
     return [tuple(c[:n_fields - 1]) + (int(c[n_fields - 1]),) +

@@ -19,7 +19,7 @@ namespace forma
       // libtiff's messages for this file (the last error and warning).
       struct Messages
       {
-        std::string error, warning;
+        std::string error;
       };
 
       std::string
@@ -41,14 +41,11 @@ namespace forma
         return 1; // handled: libtiff's default handler prints nothing
       }
 
+      // Warnings (unknown tags and the like) do not stop the reading;
+      // returning 1 keeps libtiff from printing them.
       int
-      on_warning(TIFF *,
-                 void       *user,
-                 const char *module,
-                 const char *fmt,
-                 va_list     ap)
+      on_warning(TIFF *, void *, const char *, const char *, va_list)
       {
-        static_cast<Messages *>(user)->warning = format(module, fmt, ap);
         return 1;
       }
 
@@ -95,8 +92,8 @@ namespace forma
                       (l.format == SAMPLEFORMAT_INT    ? "signed" :
                        l.format == SAMPLEFORMAT_IEEEFP ? "float" :
                                                          "unsigned") +
-                      " samples: use 1-16 bit unsigned or 32/64-bit float "
-                      "gray"));
+                      " samples: use 1, 2, 4, 8 or 16-bit unsigned or "
+                      "32/64-bit float gray"));
         AssertThrow(orientation == ORIENTATION_TOPLEFT ||
                       orientation == ORIENTATION_BOTLEFT,
                     dealii::ExcMessage(
@@ -167,9 +164,18 @@ namespace forma
           return dealii::ExcMessage("'" + file + "' is not a readable TIFF: " +
                                     where + ": " + messages.error);
         };
+        // A header of a few bytes must not claim gigabytes of buffer.
+        const auto buffer = [&](const tmsize_t bytes, const char *what) {
+          AssertThrow(bytes > 0 && bytes <= (tmsize_t(1) << 28),
+                      dealii::ExcMessage(
+                        "'" + file + "': its " + what + " would take " +
+                        std::to_string(bytes) + " bytes (at most 256 MiB)"));
+          return std::vector<unsigned char>(bytes);
+        };
         if (!TIFFIsTiled(tiff))
           {
-            std::vector<unsigned char> row(TIFFScanlineSize(tiff));
+            std::vector<unsigned char> row =
+              buffer(TIFFScanlineSize(tiff), "row");
             for (std::uint32_t y = 0; y < l.height; ++y)
               {
                 AssertThrow(TIFFReadScanline(tiff, row.data(), y, 0) >= 0,
@@ -185,7 +191,7 @@ namespace forma
                     dealii::ExcMessage("'" + file + "' has tiles of " +
                                        std::to_string(tw) + " x " +
                                        std::to_string(th) + " pixels"));
-        std::vector<unsigned char> tile(TIFFTileSize(tiff));
+        std::vector<unsigned char> tile = buffer(TIFFTileSize(tiff), "tile");
         const std::size_t          row_bytes = TIFFTileRowSize(tiff);
         for (std::uint32_t y0 = 0; y0 < l.height; y0 += th)
           for (std::uint32_t x0 = 0; x0 < l.width; x0 += tw)
@@ -213,9 +219,7 @@ namespace forma
       const std::unique_ptr<TIFFOpenOptions, void (*)(TIFFOpenOptions *)>
         options(TIFFOpenOptionsAlloc(), TIFFOpenOptionsFree);
       TIFFOpenOptionsSetErrorHandlerExtR(options.get(), on_error, &messages);
-      TIFFOpenOptionsSetWarningHandlerExtR(options.get(),
-                                           on_warning,
-                                           &messages);
+      TIFFOpenOptionsSetWarningHandlerExtR(options.get(), on_warning, nullptr);
       // A corrupt header must not make libtiff take gigabytes.
       TIFFOpenOptionsSetMaxSingleMemAlloc(options.get(), 1 << 30);
       std::unique_ptr<TIFF, void (*)(TIFF *)> tiff(
