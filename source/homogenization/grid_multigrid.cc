@@ -79,7 +79,6 @@ namespace forma
         coarse_rhs[l].reinit(levels[l + 1].m());
         correction[l].reinit(levels[l + 1].m());
       }
-    smoothers.clear();
     for (unsigned int l = 0; l + 1 < levels.size(); ++l)
       {
         Smoother::AdditionalData data;

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <filesystem>
 #include <fstream>
 #include <numeric>
 #include <sstream>
@@ -34,16 +35,11 @@ namespace forma
       return token;
     }
 
-    // ".png" of "Cell.PNG"; empty without a dot in the file name.
+    // ".png" of "Cell.PNG"; empty without one.
     std::string
     lowercase_extension(const std::string &file)
     {
-      const std::size_t dot   = file.rfind('.');
-      const std::size_t slash = file.rfind('/');
-      if (dot == std::string::npos ||
-          (slash != std::string::npos && dot < slash))
-        return "";
-      std::string extension = file.substr(dot);
+      std::string extension = std::filesystem::path(file).extension().string();
       for (char &c : extension)
         c = std::tolower(static_cast<unsigned char>(c));
       return extension;
