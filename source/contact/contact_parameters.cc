@@ -25,6 +25,17 @@ namespace forma
       "shape (thesis eq. 2.5, 2.9): 'id : key=value, ... ; id : ...'." +
         keys);
     prm.declare_entry(
+      "Rigid gaps",
+      "",
+      Patterns::Anything(),
+      "Rigid obstacles that do not follow a boundary's initial shape: "
+      "'id : expression ; ...', the obstacle's distance from the boundary "
+      "point (x, y, z) along the boundary's outer normal (penetration j . n "
+      "- gap), e.g. 'y + 1' for the plane y = -1 below a body resting on "
+      "it at one point (Hertz contact). Every id must be a Rigid-deformable "
+      "one; ids not named have gap 0. Shape designs are not available with "
+      "a gap.");
+    prm.declare_entry(
       "Deformable-deformable",
       "",
       Patterns::Anything(),
@@ -66,6 +77,7 @@ namespace forma
     prm.enter_subsection("Contact");
     rigid_deformable      = prm.get("Rigid-deformable");
     deformable_deformable = prm.get("Deformable-deformable");
+    rigid_gaps_text       = prm.get("Rigid gaps");
     quadrature            = prm.get("Quadrature");
     adaptive_depth        = prm.get_integer("Adaptive depth");
     gauss_points          = prm.get_integer("Adaptive Gauss points");
@@ -110,6 +122,20 @@ namespace forma
     };
     rigid      = read(rigid_deformable, "Contact/Rigid-deformable");
     deformable = read(deformable_deformable, "Contact/Deformable-deformable");
+    rigid_gaps.clear();
+    for (const auto &r :
+         parse_records(rigid_gaps_text, 1, "Contact/Rigid gaps"))
+      {
+        const std::string where =
+          "Contact/Rigid gaps, boundary id " + std::to_string(r.id);
+        AssertThrow(r.id != any_id && rigid.count(r.id),
+                    ExcMessage("'" + where +
+                               "': not a boundary of Contact/"
+                               "Rigid-deformable."));
+        AssertThrow(!rigid_gaps.count(r.id),
+                    ExcMessage("'" + where + "' is given twice."));
+        rigid_gaps[r.id] = r.fields[0];
+      }
     for (const auto &[id, law] : rigid)
       AssertThrow(!deformable.count(id),
                   ExcMessage("Contact: boundary id " + std::to_string(id) +

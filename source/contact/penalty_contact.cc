@@ -118,7 +118,8 @@ namespace forma
     PointResponse<dim>
     respond(const ContactLaw     &law,
             const Tensor<1, dim> &j,
-            const Tensor<1, dim> &n)
+            const Tensor<1, dim> &n,
+            const double          gap0)
     {
       using AD = Sacado::Fad::SFad<double, 2 * dim>;
       std::array<AD, dim> J, N, s;
@@ -127,7 +128,7 @@ namespace forma
           J[d] = AD(2 * dim, d, j[d]);
           N[d] = AD(2 * dim, dim + d, n[d]);
         }
-      AD g = 0.;
+      AD g = -gap0;
       for (unsigned int d = 0; d < dim; ++d)
         g += J[d] * N[d];
       const AD h  = contact::h_eta(g, law.eta) / law.alpha;
@@ -135,7 +136,7 @@ namespace forma
       AD       r2 = 0.;
       for (unsigned int d = 0; d < dim; ++d)
         {
-          s[d] = J[d] - g * N[d];
+          s[d] = J[d] - (g + gap0) * N[d];
           r2 += s[d] * s[d];
         }
       if (law.mu > 0)
@@ -163,7 +164,42 @@ namespace forma
   template <int dim>
   PenaltyContact<dim>::PenaltyContact(const ContactParameters &parameters)
     : parameters(parameters)
-  {}
+  {
+    for (const auto &[id, expression] : parameters.rigid_gaps)
+      gaps[id] = make_function<dim>({expression},
+                                    {true},
+                                    {},
+                                    "Contact/Rigid gaps, boundary id " +
+                                      std::to_string(id));
+  }
+
+
+
+  template <int dim>
+  PenaltyContact<dim>::~PenaltyContact() = default;
+
+
+
+  template <int dim>
+  double
+  PenaltyContact<dim>::initial_gap(const types::boundary_id id,
+                                   const Point<dim>        &x) const
+  {
+    const auto g = gaps.find(id);
+    return g == gaps.end() ? 0. : g->second->value(x);
+  }
+
+
+
+  template <int dim>
+  Tensor<1, dim>
+  PenaltyContact<dim>::rigid_traction(const types::boundary_id id,
+                                      const Point<dim>        &x,
+                                      const Tensor<1, dim>    &u,
+                                      const Tensor<1, dim>    &n) const
+  {
+    return respond(parameters.rigid.at(id), u, n, initial_gap(id, x)).t;
+  }
 
 
 
@@ -186,7 +222,8 @@ namespace forma
       : minus(mapping,
               fe,
               quadrature,
-              update_values | update_JxW_values | update_normal_vectors)
+              update_values | update_JxW_values | update_normal_vectors |
+                update_quadrature_points)
       , partner(mapping, fe, quadrature, update_values)
     {}
     hp::FEFaceValues<dim> minus, partner;
@@ -462,6 +499,10 @@ namespace forma
             d.phi[i][k] = fv.shape_value(i, k);
         d.normal = fv.get_normal_vectors();
         d.JxW    = fv.get_JxW_values();
+        d.gap0.resize(nq);
+        for (unsigned int k = 0; k < nq; ++k)
+          d.gap0[k] =
+            f.deformable ? 0. : initial_gap(f.id, fv.quadrature_point(k));
         if (f.deformable)
           {
             gauss.partner.reinit(f.partner, f.partner_face);
@@ -490,8 +531,11 @@ namespace forma
           d.phi[i][k] = fv.shape_value(i, k);
       d.normal.resize(nq);
       d.JxW.resize(nq);
+      d.gap0.resize(nq);
       for (unsigned int k = 0; k < nq; ++k)
         {
+          d.gap0[k] =
+            f.deformable ? 0. : initial_gap(f.id, fv.quadrature_point(k));
           const Tensor<1, dim> a =
             f.orientation * area_normal(fv.jacobian(k), f.corners);
           d.normal[k] = a / a.norm();
@@ -552,8 +596,9 @@ namespace forma
         for (unsigned int k = 0; k < x.size(); ++k)
           {
             const Tensor<1, dim> j     = d.jump(k);
-            const double         gap   = j * d.normal[k];
-            const double         slip2 = j * j - gap * gap;
+            const double         jn    = j * d.normal[k];
+            const double         gap   = jn - d.gap0[k];
+            const double         slip2 = j * j - jn * jn;
             codes[k]                   = contact::contact_regime(
               gap, std::sqrt(std::max(slip2, 0.)), cl.eta, cl.eta_n, friction);
           }
@@ -613,7 +658,7 @@ namespace forma
           local.reinit(n, n);
         for (unsigned int q = 0; q < d.JxW.size(); ++q)
           {
-            const auto   r   = respond(cl, d.jump(q), d.normal[q]);
+            const auto   r   = respond(cl, d.jump(q), d.normal[q], d.gap0[q]);
             const double JxW = d.JxW[q];
             potential +=
               contact::h_eta_integral(r.gap, cl.eta) / cl.alpha * JxW;
@@ -696,7 +741,7 @@ namespace forma
             for (unsigned int i = 0; i < d.dofs.size(); ++i)
               r[d.component[i]] += adjoint[i] * d.phi[i][q];
             const Tensor<1, dim> &nrm = d.normal[q];
-            const auto            c   = respond(cl, d.jump(q), nrm);
+            const auto            c   = respond(cl, d.jump(q), nrm, d.gap0[q]);
             // d(t . r ds) = (r^T dt/dn) dn ds + t . r div_S theta ds with
             // dn = -(I - n n^T) grad theta^T n (transported u, p).
             Tensor<1, dim> w;
@@ -732,7 +777,7 @@ namespace forma
     struct Sums
     {
       Tensor<1, dim> force;
-      double         area = 0, active = 0, penetration = -1e300, slip = 0;
+      double area = 0, active = 0, penetration = -1e300, slip = 0, pressure = 0;
     };
     std::map<types::boundary_id, Sums> sums;
     for (const auto *m : {&parameters.rigid, &parameters.deformable})
@@ -747,10 +792,11 @@ namespace forma
         Sums &s = sums[f.id];
         for (unsigned int q = 0; q < d.JxW.size(); ++q)
           {
-            const auto r = respond(cl, d.jump(q), d.normal[q]);
+            const auto r = respond(cl, d.jump(q), d.normal[q], d.gap0[q]);
             s.force -= r.t * d.JxW[q];
             s.area += d.JxW[q];
             s.penetration = std::max(s.penetration, r.gap);
+            s.pressure    = std::max(s.pressure, r.t * d.normal[q]);
             if (r.gap > -cl.eta)
               {
                 s.active += d.JxW[q];
@@ -773,6 +819,7 @@ namespace forma
         e["active_area"]     = Utilities::MPI::sum(s.active, comm);
         e["max_penetration"] = Utilities::MPI::max(s.penetration, comm);
         e["max_slip"]        = Utilities::MPI::max(s.slip, comm);
+        e["max_pressure"]    = Utilities::MPI::max(s.pressure, comm);
         result.push_back(e);
       }
     return result;

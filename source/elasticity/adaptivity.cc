@@ -2,11 +2,13 @@
 // static cycles, and transient runs whose mesh follows the solution, with
 // every BDF history level carried to the new mesh.
 
+#include <deal.II/base/quadrature_lib.h>
 #include <deal.II/distributed/grid_refinement.h>
 #include <deal.II/distributed/solution_transfer.h>
 #include <deal.II/distributed/tria.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_series.h>
+#include <deal.II/hp/fe_values.h>
 #include <deal.II/hp/refinement.h>
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/numerics/error_estimator.h>
@@ -117,6 +119,8 @@ namespace forma
           std::map<types::boundary_id, const Function<dim> *>(),
           u_ghost,
           estimated_error);
+        if (contact.active() && p.contact_residual)
+          add_contact_residuals(estimated_error);
       }
     mark_cells(false);
     if (p.adaptivity == "hp")
@@ -140,6 +144,67 @@ namespace forma
         hp::Refinement::choose_p_over_h(dof_handler);
       }
     tria->execute_coarsening_and_refinement();
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::add_contact_residuals(
+    Vector<float> &eta) const
+  {
+    // The boundary term of the residual estimator on the contact faces,
+    // scaled like Kelly's face jumps of grad u (a strain): Kelly counts
+    // no boundary face, so without it a coarse cell at the edge of the
+    // contact zone, where the traction jumps from 0 to the pressure, is
+    // never flagged for what the contact law asks of it.
+    const FEValuesExtractors::Vector disp(0);
+    hp::QCollection<dim - 1>         rule;
+    for (const auto &f : fe)
+      rule.push_back(QGauss<dim - 1>(f.degree + 2));
+    hp::FEFaceValues<dim>       hp_fv(mapping,
+                                fe,
+                                rule,
+                                update_values | update_gradients |
+                                  update_normal_vectors |
+                                  update_quadrature_points | update_JxW_values);
+    std::vector<Tensor<1, dim>> values;
+    std::vector<Tensor<2, dim>> grads;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (const auto f : cell->face_indices())
+          {
+            if (!cell->face(f)->at_boundary())
+              continue;
+            const auto id = cell->face(f)->boundary_id();
+            if (!contact.parameters.rigid.count(id))
+              continue;
+            hp_fv.reinit(cell, f);
+            const auto        &fv  = hp_fv.get_present_fe_values();
+            const unsigned int nq  = fv.n_quadrature_points;
+            const auto         mat = cell_material(cell);
+            const double       modulus =
+              mat.properties().lambda + 2 * mat.properties().mu;
+            values.resize(nq);
+            grads.resize(nq);
+            fv[disp].get_function_values(u_ghost, values);
+            fv[disp].get_function_gradients(u_ghost, grads);
+            double integral = 0;
+            for (unsigned int q = 0; q < nq; ++q)
+              {
+                const Tensor<1, dim> &n = fv.normal_vector(q);
+                const Tensor<1, dim>  r =
+                  mat.cauchy_stress(grads[q]) * n +
+                  contact.rigid_traction(id,
+                                         fv.quadrature_point(q),
+                                         values[q],
+                                         n);
+                integral += r.norm_square() * fv.JxW(q);
+              }
+            float &e = eta[cell->active_cell_index()];
+            e        = std::sqrt(e * e + cell->diameter() / 24. * integral /
+                                    (modulus * modulus));
+          }
   }
 
 

@@ -38,6 +38,16 @@ namespace forma
       "residual of u_h weighted by z - I_h z, z the objective's adjoint "
       "one degree higher); each cycle reports J_h and the estimate of "
       "J - J_h.");
+    prm.declare_entry(
+      "Contact residual",
+      "true",
+      Patterns::Bool(),
+      "Error indicator = kelly with Contact/Rigid-deformable boundaries: "
+      "add to each cell's indicator the residual of its contact faces, "
+      "h/24 int |sigma n + t|^2 / (lambda + 2 mu)^2 (t the penalty "
+      "traction: sigma n = -t holds for the exact solution), so that "
+      "the edge of the contact zone is refined where Kelly, which sees "
+      "no boundary faces, would not.");
     prm.declare_entry("Goal estimate",
                       "false",
                       Patterns::Bool(),
@@ -317,7 +327,8 @@ namespace forma
     adaptivity      = prm.get("Adaptivity");
     error_indicator = prm.get("Error indicator");
     goal_estimate = prm.get_bool("Goal estimate") || error_indicator == "goal";
-    max_degree    = prm.get_integer("Max degree");
+    contact_residual     = prm.get_bool("Contact residual");
+    max_degree           = prm.get_integer("Max degree");
     adaptive_cycles      = prm.get_integer("Adaptive cycles");
     refine_fraction      = prm.get_double("Refine fraction");
     coarsen_fraction     = prm.get_double("Coarsen fraction");
@@ -458,10 +469,11 @@ namespace forma
                 ExcMessage("Contact: friction makes the Jacobian "
                            "unsymmetric; use Solver/Linear solver = direct or "
                            "gmres-amg, not cg-amg."));
-    AssertThrow(contact.empty() || adaptivity == "none",
-                ExcMessage("Contact: adaptive refinement is not available "
-                           "with contact (paired interface faces); set "
-                           "Finite element/Adaptivity = none."));
+    AssertThrow(contact.rigid_gaps.empty() || !design.has("shape"),
+                ExcMessage("Contact/Rigid gaps: shape designs are not "
+                           "available with a gap (its shape derivative is "
+                           "not implemented); remove shape from Design/"
+                           "Parameters or the gap."));
     AssertThrow(!ipc.enabled || adaptivity == "none",
                 ExcMessage("IPC: adaptive refinement is not available with "
                            "IPC contact yet; set Finite element/Adaptivity = "

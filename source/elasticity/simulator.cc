@@ -423,6 +423,11 @@ namespace forma
           }
         else
           solve_transient();
+        if (contact.active() && n_cycles > 1)
+          {
+            u_ghost = u;
+            cycle_contact.push_back(contact.statistics(mapping, u_ghost, comm));
+          }
         c.cycle   = cycle;
         c.n_cells = tria->n_global_active_cells();
         c.n_dofs  = dof_handler.n_dofs();
@@ -448,7 +453,8 @@ namespace forma
               " (" + std::string(c["type"]) + "): force " + fmt(f) +
               ", active area " + fmt(double(c["active_area"])) +
               ", max penetration " + fmt(double(c["max_penetration"]), 3) +
-              ", max slip " + fmt(double(c["max_slip"]), 3));
+              ", max slip " + fmt(double(c["max_slip"]), 3) +
+              ", max pressure " + fmt(double(c["max_pressure"]), 4));
           }
         if (ipc_contact)
           context->print(
@@ -698,6 +704,8 @@ namespace forma
             j["objective"] = c.objective;
             j["estimate"]  = c.estimate;
           }
+        if (c.cycle < impl->cycle_contact.size())
+          j["contact"] = impl->cycle_contact[c.cycle];
         cycles.push_back(j);
       }
     s["cycles"] = cycles;

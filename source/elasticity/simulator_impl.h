@@ -331,6 +331,10 @@ namespace forma
     /// Static adaptive cycles: estimate, mark and refine.
     void
     refine_mesh();
+    /// Kelly with contact: add each cell's contact face residual
+    /// (Finite element/Contact residual) to the indicators `eta`.
+    void
+    add_contact_residuals(Vector<float> &eta) const;
     /// Transient adaptivity: the Kelly indicators of u and v, each over its
     /// global norm, summed into `estimated_error`; false if both vanish.
     bool
@@ -665,6 +669,8 @@ namespace forma
     bool   prepared         = false;
     std::vector<std::vector<double>> objective_cache; ///< last integrals
     double                           memory_of_states = 0;
+    /// Static adaptive cycles with contact: each cycle's contact statistics.
+    std::vector<nlohmann::json> cycle_contact;
     std::vector<double> term_values; ///< weighted terms of the last J
     double              adjoint_seconds = 0, forward_seconds = 0;
     double              adjoint_solve_seconds = 0; ///< part of adjoint_seconds

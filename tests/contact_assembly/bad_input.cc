@@ -85,6 +85,20 @@ main()
                    "subsection Objective\n set Terms = assembly : "
                    "boundary=2.5, material=0, y=1\nend\n",
                  good);
+  expect_failure("gap_not_rigid_deformable",
+                 contact(" set Rigid-deformable = 2 : alpha=1e-3\n"
+                         " set Rigid gaps = 5 : 1\n"),
+                 good);
+  expect_failure("gap_bad_expression",
+                 contact(" set Rigid-deformable = 2 : alpha=1e-3\n"
+                         " set Rigid gaps = 2 : 1 +* x\n"),
+                 good);
+  expect_failure("gap_with_shape_design",
+                 contact(" set Rigid-deformable = 2 : alpha=1e-3\n"
+                         " set Rigid gaps = 2 : 0.01\n") +
+                   "set Mode = verify gradient\n"
+                   "subsection Design\n set Parameters = shape\nend\n",
+                 good);
   expect_failure("materials_not_adjacent", separated("1-3 : 10", ""), good);
   expect_failure("bad_cut_syntax", separated("1 : 10", ""), good);
   expect_failure("element_removal_without_boundary",

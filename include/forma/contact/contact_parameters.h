@@ -34,6 +34,12 @@ namespace forma
 
     std::map<dealii::types::boundary_id, ContactLaw> rigid, deformable;
 
+    /// `Rigid gaps`: per RD boundary, the obstacle's initial distance
+    /// along the boundary's outer normal as an expression in x, y (, z);
+    /// boundaries not named touch the obstacle everywhere (gap 0).
+    std::string                                       rigid_gaps_text;
+    std::map<dealii::types::boundary_id, std::string> rigid_gaps;
+
     /// Face quadrature: `gauss` (degree + 1 points per direction) or
     /// `adaptive` (thesis ch. 2.9.4, see contact::adaptive_quadrature()).
     std::string  quadrature     = "gauss";

@@ -17,7 +17,15 @@
 
 #include <nlohmann/json.hpp>
 
+#include <map>
+#include <memory>
 #include <vector>
+
+namespace dealii
+{
+  template <int dim>
+  class FunctionParser;
+}
 
 namespace forma
 {
@@ -44,6 +52,7 @@ namespace forma
     using Vector_t = dealii::TrilinosWrappers::MPI::Vector;
 
     PenaltyContact(const ContactParameters &parameters);
+    ~PenaltyContact();
 
     /// Find the contact faces and pair the DD sides, on the mesh as read.
     /// Throws with a message if a boundary id is missing or a side has no
@@ -115,6 +124,28 @@ namespace forma
                const Vector_t                           &u,
                const MPI_Comm                            comm) const;
 
+    /// The obstacle's initial distance (Contact/Rigid gaps) of RD boundary
+    /// `id` at the boundary point x; 0 for boundaries without a gap.
+    double
+    initial_gap(const dealii::types::boundary_id id,
+                const dealii::Point<dim>        &x) const;
+
+    /// The contact traction t (force per area on the obstacle; the body
+    /// gets -t) of RD boundary `id` at the point x with displacement u and
+    /// outer normal n: sigma n + t = 0 holds there for the exact solution.
+    dealii::Tensor<1, dim>
+    rigid_traction(const dealii::types::boundary_id id,
+                   const dealii::Point<dim>        &x,
+                   const dealii::Tensor<1, dim>    &u,
+                   const dealii::Tensor<1, dim>    &n) const;
+
+    /// Whether the problem has gaps (Contact/Rigid gaps).
+    bool
+    has_gaps() const
+    {
+      return !gaps.empty();
+    }
+
     const ContactParameters parameters;
 
   private:
@@ -144,7 +175,8 @@ namespace forma
       dealii::Table<2, double> phi; ///< [dof][point], reused across faces
       std::vector<double>      JxW;
       std::vector<dealii::Tensor<1, dim>> normal;
-      bool valid = true; ///< false: partner points not found
+      std::vector<double> gap0;         ///< the obstacle's initial gap (RD)
+      bool                valid = true; ///< false: partner points not found
 
       /// u^- - u^+ (RD: u) at point q.
       dealii::Tensor<1, dim>
@@ -163,6 +195,9 @@ namespace forma
              GaussValues                              &gauss,
              FaceData                                 &d) const;
 
+    std::map<dealii::types::boundary_id,
+             std::unique_ptr<dealii::FunctionParser<dim>>>
+                                         gaps;  ///< Contact/Rigid gaps
     std::vector<Face>                    faces; ///< of locally owned cells
     bool                                 any_faces = false;
     const dealii::hp::FECollection<dim> *fe        = nullptr;

@@ -31,6 +31,7 @@ namespace forma
     std::string  adaptivity       = "none";  ///< none | h | hp
     std::string  error_indicator  = "kelly"; ///< kelly | goal
     bool         goal_estimate    = false;   ///< report J and its estimate
+    bool         contact_residual = true;    ///< kelly + contact faces
     unsigned int max_degree       = 4;
     unsigned int adaptive_cycles  = 0;
     double       refine_fraction  = 0.3;
