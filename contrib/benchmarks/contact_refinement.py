@@ -32,10 +32,10 @@ E, NU, R = 1.0, 0.3, 1.0
 DELTAS = (0.002, 0.005)
 STRATEGIES = {
     "uniform": (["Finite element/Refine fraction=1"], 5),
-    "kelly": (["Finite element/Contact residual=false"], 10),
-    "kelly + contact": (["Finite element/Contact residual=true"], 10),
+    "kelly": (["Finite element/Contact residual=false"], 9),
+    "kelly + contact": (["Finite element/Contact residual=true"], 9),
 }
-REFERENCE_CYCLES = 13
+REFERENCE_CYCLES = 11
 TARGETS = (0.02, 0.005)
 
 

@@ -194,6 +194,7 @@ namespace forma
                                            const Point<dim>  &box)
   {
     box_volume = 1;
+    box_size   = box;
     for (unsigned int d = 0; d < dim; ++d)
       box_volume *= box[d];
 
@@ -271,7 +272,19 @@ namespace forma
   {
     constraints.clear();
     constraints.reinit(relevant);
-    if (congruent_cells)
+    if (refined)
+      {
+        // A refined grid: the level-0 pairs, whose refined faces
+        // make_periodicity_constraints() follows down to the active ones
+        // (p4est keeps both sides within one level).
+        DoFTools::make_hanging_node_constraints(dof_handler, constraints);
+        DoFTools::make_periodicity_constraints<dim, dim, double>(
+          grid_face_pairs(dof_handler.cell_iterators_on_level(0),
+                          box,
+                          lattice.shift),
+          constraints);
+      }
+    else if (congruent_cells)
       DoFTools::make_periodicity_constraints<dim, dim, double>(
         grid_face_pairs(dof_handler.cell_iterators_on_level(0),
                         box,

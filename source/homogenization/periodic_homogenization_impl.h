@@ -113,6 +113,15 @@ namespace forma
     void
     fix_translations(const Point<dim> &box);
 
+    /**
+     * Per active cell: sum over the load cases and the cell's faces of
+     * h_F / 2 int_F |[sigma_a n]|^2 / |C|_max^2, sigma_a = C (A_a +
+     * eps(w_a)) of the last homogenize() (the energy-norm error's face
+     * residual; interior and periodic faces, hanging ones included).
+     */
+    Vector<float>
+    stress_jump_indicators(const MaterialFunction &material) const;
+
     /// Sparsity, matrix, null space, kernels for the closed constraints.
     void
     setup_system();
@@ -187,6 +196,9 @@ namespace forma
     mutable FullMatrix<double> energy_matrix;
     mutable Vector<double>     energy_vector;
     double                     box_volume = 0;
+    Point<dim>                 box_size;
+    /// The grid was refined (refine()): hanging nodes, cells not congruent.
+    bool refined = false;
     /// The last homogenize()'s cell tensors (Voigt), locally owned cells.
     std::vector<Tensor<2, nv>> cell_tensors;
     /// Grids: the side x_0 = L_0 is the side x_0 = 0 moved by L_0 e_0 +

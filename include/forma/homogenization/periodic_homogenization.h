@@ -196,6 +196,19 @@ namespace forma
                                    &cell_data,
       const dealii::Tensor<2, dim> &F) const;
 
+    /**
+     * Adaptive refinement of a regular grid (the first constructor, solver
+     * not multigrid, no inversion symmetry): refine the `fraction` of the
+     * cells with the largest stress-jump indicators of the last
+     * homogenize() (material as given there), the energy-norm error of the
+     * cell problems, which is C^H's own error (C^H_h - C^H = the energy of
+     * w - w_h for each diagonal entry). Periodicity is kept with hanging
+     * nodes; the next homogenize() solves on the new grid. Returns the
+     * number of cells refined.
+     */
+    unsigned int
+    refine(const MaterialFunction &material, const double fraction);
+
     dealii::types::global_dof_index
     n_dofs() const;
 
