@@ -366,6 +366,22 @@ namespace forma
         "1e-8 in a fraction of the memory (the whole rectangle: Use "
         "symmetry is ignored; conforming meshes use auto).");
       prm.declare_entry(
+        "Adaptive cycles",
+        "0",
+        Patterns::Integer(0, 30),
+        "homogenize: after the grid's C^H, refine the Refine fraction of "
+        "the cells with the largest stress jumps of the cell problems (the "
+        "energy-norm error, which is C^H's own) and homogenize again, this "
+        "many times: hanging nodes, periodicity kept; the pixels stay the "
+        "geometry, the finer cells resolve the fields at corners and thin "
+        "features. Needs Solver direct, cg-amg or auto; the symmetry is "
+        "not used.");
+      prm.declare_entry("Refine fraction",
+                        "0.2",
+                        Patterns::Double(0, 1),
+                        "Adaptive cycles: the fraction of the cells refined "
+                        "in each cycle.");
+      prm.declare_entry(
         "Solver tolerance",
         "1e-10",
         Patterns::Double(1e-14, 1e-2),
@@ -587,9 +603,21 @@ namespace forma
       setup.symmetry           = prm.get_bool("Use symmetry");
       setup.min_feature_cells  = prm.get_double("Minimum feature cells");
       setup.isotropy_tolerance = prm.get_double("Isotropy tolerance");
-      setup.gray               = prm.get("Gray pixels") == "linear" ?
-                                   GrayPixels::linear :
-                                   GrayPixels::hashin_shtrikman;
+      setup.adaptive_cycles    = prm.get_integer("Adaptive cycles");
+      setup.refine_fraction    = prm.get_double("Refine fraction");
+      AssertThrow(setup.adaptive_cycles == 0 ||
+                    setup.solver.type != "multigrid",
+                  ExcMessage("Grid/Adaptive cycles: the multigrid solver "
+                             "works on the uniform pixel grid; use Solver = "
+                             "auto, direct or cg-amg."));
+      AssertThrow(setup.adaptive_cycles == 0 || setup.refine_fraction > 0,
+                  ExcMessage("Grid/Adaptive cycles needs a positive Refine "
+                             "fraction."));
+      if (setup.adaptive_cycles > 0)
+        setup.symmetry = false; // refinement breaks the odd symmetry
+      setup.gray = prm.get("Gray pixels") == "linear" ?
+                     GrayPixels::linear :
+                     GrayPixels::hashin_shtrikman;
       prm.leave_subsection();
       prm.enter_subsection("Output");
       setup.write_vtu = prm.get_bool("Write vtu");

@@ -47,6 +47,10 @@ main()
                  base + "set Mode = homogenize\nsubsection Structure\n"
                         " set p3 = 0\nend\n",
                  good);
+  expect_failure("adaptive_cycles_with_multigrid",
+                 image("ring.csv") + "subsection Grid\n set Adaptive cycles = "
+                                     "2\n set Solver = multigrid\nend\n",
+                 good);
   expect_failure("empty_image", image("empty.csv"), good);
   expect_failure("ragged_csv", image("ragged.csv"), good);
   expect_failure("density_out_of_range", image("range.csv"), good);

@@ -58,6 +58,10 @@ namespace forma
       /// Family structures are isotropic: a larger isotropy residual is
       /// discretization error.
       double isotropy_tolerance = 0.05;
+      /// homogenize: refinement cycles of the grid, and the fraction of the
+      /// cells refined in each.
+      unsigned int adaptive_cycles = 0;
+      double       refine_fraction = 0.2;
     };
 
     /// What one homogenized structure gives.

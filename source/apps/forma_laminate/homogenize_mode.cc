@@ -23,6 +23,47 @@ namespace forma
   {
     using namespace dealii;
 
+    namespace
+    {
+      /// Grid/Adaptive cycles: refine by the cell problems' stress jumps and
+      /// homogenize again; one line and one summary record per cycle.
+      Sample
+      refine_adaptively(PeriodicHomogenization<2> &cell,
+                        const PixelMaterial       &material,
+                        const Setup               &setup,
+                        Sample                     r,
+                        RunContext                &context)
+      {
+        const auto fn = [&](const Point<2> &x, const types::material_id id) {
+          return material(x, id);
+        };
+        nlohmann::json cycles = nlohmann::json::array();
+        auto           record = [&](const unsigned int k) {
+          cycles.push_back({{"cycle", k},
+                            {"cells", cell.n_cells()},
+                            {"unknowns", cell.n_unknowns()},
+                            {"E", r.fit.E},
+                            {"nu", r.fit.nu}});
+          context.print("[cycle " + std::to_string(k) + "/" +
+                        std::to_string(setup.adaptive_cycles) + "] " +
+                        std::to_string(cell.n_cells()) + " cells, " +
+                        std::to_string(cell.n_unknowns()) + " unknowns: E = " +
+                        sig(r.fit.E, 6) + ", nu = " + sig(r.fit.nu, 6));
+        };
+        record(0);
+        for (unsigned int k = 1; k <= setup.adaptive_cycles; ++k)
+          {
+            cell.refine(fn, setup.refine_fraction);
+            r = evaluate(cell, material, setup);
+            record(k);
+          }
+        context.summary["adaptive_cycles"] = cycles;
+        return r;
+      }
+    } // namespace
+
+
+
     void
     homogenize_mode(ParameterHandler  &prm,
                     const std::string &prm_directory,
@@ -122,8 +163,10 @@ namespace forma
       context.print("grid: " + std::to_string(cell->n_cells()) + " cells, " +
                     std::to_string(cell->n_unknowns()) + " unknowns" +
                     (half ? " (the primitive half cell)" : ""));
-      Timer        timer;
-      const Sample r = evaluate(*cell, *material, setup);
+      Timer  timer;
+      Sample r = evaluate(*cell, *material, setup);
+      if (setup.adaptive_cycles > 0)
+        r = refine_adaptively(*cell, *material, setup, r, context);
       context.log("homogenization: " + sig(timer.wall_time()) + " s wall");
       context.print("E = " + sig(r.fit.E) + ", nu = " + sig(r.fit.nu) +
                     ", kappa = " + sig(r.fit.kappa) + ", mu = " +
