@@ -469,6 +469,13 @@ namespace forma
                 ExcMessage("Contact: friction makes the Jacobian "
                            "unsymmetric; use Solver/Linear solver = direct or "
                            "gmres-amg, not cg-amg."));
+    AssertThrow(!goal_estimate || contact.empty(),
+                ExcMessage("Finite element/Error indicator = goal (or Goal "
+                           "estimate) is not available with contact (the "
+                           "dual-weighted residual does not cover the "
+                           "penalty's changing active set); use Error "
+                           "indicator = kelly, whose Contact residual refines "
+                           "the contact zone."));
     AssertThrow(contact.rigid_gaps.empty() || !design.has("shape"),
                 ExcMessage("Contact/Rigid gaps: shape designs are not "
                            "available with a gap (its shape derivative is "

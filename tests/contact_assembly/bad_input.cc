@@ -99,6 +99,12 @@ main()
                    "set Mode = verify gradient\n"
                    "subsection Design\n set Parameters = shape\nend\n",
                  good);
+  expect_failure("goal_estimate_with_contact",
+                 contact(" set Rigid-deformable = 2 : alpha=1e-3\n") +
+                   "subsection Finite element\n set Adaptivity = h\n"
+                   " set Error indicator = goal\nend\n"
+                   "subsection Objective\n set Terms = compliance\nend\n",
+                 good);
   expect_failure("materials_not_adjacent", separated("1-3 : 10", ""), good);
   expect_failure("bad_cut_syntax", separated("1 : 10", ""), good);
   expect_failure("element_removal_without_boundary",
