@@ -6,303 +6,379 @@ namespace forma
 {
   using namespace dealii;
 
+  namespace
+  {
+    /// The `Finite element` section.
+    void
+    declare_finite_element(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Finite element");
+      prm.declare_entry(
+        "Degree",
+        "1",
+        Patterns::Integer(1, 4),
+        "Polynomial degree: Q1-Q4 on quads/hexes, P1-P2 on "
+        "simplices. With Adaptivity = hp, the starting degree.");
+      prm.declare_entry(
+        "Adaptivity",
+        "none",
+        Patterns::Selection("none|h|hp"),
+        "none: uniform mesh. h: Kelly-indicator refinement with "
+        "hanging nodes. hp: the same indicator, with smooth cells "
+        "(Legendre coefficient decay) raised in degree instead of "
+        "split (static problems). Quads/hexes only. Static problems "
+        "solve, estimate and refine Adaptive cycles times; transient "
+        "problems (h) refine and coarsen the mesh every Adapt every "
+        "steps during the run, carrying every BDF history level to the "
+        "new mesh.");
+      prm.declare_entry(
+        "Error indicator",
+        "kelly",
+        Patterns::Selection("kelly|goal"),
+        "What Adaptivity = h or hp refines by. kelly: gradient jumps across "
+        "faces. goal: the dual-weighted residual of Objective/Terms (the "
+        "residual of u_h weighted by z - I_h z, z the objective's adjoint "
+        "one degree higher); each cycle reports J_h and the estimate of "
+        "J - J_h.");
+      prm.declare_entry(
+        "Contact residual",
+        "true",
+        Patterns::Bool(),
+        "Error indicator = kelly with Contact/Rigid-deformable boundaries: "
+        "add to each cell's indicator the residual of its contact faces, "
+        "h/24 int |sigma n + t|^2 / (lambda + 2 mu)^2 (t the penalty "
+        "traction: sigma n = -t holds for the exact solution), so that "
+        "the edge of the contact zone is refined where Kelly, which sees "
+        "no boundary faces, would not.");
+      prm.declare_entry("Goal estimate",
+                        "false",
+                        Patterns::Bool(),
+                        "Report J(u_h) and the dual-weighted residual "
+                        "estimate of J(u) - J(u_h) for Objective/Terms after "
+                        "every adaptive cycle, whatever the Error indicator "
+                        "(always on with Error indicator = goal).");
+      prm.declare_entry("Max degree",
+                        "4",
+                        Patterns::Integer(1, 4),
+                        "Highest degree p-adaptivity may reach.");
+      prm.declare_entry(
+        "Adaptive cycles",
+        "0",
+        Patterns::Integer(0, 20),
+        "Number of solve-estimate-refine cycles after the first "
+        "solve (transient problems: refinements of the "
+        "initial state before the first step).");
+      prm.declare_entry("Refine fraction",
+                        "0.3",
+                        Patterns::Double(0, 1),
+                        "Fraction flagged for refinement (of the cells or of "
+                        "the error: see Marking).");
+      prm.declare_entry("Coarsen fraction",
+                        "0.0",
+                        Patterns::Double(0, 1),
+                        "Fraction flagged for coarsening (see Marking).");
+      prm.declare_entry(
+        "Marking",
+        "cell count",
+        Patterns::Selection("cell count|error fraction"),
+        "cell count: Refine/Coarsen fraction are fractions of the cells "
+        "(largest/smallest indicators). error fraction: fractions of the "
+        "summed indicator (the fewest cells carrying Refine fraction of it "
+        "are refined, those carrying the smallest Coarsen fraction "
+        "coarsened); suits transient runs, where the error moves.");
+      prm.declare_entry(
+        "Adapt every",
+        "10",
+        Patterns::Integer(1),
+        "Transient problems with Adaptivity = h: refine and coarsen the mesh "
+        "every this many accepted time steps, by the Kelly indicators of the "
+        "displacement and of the velocity (each relative to its norm). "
+        "Adaptive cycles then counts refinements of the initial state before "
+        "the first step.");
+      prm.declare_entry(
+        "Max refinement level",
+        "2",
+        Patterns::Integer(0, 10),
+        "Transient problems with Adaptivity = h: the most levels a cell may "
+        "be refined beyond the starting mesh (cells are never coarsened "
+        "below it).");
+      prm.leave_subsection();
+    }
+
+
+
+    /// The `Material` section.
+    void
+    declare_material(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Material");
+      prm.declare_entry("Model",
+                        "linear elastic",
+                        Patterns::Selection("linear elastic|neo-hookean"),
+                        "linear elastic: small strain, sigma = C : eps. "
+                        "neo-hookean: compressible, geometrically nonlinear "
+                        "(P = mu (F - F^-T) + lambda log(J) F^-T).");
+      prm.declare_entry("Plane",
+                        "strain",
+                        Patterns::Selection("strain|stress"),
+                        "2D assumption. Plane stress is available for linear "
+                        "elasticity.");
+      prm.declare_entry(
+        "Damping rate",
+        "backward difference",
+        Patterns::Selection("backward difference|bdf"),
+        "The strain rate of the damping stress: backward difference: (F^i - "
+        "F^{i-1}) / dt, as the thesis, first order in time whatever the BDF "
+        "order. bdf: the BDF derivative of F (the scheme's own velocity), so "
+        "that damped runs keep the BDF order (second order with BDF2, also "
+        "on adaptive steps).");
+      prm.declare_entry(
+        "Bodies",
+        "0 : E = 1, nu = 0.3",
+        Patterns::Anything(),
+        "One record per material id, ';' between records: "
+        "'<id> : E = .., nu = .., density = .., damping shear = .., "
+        "damping bulk = ..' or with 'lambda = .., mu = ..' instead "
+        "of E, nu. density defaults to 1, damping (Brown et al., "
+        "Pa s) to 0.");
+      prm.leave_subsection();
+    }
+
+
+
+    /// The `Boundary conditions` section.
+    void
+    declare_boundary_conditions(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Boundary conditions");
+      prm.declare_entry(
+        "Dirichlet",
+        "",
+        Patterns::Anything(),
+        "Prescribed displacements, records '<boundary id> : "
+        "<components, e.g. xy> : <one expression per component>' "
+        "separated by ';'. Expressions in x, y, (z,) t.");
+      prm.declare_entry(
+        "Traction",
+        "",
+        Patterns::Anything(),
+        "Tractions per reference area, records '<boundary id> : "
+        "<dim expressions>'.");
+      prm.declare_entry(
+        "Load cases",
+        "",
+        Patterns::Anything(),
+        "Several load cases at once (static): alternative Traction records, "
+        "one per case, separated by '|', e.g. '3 : 1, -1 | 3 : -1, -1'. Each "
+        "case is solved (and its adjoint) on the same design; the objective "
+        "sums the state-dependent terms over the cases, terms of the design "
+        "alone (volume, volume bound, assembly, alignment, smoothing) count "
+        "once. Empty: the one case of Traction.");
+      prm.declare_entry("Pressure",
+                        "",
+                        Patterns::Anything(),
+                        "Pressure on the reference normal (dead load), records "
+                        "'<boundary id> : <expression>'.");
+      prm.declare_entry(
+        "Constants",
+        "",
+        Patterns::Anything(),
+        "Named constants for all expressions, 'L = 2, P = 1e3'.");
+      prm.leave_subsection();
+    }
+
+
+
+    /// The `Loads` section.
+    void
+    declare_loads(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Loads");
+      prm.declare_entry("Gravity",
+                        "",
+                        Patterns::Anything(),
+                        "Gravitational acceleration, dim components (times the "
+                        "density gives the body force). Empty: none.");
+      prm.declare_entry(
+        "Body force",
+        "",
+        Patterns::Anything(),
+        "Body force per reference volume, dim expressions in x, "
+        "y, (z,) t. Empty: none.");
+      prm.declare_entry(
+        "Additional forms",
+        "",
+        Patterns::Anything(),
+        "Further force terms of the problem, registered by name by the library "
+        "or an application: records 'name : key=value, ...' separated by ';'." +
+          std::string(FormRegistry<2>::instance().entries().empty() ?
+                        " None is registered." :
+                        " Registered:\n" +
+                          FormRegistry<2>::instance().documentation()));
+      prm.leave_subsection();
+    }
+
+
+
+    /// The `Time` section.
+    void
+    declare_time(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Time");
+      prm.declare_entry("Problem",
+                        "static",
+                        Patterns::Selection("static|transient"),
+                        "static: equilibrium at t = End time / Load steps * k, "
+                        "k = 1..Load steps (loads may depend on t). transient: "
+                        "BDF time stepping from t = 0 to End time.");
+      prm.declare_entry("End time", "1", Patterns::Double(0), "Final time.");
+      prm.declare_entry("Time step",
+                        "0.1",
+                        Patterns::Double(0),
+                        "Transient step size (adaptive: the first step).");
+      prm.declare_entry(
+        "Integrator",
+        "fixed",
+        Patterns::Selection("fixed|adaptive"),
+        "fixed: BDF with the constant Time step. adaptive: "
+        "variable-step BDF (order BDF order, 1-5, or chosen per step with "
+        "Variable order) whose steps are accepted when "
+        "the estimated local displacement error (Milne's "
+        "device, max norm) is below Absolute tolerance + "
+        "Tolerance * (largest |u|_max so far); gradients are those of the "
+        "accepted steps. With IPC, the CCD bound of the free "
+        "flight caps each step.");
+      prm.declare_entry("Variable order",
+                        "false",
+                        Patterns::Bool(),
+                        "adaptive: choose each step's BDF order between 1 and "
+                        "BDF order from the local error estimates of the "
+                        "neighbouring orders (as SUNDIALS' IDA does): "
+                        "smooth stretches run at high order with long steps.");
+      prm.declare_entry("Tolerance",
+                        "1e-4",
+                        Patterns::Double(0),
+                        "adaptive: relative local error tolerance.");
+      prm.declare_entry("Absolute tolerance",
+                        "0",
+                        Patterns::Double(0),
+                        "adaptive: absolute local error tolerance (length). "
+                        "0: Tolerance * 1% of the mesh's bounding-box "
+                        "diagonal.");
+      prm.declare_entry("Minimum time step",
+                        "0",
+                        Patterns::Double(0),
+                        "adaptive: smallest step; a step this short is "
+                        "accepted whatever its error. 0: 1e-10 End time.");
+      prm.declare_entry("Maximum time step",
+                        "0",
+                        Patterns::Double(0),
+                        "adaptive: largest step. 0: End time.");
+      prm.declare_entry("BDF order",
+                        "2",
+                        Patterns::Integer(1, 6),
+                        "Order m of the BDF scheme; the first m-1 steps use "
+                        "orders 1..m-1.");
+      prm.declare_entry(
+        "Load steps",
+        "1",
+        Patterns::Integer(1),
+        "Static load increments (Newton starts from the previous "
+        "increment).");
+      prm.leave_subsection();
+    }
+
+
+
+    /// The `Initial conditions` section.
+    void
+    declare_initial_conditions(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Initial conditions");
+      prm.declare_entry("Displacement",
+                        "",
+                        Patterns::Anything(),
+                        "Initial displacement, dim expressions in x, y, (z). "
+                        "Empty: zero.");
+      prm.declare_entry("Velocity",
+                        "",
+                        Patterns::Anything(),
+                        "Initial velocity, dim expressions. Empty: zero.");
+      prm.leave_subsection();
+    }
+
+
+
+    /// The `Solver` section.
+    void
+    declare_solver(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Solver");
+      LinearSolver::Parameters::declare(prm);
+      prm.declare_entry(
+        "Newton relative tolerance",
+        "1e-9",
+        Patterns::Double(0),
+        "Converged when the residual norm falls below this times "
+        "the reference force norm (first residual of the step or "
+        "the external load, whichever is larger).");
+      prm.declare_entry("Newton absolute tolerance",
+                        "1e-12",
+                        Patterns::Double(0),
+                        "... or below this absolute value.");
+      prm.declare_entry(
+        "Max Newton iterations",
+        "30",
+        Patterns::Integer(1),
+        "Iterations per step before the run is declared failed.");
+      prm.declare_entry("Max line search halvings",
+                        "12",
+                        Patterns::Integer(0),
+                        "Backtracking halvings of a Newton step whose residual "
+                        "does not decrease or that inverts an element.");
+      prm.leave_subsection();
+    }
+
+
+
+    /// The `Output` section.
+    void
+    declare_output(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Output");
+      prm.declare_entry("Write vtu",
+                        "true",
+                        Patterns::Bool(),
+                        "Write VTU files with a PVD time series.");
+      prm.declare_entry("Output every",
+                        "1",
+                        Patterns::Integer(1),
+                        "Write every n-th step (the last one always).");
+      prm.declare_entry(
+        "Points",
+        "",
+        Patterns::Anything(),
+        "Points whose displacement is reported each step and in "
+        "summary.json, ';' between points, e.g. '10, 0.5 ; 5, 1'.");
+      prm.leave_subsection();
+    }
+  } // namespace
+
+
+
   void
   ElasticityParameters::declare(ParameterHandler &prm)
   {
     MeshParameters::declare(prm);
 
-    prm.enter_subsection("Finite element");
-    prm.declare_entry("Degree",
-                      "1",
-                      Patterns::Integer(1, 4),
-                      "Polynomial degree: Q1-Q4 on quads/hexes, P1-P2 on "
-                      "simplices. With Adaptivity = hp, the starting degree.");
-    prm.declare_entry(
-      "Adaptivity",
-      "none",
-      Patterns::Selection("none|h|hp"),
-      "none: uniform mesh. h: Kelly-indicator refinement with "
-      "hanging nodes. hp: the same indicator, with smooth cells "
-      "(Legendre coefficient decay) raised in degree instead of "
-      "split (static problems). Quads/hexes only. Static problems "
-      "solve, estimate and refine Adaptive cycles times; transient "
-      "problems (h) refine and coarsen the mesh every Adapt every "
-      "steps during the run, carrying every BDF history level to the "
-      "new mesh.");
-    prm.declare_entry(
-      "Error indicator",
-      "kelly",
-      Patterns::Selection("kelly|goal"),
-      "What Adaptivity = h or hp refines by. kelly: gradient jumps across "
-      "faces. goal: the dual-weighted residual of Objective/Terms (the "
-      "residual of u_h weighted by z - I_h z, z the objective's adjoint "
-      "one degree higher); each cycle reports J_h and the estimate of "
-      "J - J_h.");
-    prm.declare_entry(
-      "Contact residual",
-      "true",
-      Patterns::Bool(),
-      "Error indicator = kelly with Contact/Rigid-deformable boundaries: "
-      "add to each cell's indicator the residual of its contact faces, "
-      "h/24 int |sigma n + t|^2 / (lambda + 2 mu)^2 (t the penalty "
-      "traction: sigma n = -t holds for the exact solution), so that "
-      "the edge of the contact zone is refined where Kelly, which sees "
-      "no boundary faces, would not.");
-    prm.declare_entry("Goal estimate",
-                      "false",
-                      Patterns::Bool(),
-                      "Report J(u_h) and the dual-weighted residual "
-                      "estimate of J(u) - J(u_h) for Objective/Terms after "
-                      "every adaptive cycle, whatever the Error indicator "
-                      "(always on with Error indicator = goal).");
-    prm.declare_entry("Max degree",
-                      "4",
-                      Patterns::Integer(1, 4),
-                      "Highest degree p-adaptivity may reach.");
-    prm.declare_entry("Adaptive cycles",
-                      "0",
-                      Patterns::Integer(0, 20),
-                      "Number of solve-estimate-refine cycles after the first "
-                      "solve (transient problems: refinements of the "
-                      "initial state before the first step).");
-    prm.declare_entry("Refine fraction",
-                      "0.3",
-                      Patterns::Double(0, 1),
-                      "Fraction flagged for refinement (of the cells or of "
-                      "the error: see Marking).");
-    prm.declare_entry("Coarsen fraction",
-                      "0.0",
-                      Patterns::Double(0, 1),
-                      "Fraction flagged for coarsening (see Marking).");
-    prm.declare_entry(
-      "Marking",
-      "cell count",
-      Patterns::Selection("cell count|error fraction"),
-      "cell count: Refine/Coarsen fraction are fractions of the cells "
-      "(largest/smallest indicators). error fraction: fractions of the "
-      "summed indicator (the fewest cells carrying Refine fraction of it "
-      "are refined, those carrying the smallest Coarsen fraction "
-      "coarsened); suits transient runs, where the error moves.");
-    prm.declare_entry(
-      "Adapt every",
-      "10",
-      Patterns::Integer(1),
-      "Transient problems with Adaptivity = h: refine and coarsen the mesh "
-      "every this many accepted time steps, by the Kelly indicators of the "
-      "displacement and of the velocity (each relative to its norm). "
-      "Adaptive cycles then counts refinements of the initial state before "
-      "the first step.");
-    prm.declare_entry(
-      "Max refinement level",
-      "2",
-      Patterns::Integer(0, 10),
-      "Transient problems with Adaptivity = h: the most levels a cell may "
-      "be refined beyond the starting mesh (cells are never coarsened "
-      "below it).");
-    prm.leave_subsection();
-
-    prm.enter_subsection("Material");
-    prm.declare_entry("Model",
-                      "linear elastic",
-                      Patterns::Selection("linear elastic|neo-hookean"),
-                      "linear elastic: small strain, sigma = C : eps. "
-                      "neo-hookean: compressible, geometrically nonlinear "
-                      "(P = mu (F - F^-T) + lambda log(J) F^-T).");
-    prm.declare_entry("Plane",
-                      "strain",
-                      Patterns::Selection("strain|stress"),
-                      "2D assumption. Plane stress is available for linear "
-                      "elasticity.");
-    prm.declare_entry(
-      "Damping rate",
-      "backward difference",
-      Patterns::Selection("backward difference|bdf"),
-      "The strain rate of the damping stress: backward difference: (F^i - "
-      "F^{i-1}) / dt, as the thesis, first order in time whatever the BDF "
-      "order. bdf: the BDF derivative of F (the scheme's own velocity), so "
-      "that damped runs keep the BDF order (second order with BDF2, also "
-      "on adaptive steps).");
-    prm.declare_entry(
-      "Bodies",
-      "0 : E = 1, nu = 0.3",
-      Patterns::Anything(),
-      "One record per material id, ';' between records: "
-      "'<id> : E = .., nu = .., density = .., damping shear = .., "
-      "damping bulk = ..' or with 'lambda = .., mu = ..' instead "
-      "of E, nu. density defaults to 1, damping (Brown et al., "
-      "Pa s) to 0.");
-    prm.leave_subsection();
-
-    prm.enter_subsection("Boundary conditions");
-    prm.declare_entry("Dirichlet",
-                      "",
-                      Patterns::Anything(),
-                      "Prescribed displacements, records '<boundary id> : "
-                      "<components, e.g. xy> : <one expression per component>' "
-                      "separated by ';'. Expressions in x, y, (z,) t.");
-    prm.declare_entry("Traction",
-                      "",
-                      Patterns::Anything(),
-                      "Tractions per reference area, records '<boundary id> : "
-                      "<dim expressions>'.");
-    prm.declare_entry(
-      "Load cases",
-      "",
-      Patterns::Anything(),
-      "Several load cases at once (static): alternative Traction records, "
-      "one per case, separated by '|', e.g. '3 : 1, -1 | 3 : -1, -1'. Each "
-      "case is solved (and its adjoint) on the same design; the objective "
-      "sums the state-dependent terms over the cases, terms of the design "
-      "alone (volume, volume bound, assembly, alignment, smoothing) count "
-      "once. Empty: the one case of Traction.");
-    prm.declare_entry("Pressure",
-                      "",
-                      Patterns::Anything(),
-                      "Pressure on the reference normal (dead load), records "
-                      "'<boundary id> : <expression>'.");
-    prm.declare_entry("Constants",
-                      "",
-                      Patterns::Anything(),
-                      "Named constants for all expressions, 'L = 2, P = 1e3'.");
-    prm.leave_subsection();
-
-    prm.enter_subsection("Loads");
-    prm.declare_entry("Gravity",
-                      "",
-                      Patterns::Anything(),
-                      "Gravitational acceleration, dim components (times the "
-                      "density gives the body force). Empty: none.");
-    prm.declare_entry("Body force",
-                      "",
-                      Patterns::Anything(),
-                      "Body force per reference volume, dim expressions in x, "
-                      "y, (z,) t. Empty: none.");
-    prm.declare_entry(
-      "Additional forms",
-      "",
-      Patterns::Anything(),
-      "Further force terms of the problem, registered by name by the library "
-      "or an application: records 'name : key=value, ...' separated by ';'." +
-        std::string(FormRegistry<2>::instance().entries().empty() ?
-                      " None is registered." :
-                      " Registered:\n" +
-                        FormRegistry<2>::instance().documentation()));
-    prm.leave_subsection();
-
-    prm.enter_subsection("Time");
-    prm.declare_entry("Problem",
-                      "static",
-                      Patterns::Selection("static|transient"),
-                      "static: equilibrium at t = End time / Load steps * k, "
-                      "k = 1..Load steps (loads may depend on t). transient: "
-                      "BDF time stepping from t = 0 to End time.");
-    prm.declare_entry("End time", "1", Patterns::Double(0), "Final time.");
-    prm.declare_entry("Time step",
-                      "0.1",
-                      Patterns::Double(0),
-                      "Transient step size (adaptive: the first step).");
-    prm.declare_entry(
-      "Integrator",
-      "fixed",
-      Patterns::Selection("fixed|adaptive"),
-      "fixed: BDF with the constant Time step. adaptive: "
-      "variable-step BDF (order BDF order, 1-5, or chosen per step with "
-      "Variable order) whose steps are accepted when "
-      "the estimated local displacement error (Milne's "
-      "device, max norm) is below Absolute tolerance + "
-      "Tolerance * (largest |u|_max so far); gradients are those of the "
-      "accepted steps. With IPC, the CCD bound of the free "
-      "flight caps each step.");
-    prm.declare_entry("Variable order",
-                      "false",
-                      Patterns::Bool(),
-                      "adaptive: choose each step's BDF order between 1 and "
-                      "BDF order from the local error estimates of the "
-                      "neighbouring orders (as SUNDIALS' IDA does): "
-                      "smooth stretches run at high order with long steps.");
-    prm.declare_entry("Tolerance",
-                      "1e-4",
-                      Patterns::Double(0),
-                      "adaptive: relative local error tolerance.");
-    prm.declare_entry("Absolute tolerance",
-                      "0",
-                      Patterns::Double(0),
-                      "adaptive: absolute local error tolerance (length). "
-                      "0: Tolerance * 1% of the mesh's bounding-box "
-                      "diagonal.");
-    prm.declare_entry("Minimum time step",
-                      "0",
-                      Patterns::Double(0),
-                      "adaptive: smallest step; a step this short is "
-                      "accepted whatever its error. 0: 1e-10 End time.");
-    prm.declare_entry("Maximum time step",
-                      "0",
-                      Patterns::Double(0),
-                      "adaptive: largest step. 0: End time.");
-    prm.declare_entry("BDF order",
-                      "2",
-                      Patterns::Integer(1, 6),
-                      "Order m of the BDF scheme; the first m-1 steps use "
-                      "orders 1..m-1.");
-    prm.declare_entry("Load steps",
-                      "1",
-                      Patterns::Integer(1),
-                      "Static load increments (Newton starts from the previous "
-                      "increment).");
-    prm.leave_subsection();
-
-    prm.enter_subsection("Initial conditions");
-    prm.declare_entry("Displacement",
-                      "",
-                      Patterns::Anything(),
-                      "Initial displacement, dim expressions in x, y, (z). "
-                      "Empty: zero.");
-    prm.declare_entry("Velocity",
-                      "",
-                      Patterns::Anything(),
-                      "Initial velocity, dim expressions. Empty: zero.");
-    prm.leave_subsection();
-
-    prm.enter_subsection("Solver");
-    LinearSolver::Parameters::declare(prm);
-    prm.declare_entry("Newton relative tolerance",
-                      "1e-9",
-                      Patterns::Double(0),
-                      "Converged when the residual norm falls below this times "
-                      "the reference force norm (first residual of the step or "
-                      "the external load, whichever is larger).");
-    prm.declare_entry("Newton absolute tolerance",
-                      "1e-12",
-                      Patterns::Double(0),
-                      "... or below this absolute value.");
-    prm.declare_entry("Max Newton iterations",
-                      "30",
-                      Patterns::Integer(1),
-                      "Iterations per step before the run is declared failed.");
-    prm.declare_entry("Max line search halvings",
-                      "12",
-                      Patterns::Integer(0),
-                      "Backtracking halvings of a Newton step whose residual "
-                      "does not decrease or that inverts an element.");
-    prm.leave_subsection();
-
-    prm.enter_subsection("Output");
-    prm.declare_entry("Write vtu",
-                      "true",
-                      Patterns::Bool(),
-                      "Write VTU files with a PVD time series.");
-    prm.declare_entry("Output every",
-                      "1",
-                      Patterns::Integer(1),
-                      "Write every n-th step (the last one always).");
-    prm.declare_entry(
-      "Points",
-      "",
-      Patterns::Anything(),
-      "Points whose displacement is reported each step and in "
-      "summary.json, ';' between points, e.g. '10, 0.5 ; 5, 1'.");
-    prm.leave_subsection();
-
+    declare_finite_element(prm);
+    declare_material(prm);
+    declare_boundary_conditions(prm);
+    declare_loads(prm);
+    declare_time(prm);
+    declare_initial_conditions(prm);
+    declare_solver(prm);
+    declare_output(prm);
     DesignParameters::declare(prm);
     ObjectiveParameters::declare(prm);
   }
