@@ -296,286 +296,349 @@ namespace forma
       return table;
     }
 
+    namespace
+    {
+      /// The `Base material` section.
+      void
+      declare_base_material_section(ParameterHandler &prm)
+      {
+        prm.enter_subsection("Base material");
+        prm.declare_entry(
+          "Void stiffness ratio",
+          "1e-6",
+          Patterns::Double(0, 1),
+          "Void is a weak phase: this fraction of the base tensor "
+          "(thesis: 1e-6).");
+        prm.leave_subsection();
+      }
+
+
+
+      /// The `Grid` section.
+      void
+      declare_grid_section(ParameterHandler &prm)
+      {
+        prm.enter_subsection("Grid");
+        prm.declare_entry(
+          "Cells along height",
+          "148",
+          Patterns::Integer(2, 4000),
+          "Family structures: the 3:sqrt(3) cell gets m x n near-square Q1 "
+          "cells, m the even number nearest sqrt(3) n (148 -> 256 x 148). "
+          "Even n lets the symmetry use the primitive half cell.");
+        prm.declare_entry(
+          "Gray pixels",
+          "hashin-shtrikman",
+          Patterns::Selection("linear|hashin-shtrikman"),
+          "Tensor of a partly covered cell with solid fraction rho: "
+          "linear = rho C (thesis eq. 5.8; the Voigt bound, so "
+          "under-resolved gaps can make results exceed the HS "
+          "bounds), hashin-shtrikman = the HS upper bound at rho "
+          "(the stiffest physical mixture: results stay "
+          "attainable).");
+        prm.declare_entry(
+          "Minimum feature cells",
+          "3",
+          Patterns::Double(0),
+          "A structure whose thinnest beam, gap between beams or joint "
+          "(across the beams) spans fewer grid cells is under-resolved: gray "
+          "pixels bridge the gaps, so it comes out too stiff. homogenize warns; "
+          "sweep keeps it in samples.csv (min_feature_cells), draws it gray "
+          "and leaves it out of the coverage.");
+        prm.declare_entry(
+          "Isotropy tolerance",
+          "0.05",
+          Patterns::Double(0),
+          "Every family structure is isotropic, so an isotropy residual "
+          "|C - iso(C)| / |C| above this is discretization error (e.g. at the "
+          "acute hinges of chiral beams): homogenize warns, sweep leaves the "
+          "sample out of the coverage (as an under-resolved one).");
+        prm.declare_entry(
+          "Use symmetry",
+          "true",
+          Patterns::Bool(),
+          "Family structures: use their symmetries, with the same C^H: odd "
+          "fluctuations about a lattice point (rotation by pi, on one "
+          "process), and, when n is even, only the primitive "
+          "half [0, sqrt(3)/2] x [0, 1] of the rectangle (periodic with the "
+          "hexagonal lattice's shift). About 5x faster. false: the whole "
+          "rectangle, no symmetry.");
+        prm.declare_entry(
+          "Solver",
+          "auto",
+          Patterns::Selection("auto|direct|cg-amg|multigrid"),
+          "direct: sparse Cholesky (CHOLMOD) on one rank, KLU on "
+          "several; cg-amg: CG with ML AMG (slow for strong void "
+          "contrast); auto: direct up to 400000 unknowns (after the "
+          "symmetry and periodicity constraints). multigrid: no matrix, CG "
+          "with a Galerkin multigrid on the pixel grid, the same C^H to "
+          "1e-8 in a fraction of the memory (the whole rectangle: Use "
+          "symmetry is ignored; conforming meshes use auto).");
+        prm.declare_entry(
+          "Adaptive cycles",
+          "0",
+          Patterns::Integer(0, 30),
+          "homogenize: after the grid's C^H, refine the Refine fraction of "
+          "the cells with the largest stress jumps of the cell problems (the "
+          "energy-norm error, which is C^H's own) and homogenize again, this "
+          "many times: hanging nodes, periodicity kept; the pixels stay the "
+          "geometry, the finer cells resolve the fields at corners and thin "
+          "features. Needs Solver direct, cg-amg or auto; the symmetry is "
+          "not used.");
+        prm.declare_entry("Refine fraction",
+                          "0.2",
+                          Patterns::Double(0, 1),
+                          "Adaptive cycles: the fraction of the cells refined "
+                          "in each cycle.");
+        prm.declare_entry(
+          "Solver tolerance",
+          "1e-10",
+          Patterns::Double(1e-14, 1e-2),
+          "Relative residual of the iterative solvers (cg-amg, multigrid). "
+          "C^H's error is about its square, a derivative's about itself: "
+          "multigrid with 1e-6 gives C^H to 1e-10 in fewer steps, but "
+          "derivatives (inverse design) only to about 1e-6.");
+        prm.leave_subsection();
+      }
+
+
+
+      /// The `Structure` section.
+      void
+      declare_structure_section(ParameterHandler &prm)
+      {
+        prm.enter_subsection("Structure");
+        prm.declare_entry(
+          "Type",
+          "hexagon",
+          Patterns::Selection("hexagon|triangle|image"),
+          "A Triangle/Hexagon family structure, or a user image.");
+        prm.declare_entry(
+          "Limit structure",
+          "false",
+          Patterns::Bool(),
+          "Two-scale limit structure: joints are rank-one laminates "
+          "(p1, theta, alpha) instead of beams (p1..p4).");
+        prm.declare_entry("p1",
+                          "0.75",
+                          Patterns::Double(),
+                          "Tile size in (0, 1).");
+        prm.declare_entry(
+          "p2",
+          "0",
+          Patterns::Double(),
+          "Chirality in [0, 1]: sideways shift of a beam across its "
+          "joint, as a fraction of the joint width (1 = diagonal).");
+        prm.declare_entry(
+          "p3",
+          "0.2",
+          Patterns::Double(),
+          "Beam period as a fraction of the joint width, in (0, 1] "
+          "(1/p3 beams; a remainder makes a thinner beam).");
+        prm.declare_entry("p4",
+                          "0.8",
+                          Patterns::Double(),
+                          "Beam width as a fraction of the period, in (0, 1].");
+        prm.declare_entry(
+          "theta",
+          "0.8",
+          Patterns::Double(),
+          "Limit structures: strong fraction of the joint laminate.");
+        prm.declare_entry(
+          "alpha",
+          "0",
+          Patterns::Double(),
+          "Limit structures: layer angle to the joint axis, degrees.");
+        prm.declare_entry(
+          "Image file",
+          "",
+          Patterns::Anything(),
+          "Type = image: a grayscale PGM (P2/P5), PNG (1-16 bits) or TIFF "
+          "(1-16 bits or floats in [0, 1]; the first image) image, or "
+          "a CSV matrix of densities in [0, 1]; relative to the .prm file.");
+        prm.declare_entry("Image width",
+                          "1",
+                          Patterns::Double(0),
+                          "Width of the cell the image covers.");
+        prm.declare_entry("Image height",
+                          "1",
+                          Patterns::Double(0),
+                          "Height of the cell the image covers.");
+        prm.declare_entry("Invert image",
+                          "false",
+                          Patterns::Bool(),
+                          "true: black = solid (density = 1 - gray).");
+        prm.leave_subsection();
+      }
+
+
+
+      /// The `Sweep` section.
+      void
+      declare_sweep_section(ParameterHandler &prm)
+      {
+        prm.enter_subsection("Sweep");
+        prm.declare_entry("Families",
+                          "hexagon, triangle",
+                          Patterns::Anything(),
+                          "Structure families to sweep.");
+        prm.declare_entry("Limit structures",
+                          "false",
+                          Patterns::Bool(),
+                          "Sweep limit structures over p1, theta, alpha.");
+        prm.declare_entry("p1",
+                          "0.6:0.9:4",
+                          Patterns::Anything(),
+                          "Values: 'a:b:n' (n values from a to b) or a list.");
+        prm.declare_entry("p2",
+                          "0, 0.5, 1",
+                          Patterns::Anything(),
+                          "Values of p2.");
+        prm.declare_entry("p3", "0.25", Patterns::Anything(), "Values of p3.");
+        prm.declare_entry("Beams per joint",
+                          "",
+                          Patterns::Anything(),
+                          "If set, values of n = 1/p3 (replaces p3).");
+        prm.declare_entry("p4",
+                          "0.3:0.9:4",
+                          Patterns::Anything(),
+                          "Values of p4.");
+        prm.declare_entry("theta",
+                          "0.5:0.95:4",
+                          Patterns::Anything(),
+                          "Values of theta (limit structures).");
+        prm.declare_entry("alpha",
+                          "0, 30, 60",
+                          Patterns::Anything(),
+                          "Values of alpha in degrees (limit structures).");
+        prm.declare_entry("Coverage level",
+                          "0.5",
+                          Patterns::Double(0, 1),
+                          "E/Eb at which Delta_R and Delta_L are measured.");
+        prm.declare_entry(
+          "Coverage band",
+          "0.02",
+          Patterns::Double(0, 1),
+          "Samples with |E/Eb - level| <= band count for Delta.");
+        prm.leave_subsection();
+      }
+
+
+
+      /// The `Inverse` section.
+      void
+      declare_inverse_section(ParameterHandler &prm)
+      {
+        prm.enter_subsection("Inverse");
+        prm.declare_entry(
+          "Target Young's modulus",
+          "0.3",
+          Patterns::Double(0, 1),
+          "Target E relative to the base's 2D Young's modulus.");
+        prm.declare_entry("Target Poisson's ratio",
+                          "0.3",
+                          Patterns::Double(-1, 1),
+                          "Target Poisson's ratio.");
+        prm.declare_entry(
+          "Table file",
+          "",
+          Patterns::Anything(),
+          "samples.csv of an earlier sweep (same Base material), relative to "
+          "the .prm file; empty: the Sweep section's grid is homogenized first "
+          "on 'Table cells along height'.");
+        prm.declare_entry(
+          "Table cells along height",
+          "48",
+          Patterns::Integer(2, 4000),
+          "Resolution of the table sweep when there is no table "
+          "file.");
+        prm.declare_entry("Candidates",
+                          "3",
+                          Patterns::Integer(1, 100),
+                          "Nearest table samples refined by optimization (in "
+                          "this order, until one reaches the tolerance).");
+        prm.declare_entry("Max iterations",
+                          "30",
+                          Patterns::Integer(1, 1000),
+                          "L-BFGS iterations per candidate.");
+        prm.declare_entry(
+          "Tolerance",
+          "1e-3",
+          Patterns::Double(0),
+          "Stop when sqrt((E/E* - 1)^2 + (nu - nu*)^2) is below (Objective "
+          "= moduli).");
+        prm.declare_entry(
+          "Objective",
+          "moduli",
+          Patterns::Selection("moduli|compliance"),
+          "moduli: J = (E/E* - 1)^2 + (nu - nu*)^2. compliance: thesis ch. "
+          "5.5's J = 1/2 |S^H - S*|_F^2, S^H = (C^H)^-1 and S* the compliance "
+          "of the isotropic target; with a target on the Hashin-Shtrikman bound "
+          "the run ends where the family's parameters stop improving J (thesis "
+          "Table 5.1), not at Tolerance.");
+        prm.declare_entry(
+          "Report shape derivative",
+          "false",
+          Patterns::Bool(),
+          "Thesis Table 5.1: at every accepted iterate, mesh the structure with "
+          "Gmsh (Conforming mesh section), homogenize it and report the norm "
+          "of the shape derivative of the compliance J with respect to the "
+          "positions of all vertices on the solid-void interface (exact for "
+          "the discrete J), and the share of its square within one element "
+          "size of the polygons' corners. Needs Objective = compliance.");
+        prm.leave_subsection();
+      }
+
+
+
+      /// The `Conforming mesh` section.
+      void
+      declare_conforming_mesh_section(ParameterHandler &prm)
+      {
+        prm.enter_subsection("Conforming mesh");
+        prm.declare_entry("Element size",
+                          "0.01",
+                          Patterns::Double(0),
+                          "compare meshes, Inverse/Report shape derivative: "
+                          "target triangle size (the cell is sqrt(3) x 1).");
+        prm.declare_entry("Degree",
+                          "2",
+                          Patterns::Integer(1, 3),
+                          "compare meshes, Inverse/Report shape derivative: "
+                          "polynomial degree on the triangles.");
+        prm.leave_subsection();
+      }
+
+
+
+      /// The `Output` section.
+      void
+      declare_output_section(ParameterHandler &prm)
+      {
+        prm.enter_subsection("Output");
+        prm.declare_entry(
+          "Write vtu",
+          "true",
+          Patterns::Bool(),
+          "homogenize: write the density and the three fluctuation "
+          "fields (fields.vtu).");
+        prm.leave_subsection();
+      }
+    } // namespace
+
+
+
     void
     declare_parameters(ParameterHandler &prm)
     {
       BaseMaterial::declare(prm);
-      prm.enter_subsection("Base material");
-      prm.declare_entry(
-        "Void stiffness ratio",
-        "1e-6",
-        Patterns::Double(0, 1),
-        "Void is a weak phase: this fraction of the base tensor "
-        "(thesis: 1e-6).");
-      prm.leave_subsection();
-
-      prm.enter_subsection("Grid");
-      prm.declare_entry(
-        "Cells along height",
-        "148",
-        Patterns::Integer(2, 4000),
-        "Family structures: the 3:sqrt(3) cell gets m x n near-square Q1 "
-        "cells, m the even number nearest sqrt(3) n (148 -> 256 x 148). "
-        "Even n lets the symmetry use the primitive half cell.");
-      prm.declare_entry(
-        "Gray pixels",
-        "hashin-shtrikman",
-        Patterns::Selection("linear|hashin-shtrikman"),
-        "Tensor of a partly covered cell with solid fraction rho: "
-        "linear = rho C (thesis eq. 5.8; the Voigt bound, so "
-        "under-resolved gaps can make results exceed the HS "
-        "bounds), hashin-shtrikman = the HS upper bound at rho "
-        "(the stiffest physical mixture: results stay "
-        "attainable).");
-      prm.declare_entry(
-        "Minimum feature cells",
-        "3",
-        Patterns::Double(0),
-        "A structure whose thinnest beam, gap between beams or joint "
-        "(across the beams) spans fewer grid cells is under-resolved: gray "
-        "pixels bridge the gaps, so it comes out too stiff. homogenize warns; "
-        "sweep keeps it in samples.csv (min_feature_cells), draws it gray "
-        "and leaves it out of the coverage.");
-      prm.declare_entry(
-        "Isotropy tolerance",
-        "0.05",
-        Patterns::Double(0),
-        "Every family structure is isotropic, so an isotropy residual "
-        "|C - iso(C)| / |C| above this is discretization error (e.g. at the "
-        "acute hinges of chiral beams): homogenize warns, sweep leaves the "
-        "sample out of the coverage (as an under-resolved one).");
-      prm.declare_entry(
-        "Use symmetry",
-        "true",
-        Patterns::Bool(),
-        "Family structures: use their symmetries, with the same C^H: odd "
-        "fluctuations about a lattice point (rotation by pi, on one "
-        "process), and, when n is even, only the primitive "
-        "half [0, sqrt(3)/2] x [0, 1] of the rectangle (periodic with the "
-        "hexagonal lattice's shift). About 5x faster. false: the whole "
-        "rectangle, no symmetry.");
-      prm.declare_entry(
-        "Solver",
-        "auto",
-        Patterns::Selection("auto|direct|cg-amg|multigrid"),
-        "direct: sparse Cholesky (CHOLMOD) on one rank, KLU on "
-        "several; cg-amg: CG with ML AMG (slow for strong void "
-        "contrast); auto: direct up to 400000 unknowns (after the "
-        "symmetry and periodicity constraints). multigrid: no matrix, CG "
-        "with a Galerkin multigrid on the pixel grid, the same C^H to "
-        "1e-8 in a fraction of the memory (the whole rectangle: Use "
-        "symmetry is ignored; conforming meshes use auto).");
-      prm.declare_entry(
-        "Adaptive cycles",
-        "0",
-        Patterns::Integer(0, 30),
-        "homogenize: after the grid's C^H, refine the Refine fraction of "
-        "the cells with the largest stress jumps of the cell problems (the "
-        "energy-norm error, which is C^H's own) and homogenize again, this "
-        "many times: hanging nodes, periodicity kept; the pixels stay the "
-        "geometry, the finer cells resolve the fields at corners and thin "
-        "features. Needs Solver direct, cg-amg or auto; the symmetry is "
-        "not used.");
-      prm.declare_entry("Refine fraction",
-                        "0.2",
-                        Patterns::Double(0, 1),
-                        "Adaptive cycles: the fraction of the cells refined "
-                        "in each cycle.");
-      prm.declare_entry(
-        "Solver tolerance",
-        "1e-10",
-        Patterns::Double(1e-14, 1e-2),
-        "Relative residual of the iterative solvers (cg-amg, multigrid). "
-        "C^H's error is about its square, a derivative's about itself: "
-        "multigrid with 1e-6 gives C^H to 1e-10 in fewer steps, but "
-        "derivatives (inverse design) only to about 1e-6.");
-      prm.leave_subsection();
-
-      prm.enter_subsection("Structure");
-      prm.declare_entry(
-        "Type",
-        "hexagon",
-        Patterns::Selection("hexagon|triangle|image"),
-        "A Triangle/Hexagon family structure, or a user image.");
-      prm.declare_entry(
-        "Limit structure",
-        "false",
-        Patterns::Bool(),
-        "Two-scale limit structure: joints are rank-one laminates "
-        "(p1, theta, alpha) instead of beams (p1..p4).");
-      prm.declare_entry("p1",
-                        "0.75",
-                        Patterns::Double(),
-                        "Tile size in (0, 1).");
-      prm.declare_entry(
-        "p2",
-        "0",
-        Patterns::Double(),
-        "Chirality in [0, 1]: sideways shift of a beam across its "
-        "joint, as a fraction of the joint width (1 = diagonal).");
-      prm.declare_entry(
-        "p3",
-        "0.2",
-        Patterns::Double(),
-        "Beam period as a fraction of the joint width, in (0, 1] "
-        "(1/p3 beams; a remainder makes a thinner beam).");
-      prm.declare_entry("p4",
-                        "0.8",
-                        Patterns::Double(),
-                        "Beam width as a fraction of the period, in (0, 1].");
-      prm.declare_entry(
-        "theta",
-        "0.8",
-        Patterns::Double(),
-        "Limit structures: strong fraction of the joint laminate.");
-      prm.declare_entry(
-        "alpha",
-        "0",
-        Patterns::Double(),
-        "Limit structures: layer angle to the joint axis, degrees.");
-      prm.declare_entry(
-        "Image file",
-        "",
-        Patterns::Anything(),
-        "Type = image: a grayscale PGM (P2/P5), PNG (1-16 bits) or TIFF "
-        "(1-16 bits or floats in [0, 1]; the first image) image, or "
-        "a CSV matrix of densities in [0, 1]; relative to the .prm file.");
-      prm.declare_entry("Image width",
-                        "1",
-                        Patterns::Double(0),
-                        "Width of the cell the image covers.");
-      prm.declare_entry("Image height",
-                        "1",
-                        Patterns::Double(0),
-                        "Height of the cell the image covers.");
-      prm.declare_entry("Invert image",
-                        "false",
-                        Patterns::Bool(),
-                        "true: black = solid (density = 1 - gray).");
-      prm.leave_subsection();
-
-      prm.enter_subsection("Sweep");
-      prm.declare_entry("Families",
-                        "hexagon, triangle",
-                        Patterns::Anything(),
-                        "Structure families to sweep.");
-      prm.declare_entry("Limit structures",
-                        "false",
-                        Patterns::Bool(),
-                        "Sweep limit structures over p1, theta, alpha.");
-      prm.declare_entry("p1",
-                        "0.6:0.9:4",
-                        Patterns::Anything(),
-                        "Values: 'a:b:n' (n values from a to b) or a list.");
-      prm.declare_entry("p2",
-                        "0, 0.5, 1",
-                        Patterns::Anything(),
-                        "Values of p2.");
-      prm.declare_entry("p3", "0.25", Patterns::Anything(), "Values of p3.");
-      prm.declare_entry("Beams per joint",
-                        "",
-                        Patterns::Anything(),
-                        "If set, values of n = 1/p3 (replaces p3).");
-      prm.declare_entry("p4",
-                        "0.3:0.9:4",
-                        Patterns::Anything(),
-                        "Values of p4.");
-      prm.declare_entry("theta",
-                        "0.5:0.95:4",
-                        Patterns::Anything(),
-                        "Values of theta (limit structures).");
-      prm.declare_entry("alpha",
-                        "0, 30, 60",
-                        Patterns::Anything(),
-                        "Values of alpha in degrees (limit structures).");
-      prm.declare_entry("Coverage level",
-                        "0.5",
-                        Patterns::Double(0, 1),
-                        "E/Eb at which Delta_R and Delta_L are measured.");
-      prm.declare_entry("Coverage band",
-                        "0.02",
-                        Patterns::Double(0, 1),
-                        "Samples with |E/Eb - level| <= band count for Delta.");
-      prm.leave_subsection();
-
-      prm.enter_subsection("Inverse");
-      prm.declare_entry("Target Young's modulus",
-                        "0.3",
-                        Patterns::Double(0, 1),
-                        "Target E relative to the base's 2D Young's modulus.");
-      prm.declare_entry("Target Poisson's ratio",
-                        "0.3",
-                        Patterns::Double(-1, 1),
-                        "Target Poisson's ratio.");
-      prm.declare_entry(
-        "Table file",
-        "",
-        Patterns::Anything(),
-        "samples.csv of an earlier sweep (same Base material), relative to "
-        "the .prm file; empty: the Sweep section's grid is homogenized first "
-        "on 'Table cells along height'.");
-      prm.declare_entry("Table cells along height",
-                        "48",
-                        Patterns::Integer(2, 4000),
-                        "Resolution of the table sweep when there is no table "
-                        "file.");
-      prm.declare_entry("Candidates",
-                        "3",
-                        Patterns::Integer(1, 100),
-                        "Nearest table samples refined by optimization (in "
-                        "this order, until one reaches the tolerance).");
-      prm.declare_entry("Max iterations",
-                        "30",
-                        Patterns::Integer(1, 1000),
-                        "L-BFGS iterations per candidate.");
-      prm.declare_entry(
-        "Tolerance",
-        "1e-3",
-        Patterns::Double(0),
-        "Stop when sqrt((E/E* - 1)^2 + (nu - nu*)^2) is below (Objective "
-        "= moduli).");
-      prm.declare_entry(
-        "Objective",
-        "moduli",
-        Patterns::Selection("moduli|compliance"),
-        "moduli: J = (E/E* - 1)^2 + (nu - nu*)^2. compliance: thesis ch. "
-        "5.5's J = 1/2 |S^H - S*|_F^2, S^H = (C^H)^-1 and S* the compliance "
-        "of the isotropic target; with a target on the Hashin-Shtrikman bound "
-        "the run ends where the family's parameters stop improving J (thesis "
-        "Table 5.1), not at Tolerance.");
-      prm.declare_entry(
-        "Report shape derivative",
-        "false",
-        Patterns::Bool(),
-        "Thesis Table 5.1: at every accepted iterate, mesh the structure with "
-        "Gmsh (Conforming mesh section), homogenize it and report the norm "
-        "of the shape derivative of the compliance J with respect to the "
-        "positions of all vertices on the solid-void interface (exact for "
-        "the discrete J), and the share of its square within one element "
-        "size of the polygons' corners. Needs Objective = compliance.");
-      prm.leave_subsection();
-
-      prm.enter_subsection("Conforming mesh");
-      prm.declare_entry("Element size",
-                        "0.01",
-                        Patterns::Double(0),
-                        "compare meshes, Inverse/Report shape derivative: "
-                        "target triangle size (the cell is sqrt(3) x 1).");
-      prm.declare_entry("Degree",
-                        "2",
-                        Patterns::Integer(1, 3),
-                        "compare meshes, Inverse/Report shape derivative: "
-                        "polynomial degree on the triangles.");
-      prm.leave_subsection();
-
-      prm.enter_subsection("Output");
-      prm.declare_entry(
-        "Write vtu",
-        "true",
-        Patterns::Bool(),
-        "homogenize: write the density and the three fluctuation "
-        "fields (fields.vtu).");
-      prm.leave_subsection();
+      declare_base_material_section(prm);
+      declare_grid_section(prm);
+      declare_structure_section(prm);
+      declare_sweep_section(prm);
+      declare_inverse_section(prm);
+      declare_conforming_mesh_section(prm);
+      declare_output_section(prm);
     }
 
 
