@@ -253,6 +253,22 @@ namespace forma
       }
     if (parameters.empty())
       return;
+    check_boundary_ids(dof_handler);
+    pair_deformable_sides(collect_faces(dof_handler),
+                          mapping,
+                          dof_handler.get_communicator());
+    set_face_frames(mapping);
+    any_faces = Utilities::MPI::max(faces.empty() ? 0 : 1,
+                                    dof_handler.get_communicator()) == 1;
+  }
+
+
+
+  template <int dim>
+  void
+  PenaltyContact<dim>::check_boundary_ids(
+    const DoFHandler<dim> &dof_handler) const
+  {
     std::set<types::boundary_id> mesh_ids;
     for (const auto b : dof_handler.get_triangulation().get_boundary_ids())
       mesh_ids.insert(b);
@@ -265,15 +281,15 @@ namespace forma
                                   " (DD interfaces get theirs from Mesh/"
                                   "Separate interfaces)." :
                                   ".")));
+  }
 
-    // DD sides, sorted by face center, then paired by coincidence.
-    struct Side
-    {
-      Point<dim>                                     center;
-      typename DoFHandler<dim>::active_cell_iterator cell;
-      unsigned int                                   face;
-      double                                         size;
-    };
+
+
+  template <int dim>
+  std::vector<typename PenaltyContact<dim>::Side>
+  PenaltyContact<dim>::collect_faces(const DoFHandler<dim> &dof_handler)
+  {
+    // RD faces of owned cells; DD sides of every cell, paired later.
     std::vector<Side> sides;
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
@@ -297,6 +313,19 @@ namespace forma
                 {cell->face(f)->center(), cell, f, cell->face(f)->diameter()});
           }
       }
+    return sides;
+  }
+
+
+
+  template <int dim>
+  void
+  PenaltyContact<dim>::pair_deformable_sides(
+    std::vector<Side>                 sides,
+    const hp::MappingCollection<dim> &mapping,
+    const MPI_Comm                    comm)
+  {
+    // Sorted by face center, then paired by coincidence.
     std::sort(sides.begin(), sides.end(), [](const Side &a, const Side &b) {
       return a.center[0] < b.center[0];
     });
@@ -387,10 +416,17 @@ namespace forma
           }
         faces.push_back(face);
       }
-    for (const auto &message :
-         Utilities::MPI::all_gather(dof_handler.get_communicator(), failure))
+    for (const auto &message : Utilities::MPI::all_gather(comm, failure))
       AssertThrow(message.empty(), ExcMessage(message));
+  }
 
+
+
+  template <int dim>
+  void
+  PenaltyContact<dim>::set_face_frames(
+    const hp::MappingCollection<dim> &mapping)
+  {
     // Face frames: the cells' reference points at the faces' corners,
     // with the sign that makes the corners' normal outward.
     std::map<std::pair<unsigned int, std::uint8_t>,
@@ -426,8 +462,6 @@ namespace forma
           face.partner_corners =
             face_corners(*cv, mapping[0], face.partner, tol);
       }
-    any_faces = Utilities::MPI::max(faces.empty() ? 0 : 1,
-                                    dof_handler.get_communicator()) == 1;
   }
 
 

@@ -186,6 +186,34 @@ namespace forma
     /// FE face values of both sides for the Gauss rules, made once per pass.
     struct GaussValues;
 
+    /// A boundary face of a DD interface, before pairing.
+    struct Side
+    {
+      dealii::Point<dim>                                     center;
+      typename dealii::DoFHandler<dim>::active_cell_iterator cell;
+      unsigned int                                           face;
+      double                                                 size;
+    };
+
+    /// Setup: every contact boundary id is on the mesh.
+    void
+    check_boundary_ids(const dealii::DoFHandler<dim> &dof_handler) const;
+
+    /// Setup: the RD faces of owned cells into `faces`; the DD sides.
+    std::vector<Side>
+    collect_faces(const dealii::DoFHandler<dim> &dof_handler);
+
+    /// Setup: pair coincident DD sides (throws on a side without partner
+    /// or non-matching points) and add the "-" sides of owned cells.
+    void
+    pair_deformable_sides(std::vector<Side>                         sides,
+                          const dealii::hp::MappingCollection<dim> &mapping,
+                          const MPI_Comm                            comm);
+
+    /// Setup: the faces' corner frames and outward orientation.
+    void
+    set_face_frames(const dealii::hp::MappingCollection<dim> &mapping);
+
     /// Face data of `f` at the state `u`: the Gauss rule of the element, or
     /// the adaptive rule for the state's contact regimes.
     void
