@@ -126,9 +126,12 @@ namespace forma
     for (const auto &r :
          parse_records(rigid_gaps_text, 1, "Contact/Rigid gaps"))
       {
+        AssertThrow(r.id != any_id,
+                    ExcMessage("'Contact/Rigid gaps': give a boundary id, "
+                               "not '*'."));
         const std::string where =
           "Contact/Rigid gaps, boundary id " + std::to_string(r.id);
-        AssertThrow(r.id != any_id && rigid.count(r.id),
+        AssertThrow(rigid.count(r.id),
                     ExcMessage("'" + where +
                                "': not a boundary of Contact/"
                                "Rigid-deformable."));

@@ -110,7 +110,7 @@ namespace forma
     {
       Tensor<1, dim> t;
       Tensor<2, dim> dt_dj, dt_dn; ///< [k][m] = d t_k / d j_m, d n_m
-      double         gap = 0;      ///< j . n (penetration where > 0)
+      double         gap = 0;      ///< j . n - gap0 (penetration > 0)
       Tensor<1, dim> slip;         ///< tangential part of j
     };
 

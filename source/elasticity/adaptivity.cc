@@ -158,10 +158,13 @@ namespace forma
     // no boundary face, so without it a coarse cell at the edge of the
     // contact zone, where the traction jumps from 0 to the pressure, is
     // never flagged for what the contact law asks of it.
+    // Gauss-Lobatto points hold the face's vertices: a vertex that
+    // penetrates the obstacle is seen even where the contact's own Gauss
+    // points all miss it (a coarse face on a curved contact).
     const FEValuesExtractors::Vector disp(0);
     hp::QCollection<dim - 1>         rule;
     for (const auto &f : fe)
-      rule.push_back(QGauss<dim - 1>(f.degree + 2));
+      rule.push_back(QGaussLobatto<dim - 1>(f.degree + 2));
     hp::FEFaceValues<dim>       hp_fv(mapping,
                                 fe,
                                 rule,

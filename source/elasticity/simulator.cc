@@ -385,6 +385,8 @@ namespace forma
   ElasticitySimulator<dim>::Impl::run(RunContext *ctx)
   {
     context = ctx;
+    cycles.clear();
+    cycle_contact.clear();
     // Transient problems adapt during the run (Adaptive cycles refine the
     // initial state there).
     const unsigned int n_cycles =

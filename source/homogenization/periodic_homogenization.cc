@@ -439,10 +439,11 @@ namespace forma
             for (unsigned int d = 0; d < dim; ++d)
               interior &= cell->vertex(v)[d] > 1e-8 * box[d] &&
                           cell->vertex(v)[d] < (1 - 1e-8) * box[d];
-            if (!interior)
-              continue;
-            const double dist                = cell->vertex(v).distance(center);
             const types::global_dof_index i0 = cell->vertex_dof_index(v, 0);
+            // A hanging vertex (refined grids) follows its neighbours.
+            if (!interior || constraints.is_constrained(i0))
+              continue;
+            const double dist = cell->vertex(v).distance(center);
             if (dist < best.first - 1e-12 ||
                 (dist < best.first + 1e-12 && i0 < best.second))
               {

@@ -116,6 +116,9 @@ namespace forma
                            "first"));
     AssertThrow(!m.congruent_cells || !m.lattice.inversion,
                 ExcMessage("vertex_shape_gradient() is for cell meshes"));
+    AssertThrow(!m.refined,
+                ExcMessage("vertex_shape_gradient() is for cell meshes "
+                           "without hanging vertices, not refined grids"));
     // The geometry's own linear shape functions carry the vertex motion.
     const ReferenceCell reference = m.tria->get_reference_cells()[0];
     std::unique_ptr<FiniteElement<dim>> linear;

@@ -99,6 +99,7 @@ namespace forma
     Impl(const MPI_Comm comm, const SolverParameters &solver)
       : comm(comm)
       , solver_parameters(solver)
+      , requested_solver(solver)
       , dof_handler()
     {}
 
@@ -161,8 +162,10 @@ namespace forma
                         const std::vector<Vector<double>> &w_local,
                         FullMatrix<double>                &energy) const;
 
-    MPI_Comm                            comm;
-    SolverParameters                    solver_parameters;
+    MPI_Comm         comm;
+    SolverParameters solver_parameters;
+    /// As constructed: `auto` decides again for a refined grid.
+    SolverParameters                    requested_solver;
     std::unique_ptr<Triangulation<dim>> tria;
     std::unique_ptr<FiniteElement<dim>> fe;
     std::unique_ptr<Mapping<dim>>       mapping_owner;

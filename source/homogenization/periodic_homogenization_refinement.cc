@@ -118,7 +118,8 @@ namespace forma
                              material(other->center(), other->material_id()));
                 }
               else // finer: each child on a part of this face
-                for (unsigned int sub = 0; sub < cell->face(f)->n_children();
+                for (unsigned int sub = 0;
+                     sub < GeometryInfo<dim>::max_children_per_face;
                      ++sub)
                   {
                     const auto child =
@@ -165,12 +166,10 @@ namespace forma
     const Vector<float> eta = m.stress_jump_indicators(material);
     parallel::distributed::GridRefinement::refine_and_coarsen_fixed_number(
       *mesh, eta, fraction, 0);
-    unsigned int flagged = 0;
-    for (const auto &cell : mesh->active_cell_iterators())
-      if (cell->is_locally_owned() && cell->refine_flag_set())
-        ++flagged;
-    flagged = Utilities::MPI::sum(flagged, m.comm);
+    const auto before = mesh->n_global_active_cells();
     mesh->execute_coarsening_and_refinement();
+    const unsigned int refined = (mesh->n_global_active_cells() - before) /
+                                 (GeometryInfo<dim>::max_children_per_cell - 1);
 
     m.congruent_cells = false;
     m.refined         = true;
@@ -180,8 +179,9 @@ namespace forma
     m.owned = m.dof_handler.locally_owned_dofs();
     DoFTools::extract_locally_relevant_dofs(m.dof_handler, m.relevant);
     m.make_constraints(m.box_size);
+    m.solver_parameters = m.requested_solver;
     m.setup_system();
-    return flagged;
+    return refined;
   }
 
   template Vector<float>

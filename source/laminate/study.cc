@@ -383,8 +383,8 @@ namespace forma
           "energy-norm error, which is C^H's own) and homogenize again, this "
           "many times: hanging nodes, periodicity kept; the pixels stay the "
           "geometry, the finer cells resolve the fields at corners and thin "
-          "features. Needs Solver direct, cg-amg or auto; the symmetry is "
-          "not used.");
+          "features. Needs Solver direct, cg-amg or auto; homogenize then "
+          "does not use the symmetry.");
         prm.declare_entry("Refine fraction",
                           "0.2",
                           Patterns::Double(0, 1),
@@ -676,8 +676,6 @@ namespace forma
       AssertThrow(setup.adaptive_cycles == 0 || setup.refine_fraction > 0,
                   ExcMessage("Grid/Adaptive cycles needs a positive Refine "
                              "fraction."));
-      if (setup.adaptive_cycles > 0)
-        setup.symmetry = false; // refinement breaks the odd symmetry
       setup.gray = prm.get("Gray pixels") == "linear" ?
                      GrayPixels::linear :
                      GrayPixels::hashin_shtrikman;

@@ -142,9 +142,12 @@ namespace forma
           const unsigned int      nx = grid_nx(ny);
           material                   = std::make_unique<PixelMaterial>(
             pixel_material(s, setup.base, setup.weak, setup.gray, nx, ny));
-          cell                 = family_grid(context.communicator(), setup, ny);
-          structure            = structure_json(s);
-          const double feature = s.min_feature_size() * ny / s.height;
+          // Refinement breaks the odd symmetry: the whole rectangle.
+          Setup grid_setup = setup;
+          grid_setup.symmetry &= setup.adaptive_cycles == 0;
+          cell      = family_grid(context.communicator(), grid_setup, ny);
+          structure = structure_json(s);
+          const double feature           = s.min_feature_size() * ny / s.height;
           structure["min_feature_cells"] = feature;
           if (feature < setup.min_feature_cells)
             context.print("warning: the thinnest beam, gap or joint spans " +
