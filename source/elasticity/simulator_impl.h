@@ -671,10 +671,10 @@ namespace forma
     double                           memory_of_states = 0;
     /// Static adaptive cycles with contact: each cycle's contact statistics.
     std::vector<nlohmann::json> cycle_contact;
-    std::vector<double> term_values; ///< weighted terms of the last J
-    double              adjoint_seconds = 0, forward_seconds = 0;
-    double              adjoint_solve_seconds = 0; ///< part of adjoint_seconds
-    unsigned int        forward_solves = 0, gradients = 0;
+    std::vector<double>         term_values; ///< weighted terms of the last J
+    double                      adjoint_seconds = 0, forward_seconds = 0;
+    double       adjoint_solve_seconds = 0; ///< part of adjoint_seconds
+    unsigned int forward_solves = 0, gradients = 0;
 
     LinearSolver linear_solver;
     /// Linear solver = cg-mg: the Jacobian is never assembled; assemble()
