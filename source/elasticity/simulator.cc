@@ -438,7 +438,9 @@ namespace forma
           cycle_callback(cycle);
       }
     compute_reactions();
-    if (contact.active())
+    if (!cycle_contact.empty()) // the last cycle's, already computed
+      contact_statistics = cycle_contact.back();
+    else if (contact.active())
       contact_statistics = contact.statistics(mapping, u_ghost, comm);
     if (context)
       {
