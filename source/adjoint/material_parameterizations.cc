@@ -233,6 +233,12 @@ namespace forma
         return true;
       }
 
+      unsigned int
+      entries_per_cell() const override
+      {
+        return 2;
+      }
+
       DesignBlock::Summary
       summary() const override
       {

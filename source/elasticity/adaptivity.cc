@@ -105,23 +105,30 @@ namespace forma
 
   template <int dim>
   void
+  ElasticitySimulator<dim>::Impl::kelly_indicators()
+  {
+    estimated_error.reinit(tria->n_active_cells());
+    KellyErrorEstimator<dim>::estimate(
+      mapping[0],
+      dof_handler,
+      face_quadrature,
+      std::map<types::boundary_id, const Function<dim> *>(),
+      u_ghost,
+      estimated_error);
+    if (contact.active() && p.contact_residual)
+      add_contact_residuals(estimated_error);
+  }
+
+
+
+  template <int dim>
+  void
   ElasticitySimulator<dim>::Impl::refine_mesh()
   {
     u_ghost = u;
     // Error indicator = goal: the indicators of the last solve's estimate.
     if (p.error_indicator != "goal")
-      {
-        estimated_error.reinit(tria->n_active_cells());
-        KellyErrorEstimator<dim>::estimate(
-          mapping[0],
-          dof_handler,
-          face_quadrature,
-          std::map<types::boundary_id, const Function<dim> *>(),
-          u_ghost,
-          estimated_error);
-        if (contact.active() && p.contact_residual)
-          add_contact_residuals(estimated_error);
-      }
+      kelly_indicators();
     mark_cells(false);
     if (p.adaptivity == "hp")
       {

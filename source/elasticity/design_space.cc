@@ -69,7 +69,8 @@ namespace forma
                                    layout.size(),
                                    size,
                                    block->lives_on_mesh(),
-                                   block->summary()});
+                                   block->summary(),
+                                   block->entries_per_cell()});
           const auto q0 = block->initial();
           design.insert(design.end(), q0.begin(), q0.end());
           parameterizations.push_back(std::move(block));
@@ -83,6 +84,8 @@ namespace forma
   std::vector<double>
   ElasticitySimulator<dim>::Impl::shape_start() const
   {
+    if (!carried_shape.empty()) // a refined design's shape
+      return carried_shape;
     std::vector<double> start(shape_dof_handler.n_dofs(), 0.);
     // A remeshed mesh is the current shape: nothing to perturb.
     if (p.design.shape_perturbation.empty() || remeshed)
@@ -137,6 +140,34 @@ namespace forma
                                std::to_string(b->size) + " entries, got " +
                                std::to_string(values.size()) + "."));
         std::copy(values.begin(), values.end(), design.begin() + b->offset);
+      }
+  }
+
+
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::carry_design(const DesignLayout &old_layout,
+                                               const std::vector<double> &old,
+                                               const std::string &change,
+                                               const bool         cells_carried)
+  {
+    // Shape blocks (and, after a refinement, blocks per cell) start where
+    // build_design_layout() put them; the others keep their entries.
+    for (unsigned int k = 0; k < layout.blocks.size(); ++k)
+      {
+        const auto &b     = layout.blocks[k];
+        const auto &block = *parameterizations[k];
+        if (block.restarts_on_remesh() || (cells_carried && b.per_cell > 0))
+          continue;
+        const auto *o = old_layout.find(b.name);
+        AssertThrow(!block.lives_on_mesh() && o && o->size == b.size,
+                    ExcMessage(change + ": the design block '" + b.name +
+                               "' lives on the mesh; only shape, per-body "
+                               "and global blocks survive it."));
+        std::copy(old.begin() + o->offset,
+                  old.begin() + o->offset + o->size,
+                  design.begin() + b.offset);
       }
   }
 

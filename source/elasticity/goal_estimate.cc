@@ -125,6 +125,7 @@ namespace forma
     // spaces are nested).
     set_degrees(1);
     setup_system();
+    apply_design(design); // the design's shape and materials, not the mesh's
     std::map<unsigned int, FullMatrix<double>> embedding, difference;
     for (const unsigned int k :
          std::set<unsigned int>(index.begin(), index.end()))
@@ -213,6 +214,7 @@ namespace forma
     set_degrees(0);
     linear_solver = LinearSolver(p.linear_solver);
     setup_system();
+    apply_design(design);
     u        = u_saved;
     u_ghost  = u;
     u_states = states_saved;

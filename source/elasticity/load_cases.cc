@@ -1,5 +1,7 @@
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/utilities.h>
+#include <deal.II/grid/tria.h>
 
 #include <forma/base/application.h>
 #include <forma/base/records.h>
@@ -405,6 +407,46 @@ namespace forma
   LoadCases<dim>::n_remeshes() const
   {
     return cases[0]->n_remeshes();
+  }
+
+  template <int dim>
+  std::string
+  LoadCases<dim>::refine_design(const std::string &file_stem)
+  {
+    // Each case's indicators over their sum: no case's units decide.
+    dealii::Vector<float> sum;
+    for (auto &c : cases)
+      {
+        const auto   eta = c->refinement_indicators();
+        const double total =
+          dealii::Utilities::MPI::sum(static_cast<double>(eta.l1_norm()),
+                                      c->triangulation().get_communicator());
+        if (sum.size() == 0)
+          sum.reinit(eta.size());
+        if (total > 0)
+          sum.add(static_cast<float>(1. / total), eta);
+      }
+    const auto        cells = cases[0]->cells_to_refine(sum);
+    const std::string line  = cases[0]->refine_design(cells, file_stem);
+    for (unsigned int k = 1; k < cases.size(); ++k)
+      cases[k]->refine_design(cells, "");
+    return line;
+  }
+
+  template <int dim>
+  void
+  LoadCases<dim>::load_refinement(const std::string &file_stem)
+  {
+    for (auto &c : cases)
+      c->load_refinement(file_stem);
+  }
+
+  template <int dim>
+  void
+  LoadCases<dim>::guard_cell_corners(const bool on)
+  {
+    for (auto &c : cases)
+      c->guard_cell_corners(on);
   }
 
   template class LoadCases<2>;

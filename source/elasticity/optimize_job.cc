@@ -147,6 +147,8 @@ namespace forma
       void
       remesh_and_restart();
       void
+      refine_and_restart();
+      void
       solve_on_new_mesh();
       bool
       roll_back(const unsigned int n_before);
@@ -298,7 +300,9 @@ namespace forma
       mesh             = place.mesh;
       n_outer          = place.outer_iteration;
       outer_start      = place.outer_start;
-      if (!mesh.empty())
+      if (!mesh.empty() && settings.outer_step == "refine")
+        simulator.load_refinement(directory + "/" + mesh);
+      else if (!mesh.empty())
         {
           simulator.load_remeshed(directory + "/" + mesh);
           simulator.commit_remesh();
@@ -313,10 +317,21 @@ namespace forma
     void
     OptimizeJob<dim>::check_settings()
     {
+      const bool refine = settings.outer_step == "refine";
+      if (refine)
+        {
+          AssertThrow(parameters.adaptivity == "h" &&
+                        parameters.problem == "static",
+                      dealii::ExcMessage(
+                        "Optimization/Outer step = refine: needs Finite "
+                        "element/Adaptivity = h (its Error indicator and "
+                        "Refine fraction say where) and a static problem."));
+          simulator.guard_cell_corners(true); // designs stay refinable
+        }
       if (settings.remesh_quality > 0 || settings.element_removal > 0 ||
           settings.outer_iterations > 0)
         for (const auto &b : simulator.design_layout().blocks)
-          AssertThrow(!b.on_mesh,
+          AssertThrow(!b.on_mesh || (refine && b.per_cell > 0),
                       dealii::ExcMessage(
                         std::string(settings.element_removal > 0 ?
                                       "Optimization/Element removal" :
@@ -733,6 +748,59 @@ namespace forma
 
 
 
+    // The next outer iteration on the mesh refined for the current design
+    // (Outer step = refine); the design is carried over.
+    template <int dim>
+    void
+    OptimizeJob<dim>::refine_and_restart()
+    {
+      ensure(result.design);
+      const std::size_t  last = result.history.size() - 1;
+      const std::string  next = "optimization.mesh_" + std::to_string(last);
+      dealii::Timer      refine_timer;
+      std::string        line;
+      const unsigned int refinements = simulator[0].n_refinements();
+      const double       before      = simulator.objective();
+      try
+        {
+          line = simulator.refine_design(directory + "/" + next);
+        }
+      catch (const std::exception &e)
+        {
+          // Refused before anything changed: on without outer steps.
+          if (simulator[0].n_refinements() != refinements)
+            throw;
+          line =
+            "not refined, continuing on the current mesh: " + error_message(e);
+          context.print(at_iteration(last) + line);
+          remeshes.push_back({{"iteration", last}, {"description", line}});
+          outer_possible = false;
+          restart("refined");
+          return;
+        }
+      remesh_seconds += refine_timer.wall_time();
+      solve_on_new_mesh();
+      mesh = next;
+      held.clear(), blocked.clear(), n_holds = 0;
+      // J changes with the resolution: the decrease window restarts.
+      stage_settings.decrease_window_start = last;
+      outer_last_J.push_back(result.history.back());
+      outer_start = last, ++n_outer;
+      outer_starts.push_back(outer_start);
+      context.print(at_iteration(last) + line);
+      // J of the same design before and after: the discretization error
+      // the refinement removed.
+      remeshes.push_back({{"iteration", last},
+                          {"description", line},
+                          {"refinement", true},
+                          {"n_dofs", simulator[0].n_dofs()},
+                          {"objective_before", before},
+                          {"objective_after", simulator.objective()}});
+      restart("refined");
+    }
+
+
+
     // After a failed remesh: back to the mesh (and design) the design was
     // found on. False if a new mesh was kept already and cannot be undone.
     template <int dim>
@@ -837,7 +905,10 @@ namespace forma
                 break;
               continue;
             }
-          remesh_and_restart();
+          if (settings.outer_step == "refine")
+            refine_and_restart();
+          else
+            remesh_and_restart();
         }
     }
 

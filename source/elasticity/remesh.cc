@@ -4,6 +4,7 @@
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/mpi_remote_point_evaluation.h>
+#include <deal.II/base/quadrature_lib.h>
 #include <deal.II/distributed/shared_tria.h>
 #include <deal.II/distributed/tria.h>
 #include <deal.II/fe/fe_values.h>
@@ -58,10 +59,33 @@ namespace forma
 
 
   template <int dim>
+  hp::QCollection<dim>
+  ElasticitySimulator<dim>::Impl::quality_points() const
+  {
+    if (!guard_corners || simplex)
+      return quadrature;
+    // A bilinear cell's Jacobian is smallest at a corner; quadrature
+    // points alone can miss a fold there that a refinement would meet.
+    const QGaussLobatto<dim> corners(2);
+    hp::QCollection<dim>     points;
+    for (unsigned int k = 0; k < quadrature.size(); ++k)
+      {
+        auto x = quadrature[k].get_points();
+        x.insert(x.end(),
+                 corners.get_points().begin(),
+                 corners.get_points().end());
+        points.push_back(Quadrature<dim>(x, std::vector<double>(x.size(), 1.)));
+      }
+    return points;
+  }
+
+
+
+  template <int dim>
   double
   ElasticitySimulator<dim>::Impl::min_scaled_jacobian(Point<dim> *where) const
   {
-    hp::FEValues<dim> fv(mapping, fe, quadrature, update_jacobians);
+    hp::FEValues<dim> fv(mapping, fe, quality_points(), update_jacobians);
     double            worst = 1;
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
@@ -275,31 +299,17 @@ namespace forma
     previous_mesh->material_of_vertex = material_of_vertex;
     previous_mesh->remeshed           = remeshed;
     previous_mesh->design             = design;
-    const auto old_layout             = layout;
-    remeshed                          = true;
+    previous_mesh->refinements        = std::move(refinements);
+    refinements.clear();
+    const auto old_layout = layout;
+    remeshed              = true;
     ++n_remeshes;
     adopt_mesh(std::move(new_tria), std::move(vertex_map), previous_mesh->tria);
 
-    // The design: a fresh shape block, the other blocks as they were.
-    const auto &old_design = previous_mesh->design;
+    // The design: a fresh shape block (the new vertices are the current
+    // shape), the other blocks as they were.
     build_design_layout();
-    for (unsigned int k = 0; k < layout.blocks.size(); ++k)
-      if (const auto &b = layout.blocks[k];
-          parameterizations[k]->restarts_on_remesh()) // the new vertices
-        std::fill(design.begin() + b.offset,          // are the current shape
-                  design.begin() + b.offset + b.size,
-                  0.);
-      else
-        {
-          const auto *o = old_layout.find(b.name);
-          AssertThrow(o && o->size == b.size,
-                      ExcMessage("remeshing: the design block '" + b.name +
-                                 "' lives on the mesh; only shape, per-body "
-                                 "and global blocks survive a remesh."));
-          std::copy(old_design.begin() + o->offset,
-                    old_design.begin() + o->offset + o->size,
-                    design.begin() + b.offset);
-        }
+    carry_design(old_layout, previous_mesh->design, "remeshing", false);
     apply_design(design);
   }
 
@@ -312,6 +322,7 @@ namespace forma
     AssertThrow(previous_mesh, ExcInternalError());
     const auto previous = std::move(previous_mesh);
     remeshed            = previous->remeshed;
+    refinements         = previous->refinements;
     --n_remeshes;
     if (!previous->tria) // failed before the mesh was replaced
       return;
@@ -449,7 +460,7 @@ namespace forma
     if (!b)
       return entries;
     const Impl       &I = *impl;
-    hp::FEValues<dim> fv(I.mapping, I.fe, I.quadrature, update_jacobians);
+    hp::FEValues<dim> fv(I.mapping, I.fe, I.quality_points(), update_jacobians);
     std::vector<types::global_dof_index> dofs;
     for (const auto &cell : I.dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
@@ -484,6 +495,13 @@ namespace forma
     std::sort(all.begin(), all.end());
     all.erase(std::unique(all.begin(), all.end()), all.end());
     return all;
+  }
+
+  template <int dim>
+  void
+  ElasticitySimulator<dim>::guard_cell_corners(const bool on)
+  {
+    impl->guard_corners = on;
   }
 
   template <int dim>
@@ -674,6 +692,7 @@ namespace forma
   template double ElasticitySimulator<dim>::Impl::min_scaled_jacobian(           \
     Point<dim> *) const;                                                         \
   template double ElasticitySimulator<dim>::mesh_quality() const;                \
+  template void   ElasticitySimulator<dim>::guard_cell_corners(const bool);      \
   template std::vector<unsigned int>                                             \
   ElasticitySimulator<dim>::degenerate_shape_entries(const double) const;        \
   template bool        ElasticitySimulator<dim>::remesh_improves(std::string &); \

@@ -328,6 +328,10 @@ namespace forma
     /// Settle the flags (p4est balance); whether any rank's cells change.
     bool
     mesh_will_change() const;
+    /// Kelly's indicators of u_ghost (plus the contact residual where
+    /// Contact residual says so) into `estimated_error`.
+    void
+    kelly_indicators();
     /// Static adaptive cycles: estimate, mark and refine.
     void
     refine_mesh();
@@ -423,6 +427,15 @@ namespace forma
     apply_start_values();
     void
     apply_design(const std::vector<double> &q);
+    /// After a mesh change (`change` names it in messages) and
+    /// build_design_layout(): the blocks that do not live on the mesh take
+    /// their entries in `old` (laid out as `old_layout`); shape blocks keep
+    /// their start, and so do blocks per cell if `cells_carried`.
+    void
+    carry_design(const DesignLayout        &old_layout,
+                 const std::vector<double> &old,
+                 const std::string         &change,
+                 const bool                 cells_carried);
     void
     solve_forward(const bool quiet);
     void
@@ -570,6 +583,11 @@ namespace forma
     /// points of the current shape (and where, on the mesh as read).
     double
     min_scaled_jacobian(Point<dim> *where = nullptr) const;
+    /// Where the shape's quality is checked: the quadrature points, and
+    /// with `guard_corners` the cells' corners too.
+    hp::QCollection<dim>
+         quality_points() const;
+    bool guard_corners = false;
     /// f(cell, Cauchy stress, JxW) at every quadrature point of the locally
     /// owned cells in the last state.
     void
@@ -623,8 +641,27 @@ namespace forma
       std::vector<std::pair<Point<dim>, Point<dim>>>    material_of_vertex;
       bool                                              remeshed = false;
       std::vector<double>                               design;
+      std::vector<std::vector<std::string>>             refinements;
     };
     std::unique_ptr<PreviousMesh> previous_mesh;
+
+    // Refinement of a design (design_refinement.cc).
+    /// Refine the active cells named in `cells` (CellId strings) and carry
+    /// the design over; the shape and blocks per cell are interpolated.
+    void
+    refine_design_cells(const std::set<std::string> &cells);
+    /// The design's entries per cell of the blocks with entries per cell,
+    /// by CellId, for the cells after a refinement.
+    std::map<std::string, std::vector<double>>
+    design_by_cell() const;
+    void
+    set_design_by_cell(
+      const std::map<std::string, std::vector<double>> &by_cell);
+    /// The refinements since the mesh as read or last remeshed (CellIds).
+    std::vector<std::vector<std::string>> refinements;
+    /// While the layout is rebuilt after a refinement: the shape design
+    /// per shape DoF (the offsets interpolated at the new vertices).
+    std::vector<double> carried_shape;
 
     // Harmonic extension of boundary shape moves into the interior
     // (Design/Shape parameterization = boundary), rebuilt with the design.

@@ -104,6 +104,20 @@ namespace forma
       "Objective terms with 'final weight' ramp their weights over these "
       "runs. Max iterations still bounds the total. 0: one run, remeshed "
       "only for Remesh quality.");
+    prm.declare_entry(
+      "Outer step",
+      "remesh",
+      Patterns::Selection("remesh|refine"),
+      "What ends an outer iteration (Outer iterations) of the elasticity "
+      "apps: remesh (Gmsh, Design/Remesh boundary), or refine: refine the "
+      "mesh in place where Finite element/Error indicator of the current "
+      "design is largest (Refine fraction of the cells; Kelly or the goal "
+      "estimate of Objective/Terms), so that the next run optimizes a more "
+      "accurate objective. The design is carried over: shape offsets are "
+      "interpolated at the new vertices (the same shape), cell material "
+      "entries go to the children. refine needs Finite element/Adaptivity "
+      "= h, a quad/hex mesh and a static problem, and excludes Remesh "
+      "quality and Element removal.");
     prm.declare_entry("Inner iterations",
                       "0",
                       Patterns::Integer(0),
@@ -204,6 +218,13 @@ namespace forma
     max_remeshes       = prm.get_integer("Max remeshes");
     outer_iterations   = prm.get_integer("Outer iterations");
     inner_iterations   = prm.get_integer("Inner iterations");
+    outer_step         = prm.get("Outer step");
+    AssertThrow(outer_step == "remesh" ||
+                  (outer_iterations > 0 && remesh_quality == 0),
+                ExcMessage("Optimization/Outer step = refine ends outer "
+                           "iterations: it needs Outer iterations > 0, and "
+                           "Remesh quality = 0 (a refined mesh is not "
+                           "remeshed)."));
     AssertThrow(inner_iterations == 0 || outer_iterations > 0,
                 ExcMessage("Optimization/Inner iterations needs Outer "
                            "iterations (thesis Algorithm 1's outer loop)."));

@@ -241,6 +241,21 @@ main()
                    "subsection Objective\n set Terms = stress : p=2\nend\n"
                    "subsection Design\n set Parameters = shape\nend\n",
                  good);
+  // Refinement between outer iterations where it does not apply.
+  const std::string optimize =
+    "set Mode = optimize\n"
+    "subsection Objective\n set Terms = stress : p=2\nend\n"
+    "subsection Design\n set Parameters = shape\n"
+    " set Fixed boundaries = 0\nend\n";
+  expect_failure("outer_refinement_without_outer_iterations",
+                 base + optimize +
+                   "subsection Optimization\n set Outer step = refine\nend\n",
+                 good);
+  expect_failure("outer_refinement_without_adaptivity",
+                 base + optimize +
+                   "subsection Optimization\n set Outer step = refine\n"
+                   " set Outer iterations = 2\nend\n",
+                 good);
   // A parameter value that is not UTF-8 (a Latin-1 file name): quoted
   // escaped, and the echoed parameters still make valid JSON.
   expect_failure("latin1_file_name",

@@ -85,6 +85,9 @@ namespace forma
       vertex_offset ///< the largest vertex move from the mesh as read
     };
     Summary summary = Summary::values;
+    /// Entries per active cell of a block per cell (cell material), which a
+    /// refinement carries over (children take their cell's); 0 otherwise.
+    unsigned int per_cell = 0;
   };
 
   /// Layout of a design vector: its blocks in order. Every rank holds the

@@ -99,6 +99,15 @@ namespace forma
       return false;
     }
 
+    /// Blocks of this many entries per active cell (in global active cell
+    /// index order) are carried over a refinement: a refined cell's
+    /// children take its entries. 0: not such a block.
+    virtual unsigned int
+    entries_per_cell() const
+    {
+      return 0;
+    }
+
     /// How reports summarize the block.
     virtual DesignBlock::Summary
     summary() const

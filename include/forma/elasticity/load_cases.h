@@ -134,6 +134,15 @@ namespace forma
                   std::vector<double>       &upper) const;
     unsigned int
     n_remeshes() const;
+    /// Refine where the cases' indicators, each over its sum, are largest
+    /// (ElasticitySimulator::refine_design()); every case refines the
+    /// same cells. Needs the current design solved.
+    std::string
+    refine_design(const std::string &file_stem);
+    void
+    load_refinement(const std::string &file_stem);
+    void
+    guard_cell_corners(const bool on);
 
   private:
     std::vector<std::unique_ptr<ElasticitySimulator<dim>>> cases;

@@ -5,6 +5,7 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
+#include <deal.II/lac/vector.h>
 
 #include <forma/adjoint/design.h>
 #include <forma/adjoint/objective.h>
@@ -245,6 +246,13 @@ namespace forma
     double
     mesh_quality() const;
 
+    /// Check the shape's quality (Design/Min scaled Jacobian) at the cells'
+    /// corners as well as at the quadrature points: a bilinear cell can
+    /// fold at a corner unseen by its quadrature points, and the cells of a
+    /// refinement would meet the fold.
+    void
+    guard_cell_corners(const bool on);
+
     /// Design entries of the shape DoFs (and the DoFs they are constrained
     /// to) of every cell whose scaled Jacobian in the current shape is
     /// below `threshold`, sorted, on every rank: where the quality guard
@@ -316,6 +324,48 @@ namespace forma
 
     unsigned int
     n_remeshes() const;
+    //@}
+
+    /**
+     * @name Refinement of a design
+     *
+     * Quad/hex meshes refine in place (p4est, hanging nodes) between
+     * optimization iterations, for the objective's accuracy. The design is
+     * carried over: shape offsets are interpolated at the new vertices,
+     * which keeps the shape exactly (the shape field is bi/trilinear); a
+     * refined cell's children take its entries of blocks per cell (cell
+     * material); per-body and global blocks keep their values. Static
+     * problems; not with IPC.
+     */
+    //@{
+    /// Error indicators of the current design's state, per active cell of
+    /// this rank (Finite element/Error indicator: Kelly's, with the contact
+    /// residual where Contact residual says so, or the goal estimate of
+    /// Objective/Terms).
+    dealii::Vector<float>
+    refinement_indicators();
+
+    /// The Refine fraction (Finite element) of the active cells with the
+    /// largest `indicators`, as CellId strings, sorted, on every rank.
+    std::vector<std::string>
+    cells_to_refine(const dealii::Vector<float> &indicators);
+
+    /// Refine `cells` (from cells_to_refine()) and carry the design over;
+    /// writes `<file_stem>.refinement.json` (every refinement since the
+    /// mesh as read or last remeshed) for load_refinement() unless
+    /// `file_stem` is empty. Returns a one-line description.
+    std::string
+    refine_design(const std::vector<std::string> &cells,
+                  const std::string              &file_stem);
+
+    /// Repeat the refinements written by refine_design() on the mesh they
+    /// started from (what a resumed run does).
+    void
+    load_refinement(const std::string &file_stem);
+
+    /// Refinements since the mesh as read or last remeshed.
+    unsigned int
+    n_refinements() const;
     //@}
 
     /// Accumulated forward and adjoint wall times, stored-state memory.

@@ -28,6 +28,9 @@ namespace forma
     /// `inner_iterations`) is followed by a remesh and a fresh L-BFGS run,
     /// up to this many runs; 0: remesh on mesh quality only.
     unsigned int outer_iterations = 0;
+    /// What ends an outer iteration: "remesh" (Gmsh) or "refine" (the
+    /// mesh refined in place for the objective's accuracy).
+    std::string outer_step = "remesh";
     /// oi_max_ii of Algorithm 1: iterations of one inner run; 0: no limit.
     unsigned int inner_iterations = 0;
     /// The outer iteration (from 1) this run belongs to and the iteration
