@@ -2,7 +2,7 @@
 // uniformly refined copies of it (issue 46, item 4): how accurate the J an
 // optimization reports is, and what the design is worth. Reads the run's
 // parameter file and its checkpoint (the last accepted design, and the
-// refinement file if the run refined its mesh). The shape field is
+// refinement or remesh files if the run changed its mesh). The shape field is
 // bilinear, so refined copies carry the same shape.
 //   design_on_finer_meshes <file.prm> <output directory> <levels>
 // Prints one line: n_dofs J, then n_dofs J per uniform refinement.
@@ -51,10 +51,18 @@ main(int argc, char **argv)
       s.prepare();
       s.set_objective(std::make_shared<const forma::Objective<2>>(p.objective));
       const std::string mesh = checkpoint.at("mesh");
-      if (!mesh.empty())
-        s.load_refinement(directory + "/" + mesh);
+      const std::string stem = directory + "/" + mesh;
+      if (!mesh.empty() &&
+          std::filesystem::exists(stem + ".refinement.json"))
+        s.load_refinement(stem);
+      else if (!mesh.empty())
+        s.load_remeshed(stem);
       s.set_design(checkpoint.at("design").get<std::vector<double>>());
       std::cout << std::setprecision(10);
+      s.solve_design();
+      std::cerr << "quality at quadrature points " << s.mesh_quality();
+      s.guard_cell_corners(true);
+      std::cerr << ", with corners " << s.mesh_quality() << std::endl;
       for (int level = 0;; ++level)
         {
           s.solve_design();

@@ -587,7 +587,7 @@ namespace forma
     /// with `guard_corners` the cells' corners too.
     hp::QCollection<dim>
          quality_points() const;
-    bool guard_corners = false;
+    bool guard_corners = p.design.check_corners;
     /// f(cell, Cauchy stress, JxW) at every quadrature point of the locally
     /// owned cells in the last state.
     void

@@ -11,7 +11,9 @@
 // - the adjoint: the Taylor test passes on the refined design with
 //   hanging nodes (2D shape, material and cell material blocks; 3D hexes);
 // - the file: a second simulator repeats the refinement from it.
-// Simplicial meshes are refused.
+// A cell folded at a corner, between its quadrature points, is seen by the
+// corner check (Design/Check corners) and not refined. Simplicial meshes
+// are refused.
 
 #include <deal.II/grid/grid_generator.h>
 #include <deal.II/grid/tria.h>
@@ -273,6 +275,67 @@ namespace
   }
 
   void
+  corner_fold_2d()
+  {
+    // One square cell whose corner (1, 1) moves to (0.45, 0.45): det J =
+    // 1 - 0.55 (xi + eta) is positive at the Gauss points and -0.1 at that
+    // corner. The cell folds there; only a check at the corners sees it.
+    const std::string prm =
+      "set Dimension = 2\n"
+      "subsection Mesh\n set Generator = subdivided_hyper_rectangle\n"
+      " set Generator arguments = 1, 1 : 0, 0 : 1, 1 : true\nend\n"
+      "subsection Finite element\n set Degree = 1\nend\n"
+      "subsection Material\n set Bodies = * : E = 1e4, nu = 0.3\nend\n"
+      "subsection Boundary conditions\n set Dirichlet = 0 : xy : 0, 0\n"
+      "end\nsubsection Design\n set Parameters = shape\n"
+      " set Fixed boundaries = 0\n"
+      " set Shape perturbation = -0.55 * x * y, -0.55 * x * y\nend\n"
+      "subsection Objective\n set Terms = volume\nend\n";
+    const auto p = parameters_from_string<forma::ElasticityParameters>(prm);
+    forma::ElasticitySimulator<2> s(p, MPI_COMM_WORLD);
+    s.prepare();
+    s.set_objective(std::make_shared<const forma::Objective<2>>(p.objective));
+    value(s);
+    const double at_points = s.mesh_quality();
+    s.guard_cell_corners(true);
+    const double at_corners = s.mesh_quality();
+    deallog << "a cell folded at a corner: scaled Jacobian at the quadrature "
+               "points "
+            << rounded(at_points, 3) << ", with the corners "
+            << rounded(at_corners, 3) << std::endl;
+    std::string refused = "NOT refused";
+    try
+      {
+        refine(s, "");
+      }
+    catch (const ExceptionBase &e)
+      {
+        refused = std::string(e.what()).find("folds at a corner") !=
+                      std::string::npos ?
+                    "refused with a message" :
+                    "refused, wrong message";
+      }
+    deallog << "  refinement " << refused << std::endl;
+    std::string rejected = "NOT rejected";
+    try
+      {
+        const auto c = parameters_from_string<forma::ElasticityParameters>(
+          prm + "subsection Design\n set Check corners = true\nend\n");
+        forma::ElasticitySimulator<2> t(c, MPI_COMM_WORLD);
+        t.prepare();
+      }
+    catch (const ExceptionBase &e)
+      {
+        rejected = std::string(e.what()).find("the design inverts a cell") !=
+                       std::string::npos ?
+                     "rejected as inverted" :
+                     "rejected, wrong message";
+      }
+    deallog << "  with Design/Check corners the design is " << rejected
+            << std::endl;
+  }
+
+  void
   simplices_refused()
   {
     const auto p = parameters_from_string<forma::ElasticityParameters>(
@@ -312,5 +375,6 @@ main(int argc, char **argv)
   cell_material_2d(mesh);
   remeshed_then_refined_2d(mesh);
   hexahedra_3d();
+  corner_fold_2d();
   simplices_refused();
 }

@@ -47,6 +47,8 @@ namespace forma
     std::string              symmetry_planes;
     std::string              shape_perturbation;
     double                   min_scaled_jacobian = 1e-3;
+    /// Check min_scaled_jacobian at the cells' corners too (quad/hex).
+    bool check_corners = false;
     double                   shape_bound         = 0; ///< 0: free
     std::string              start;  ///< starting block values (records)
     std::string              bodies; ///< material ids of per-body blocks
