@@ -68,7 +68,8 @@ namespace forma
         "there unseen: the shipped bridge_stress's final design passes at "
         "its quadrature points (0.200) with a corner at -0.95. "
         "Optimization/Outer step = refine turns it on (the children would "
-        "meet the fold).");
+        "meet the fold). In 3D the corners of a trilinear cell are a "
+        "stronger check, not a proof.");
       prm.declare_entry(
         "Shape parameterization",
         "vertices",

@@ -61,17 +61,27 @@ namespace forma
 
   template <int dim>
   void
+  ElasticitySimulator<dim>::Impl::flag_cells(const Vector<float> &eta,
+                                             const double coarsen_fraction)
+  {
+    auto &mesh = adaptive_mesh(*tria);
+    AssertThrow(eta.size() == tria->n_active_cells(), ExcInternalError());
+    if (p.marking == "error fraction")
+      parallel::distributed::GridRefinement::refine_and_coarsen_fixed_fraction(
+        mesh, eta, p.refine_fraction, coarsen_fraction);
+    else
+      parallel::distributed::GridRefinement::refine_and_coarsen_fixed_number(
+        mesh, eta, p.refine_fraction, coarsen_fraction);
+  }
+
+
+
+  template <int dim>
+  void
   ElasticitySimulator<dim>::Impl::mark_cells(const bool level_limits)
   {
     auto &mesh = adaptive_mesh(*tria);
-    AssertThrow(estimated_error.size() == tria->n_active_cells(),
-                ExcInternalError());
-    if (p.marking == "error fraction")
-      parallel::distributed::GridRefinement::refine_and_coarsen_fixed_fraction(
-        mesh, estimated_error, p.refine_fraction, p.coarsen_fraction);
-    else
-      parallel::distributed::GridRefinement::refine_and_coarsen_fixed_number(
-        mesh, estimated_error, p.refine_fraction, p.coarsen_fraction);
+    flag_cells(estimated_error, p.coarsen_fraction);
     // Transient runs: within the starting mesh's levels and Max refinement
     // level more, so that a moving front cannot refine without bound.
     if (level_limits)

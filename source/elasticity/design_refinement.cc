@@ -119,9 +119,27 @@ namespace forma
 
   template <int dim>
   void
+  ElasticitySimulator<dim>::Impl::check_refinable() const
+  {
+    refinable_mesh(*tria);
+    AssertThrow(p.problem == "static" && !ipc_contact,
+                ExcMessage("refining a design: static problems without IPC "
+                           "only."));
+    for (const auto &b : layout.blocks)
+      AssertThrow(!b.on_mesh || b.per_cell > 0,
+                  ExcMessage("refining a design: the design block '" + b.name +
+                             "' lives on the mesh's DoFs and is not carried "
+                             "over a refinement."));
+  }
+
+
+
+  template <int dim>
+  void
   ElasticitySimulator<dim>::Impl::refine_design_cells(
     const std::set<std::string> &cells)
   {
+    check_refinable();
     auto &mesh = refinable_mesh(*tria);
     for (const auto &cell : mesh.active_cell_iterators())
       if (cell->is_locally_owned() && cells.count(cell->id().to_string()))
@@ -130,59 +148,33 @@ namespace forma
     const auto old_design = design;
     const auto by_cell    = design_by_cell();
 
-    // The shape as solved (hanging and fixed vertices as the constraints
-    // put them) and the material coordinates move to the new vertices.
-    Vector_t offset(shape_owned, shape_relevant, comm),
+    // The positions of the shape as solved and the material coordinates
+    // move to the new vertices: the positions, not the offsets, because a
+    // curved mesh puts its new vertices on its manifold.
+    Vector_t x(shape_owned, shape_relevant, comm),
       material(shape_owned, shape_relevant, comm);
-    {
-      Vector_t x(shape_owned, comm), X(shape_owned, comm);
-      x = shape_ghost;
-      X = shape_reference;
-      x -= X;
-      offset = x;
-    }
+    x        = shape_ghost;
     material = material_positions;
     parallel::distributed::SolutionTransfer<dim, Vector_t> transfer(
       shape_dof_handler);
     transfer.prepare_for_coarsening_and_refinement(
-      std::vector<const Vector_t *>{&offset, &material});
+      std::vector<const Vector_t *>{&x, &material});
     mesh.execute_coarsening_and_refinement();
 
     shape_dof_handler.distribute_dofs(*shape_fe);
     const IndexSet new_owned = shape_dof_handler.locally_owned_dofs();
-    IndexSet       new_relevant;
-    DoFTools::extract_locally_relevant_dofs(shape_dof_handler, new_relevant);
-    Vector_t new_offset(new_owned, comm), new_material(new_owned, comm);
-    std::vector<Vector_t *> moved{&new_offset, &new_material};
+    Vector_t       new_x(new_owned, comm), new_material(new_owned, comm);
+    std::vector<Vector_t *> moved{&new_x, &new_material};
     transfer.interpolate(moved);
     if (!material_of_vertex.empty()) // a remeshed mesh's, by vertex
-      {
-        Vector_t X(new_owned, new_relevant, comm);
-        X = new_material;
-        material_of_vertex.clear();
-        for (const auto &cell : shape_dof_handler.active_cell_iterators())
-          if (cell->is_locally_owned())
-            for (const auto v : cell->vertex_indices())
-              {
-                Point<dim> m;
-                for (unsigned int d = 0; d < dim; ++d)
-                  m[d] = X(cell->vertex_dof_index(v, d));
-                material_of_vertex.emplace_back(cell->vertex(v), m);
-              }
-        const auto before = [](const auto &a, const auto &b) {
-          return std::lexicographical_compare(a.first.begin_raw(),
-                                              a.first.end_raw(),
-                                              b.first.begin_raw(),
-                                              b.first.end_raw());
-        };
-        std::sort(material_of_vertex.begin(), material_of_vertex.end(), before);
-      }
+      rebuild_material_of_vertex(new_material);
+
+    // setup_shape() numbers the shape DoFs as above.
+    setup_mesh_dependents();
     carried_shape.assign(shape_dof_handler.n_dofs(), 0.);
     for (const auto i : new_owned)
-      carried_shape[i] = new_offset(i);
+      carried_shape[i] = new_x(i) - shape_reference(i);
     Utilities::MPI::sum(carried_shape, comm, carried_shape);
-
-    setup_mesh_dependents();
     build_design_layout(); // the shape block starts at carried_shape
     carried_shape.clear();
     carry_design(old_layout, old_design, "refining a design", true);
@@ -193,14 +185,40 @@ namespace forma
 
 
   template <int dim>
+  void
+  ElasticitySimulator<dim>::Impl::rebuild_material_of_vertex(
+    const Vector_t &material)
+  {
+    // setup_shape() looks up the vertices of the locally owned cells only.
+    IndexSet relevant_shape;
+    DoFTools::extract_locally_relevant_dofs(shape_dof_handler, relevant_shape);
+    Vector_t X(shape_dof_handler.locally_owned_dofs(), relevant_shape, comm);
+    X = material;
+    material_of_vertex.clear();
+    for (const auto &cell : shape_dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (const auto v : cell->vertex_indices())
+          {
+            Point<dim> m;
+            for (unsigned int d = 0; d < dim; ++d)
+              m[d] = X(cell->vertex_dof_index(v, d));
+            material_of_vertex.emplace_back(cell->vertex(v), m);
+          }
+    std::sort(material_of_vertex.begin(),
+              material_of_vertex.end(),
+              [](const auto &a, const auto &b) {
+                return lexicographically_before(a.first, b.first);
+              });
+  }
+
+
+
+  template <int dim>
   dealii::Vector<float>
   ElasticitySimulator<dim>::refinement_indicators()
   {
     auto &s = *impl;
-    AssertThrow(s.p.problem == "static" && !s.ipc_contact,
-                ExcMessage("refining a design: static problems without IPC "
-                           "only."));
-    refinable_mesh(*s.tria);
+    s.check_refinable();
     AssertThrow(!s.u_states.empty(),
                 ExcMessage("refining a design: solve the design first."));
     s.set_step_state(0);
@@ -247,16 +265,7 @@ namespace forma
                                           const std::string &file_stem)
   {
     auto &s = *impl;
-    AssertThrow(s.p.problem == "static" && !s.ipc_contact,
-                ExcMessage("refining a design: static problems without IPC "
-                           "only."));
-    for (unsigned int k = 0; k < s.layout.blocks.size(); ++k)
-      AssertThrow(!s.layout.blocks[k].on_mesh ||
-                    s.layout.blocks[k].per_cell > 0,
-                  ExcMessage("refining a design: the design block '" +
-                             s.layout.blocks[k].name +
-                             "' lives on the mesh's DoFs and is not carried "
-                             "over a refinement."));
+    s.check_refinable();
     {
       // The children would meet a fold at a corner: say so before anything
       // changes.

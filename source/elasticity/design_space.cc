@@ -75,7 +75,8 @@ namespace forma
           design.insert(design.end(), q0.begin(), q0.end());
           parameterizations.push_back(std::move(block));
         }
-    apply_start_values();
+    if (carried_shape.empty()) // a refined design keeps its values
+      apply_start_values();
   }
 
 
@@ -163,8 +164,11 @@ namespace forma
         const auto *o = old_layout.find(b.name);
         AssertThrow(!block.lives_on_mesh() && o && o->size == b.size,
                     ExcMessage(change + ": the design block '" + b.name +
-                               "' lives on the mesh; only shape, per-body "
-                               "and global blocks survive it."));
+                               "' lives on the mesh; only shape, per-body " +
+                               (cells_carried ? "and global blocks and blocks "
+                                                "per cell survive it." :
+                                                "and global blocks survive "
+                                                "it.")));
         std::copy(old.begin() + o->offset,
                   old.begin() + o->offset + o->size,
                   design.begin() + b.offset);

@@ -121,103 +121,114 @@ namespace forma
           cell->set_active_fe_index(index[cell->active_cell_index()] + raise);
     };
 
-    // One degree higher, where the discrete solutions embed exactly (the
-    // spaces are nested).
-    set_degrees(1);
-    setup_system();
-    apply_design(design); // the design's shape and materials, not the mesh's
-    std::map<unsigned int, FullMatrix<double>> embedding, difference;
-    for (const unsigned int k :
-         std::set<unsigned int>(index.begin(), index.end()))
-      {
-        embedding[k].reinit(fe[k + 1].n_dofs_per_cell(),
-                            fe[k].n_dofs_per_cell());
-        FETools::get_interpolation_matrix(fe[k], fe[k + 1], embedding[k]);
-        difference[k].reinit(fe[k + 1].n_dofs_per_cell(),
-                             fe[k + 1].n_dofs_per_cell());
-        FETools::get_interpolation_difference_matrix(fe[k + 1],
-                                                     fe[k],
-                                                     difference[k]);
-      }
-    std::vector<types::global_dof_index> dofs;
-    const auto embed = [&](const std::vector<dealii::Vector<double>> &low) {
-      Vector_t high(owned, comm);
-      for (const auto &cell : dof_handler.active_cell_iterators())
-        if (cell->is_locally_owned())
-          {
-            const unsigned int     i = cell->active_cell_index();
-            dealii::Vector<double> local(cell->get_fe().n_dofs_per_cell());
-            embedding[index[i]].vmult(local, low[i]);
-            dofs.resize(local.size());
-            cell->get_dof_indices(dofs);
-            for (unsigned int k = 0; k < dofs.size(); ++k)
-              if (owned.is_element(dofs[k]))
-                high(dofs[k]) = local(k);
-          }
-      high.compress(VectorOperation::insert);
-      return high;
+    // Back to the solved state on the solver's own degrees, also when the
+    // higher space fails; the direct factorization or AMG hierarchy kept
+    // for reuse belongs to the higher space, so the solver starts afresh.
+    const auto restore = [&]() {
+      set_degrees(0);
+      linear_solver = LinearSolver(p.linear_solver);
+      setup_system();
+      apply_design(design);
+      u        = u_saved;
+      u_ghost  = u;
+      u_states = states_saved;
     };
+    double estimate = 0;
+    try
+      {
+        // One degree higher, where the discrete solutions embed exactly (the
+        // spaces are nested).
+        set_degrees(1);
+        setup_system();
+        apply_design(
+          design); // the design's shape and materials, not the mesh's
+        std::map<unsigned int, FullMatrix<double>> embedding, difference;
+        for (const unsigned int k :
+             std::set<unsigned int>(index.begin(), index.end()))
+          {
+            embedding[k].reinit(fe[k + 1].n_dofs_per_cell(),
+                                fe[k].n_dofs_per_cell());
+            FETools::get_interpolation_matrix(fe[k], fe[k + 1], embedding[k]);
+            difference[k].reinit(fe[k + 1].n_dofs_per_cell(),
+                                 fe[k + 1].n_dofs_per_cell());
+            FETools::get_interpolation_difference_matrix(fe[k + 1],
+                                                         fe[k],
+                                                         difference[k]);
+          }
+        std::vector<types::global_dof_index> dofs;
+        const auto embed = [&](const std::vector<dealii::Vector<double>> &low) {
+          Vector_t high(owned, comm);
+          for (const auto &cell : dof_handler.active_cell_iterators())
+            if (cell->is_locally_owned())
+              {
+                const unsigned int     i = cell->active_cell_index();
+                dealii::Vector<double> local(cell->get_fe().n_dofs_per_cell());
+                embedding[index[i]].vmult(local, low[i]);
+                dofs.resize(local.size());
+                cell->get_dof_indices(dofs);
+                for (unsigned int k = 0; k < dofs.size(); ++k)
+                  if (owned.is_element(dofs[k]))
+                    high(dofs[k]) = local(k);
+              }
+          high.compress(VectorOperation::insert);
+          return high;
+        };
 
-    // At u_h: the primal residual h = -rho, J and dJ/du (the adjoint
-    // residual rho*(z_h)(v) = dJ/du v - a'(v, z_h) is the vector
-    // dJ/du + K^T lambda_h).
-    const Vector_t u_h = embed(u_low);
-    u                  = u_h;
-    u_states.assign(1, u);
-    assemble_or_throw(u, true);
-    const Vector_t h = residual;
-    const auto     w = goal_weights(J, value);
-    dJ_du.reinit(owned, comm);
-    accumulate(J, &w, nullptr, &dJ_du);
-    const Vector_t lambda_embedded = embed(lambda_low);
-    Vector_t       dual(owned, comm);
-    jacobian.Tvmult(dual, lambda_embedded);
-    dual += dJ_du;
+        // At u_h: the primal residual h = -rho, J and dJ/du (the adjoint
+        // residual rho*(z_h)(v) = dJ/du v - a'(v, z_h) is the vector
+        // dJ/du + K^T lambda_h).
+        const Vector_t u_h = embed(u_low);
+        u                  = u_h;
+        u_states.assign(1, u);
+        assemble_or_throw(u, true);
+        const Vector_t h = residual;
+        const auto     w = goal_weights(J, value);
+        dJ_du.reinit(owned, comm);
+        accumulate(J, &w, nullptr, &dJ_du);
+        const Vector_t lambda_embedded = embed(lambda_low);
+        Vector_t       dual(owned, comm);
+        jacobian.Tvmult(dual, lambda_embedded);
+        dual += dJ_du;
 
-    // The primal one degree higher, u+: the Dirichlet data interpolated in
-    // the higher space, then one Newton step (exact for linear elasticity).
-    Vector_t u_high(u);
-    constraints_bc.distribute(u_high);
-    assemble_or_throw(u_high, false);
-    Vector_t du(owned, comm), minus_h(residual);
-    minus_h *= -1.;
-    solve_jacobian(du, minus_h);
-    constraints_zero.distribute(du);
-    u_high += du;
+        // The primal one degree higher, u+: the Dirichlet data interpolated in
+        // the higher space, then one Newton step (exact for linear elasticity).
+        Vector_t u_high(u);
+        constraints_bc.distribute(u_high);
+        assemble_or_throw(u_high, false);
+        Vector_t du(owned, comm), minus_h(residual);
+        minus_h *= -1.;
+        solve_jacobian(du, minus_h);
+        constraints_zero.distribute(du);
+        u_high += du;
 
-    // The adjoint one degree higher, of J linearized at u+ rather than u_h:
-    // the difference is what carries a nonlinear goal's quadratic error.
-    u = u_high;
-    double         value_high;
-    Vector_t       dJ_du_high;
-    const Vector_t lambda_high = goal_adjoint(J, dJ_du_high, value_high);
+        // The adjoint one degree higher, of J linearized at u+ rather than u_h:
+        // the difference is what carries a nonlinear goal's quadratic error.
+        u = u_high;
+        double         value_high;
+        Vector_t       dJ_du_high;
+        const Vector_t lambda_high = goal_adjoint(J, dJ_du_high, value_high);
 
-    // The estimate with weights z+ - z_h and u+ - u_h: any conforming
-    // discrete function may stand for I_h z (Galerkin orthogonality), and
-    // the discrete solutions are conforming across hanging nodes and degree
-    // changes. The indicators with the cell's own interpolant, which
-    // vanishes at the cell's lower-degree nodes and so keeps each product
-    // on the cells it comes from (they mark better).
-    Vector_t weight_z(lambda_high), weight_u(u_high);
-    weight_z -= lambda_embedded;
-    weight_u -= u_h;
-    const double estimate =
-      share_products(h, weight_z, dual, weight_u, nullptr);
-    estimated_error.reinit(n_cells);
-    share_products(h, lambda_high, dual, u_high, [&](const auto &cell) {
-      return &difference.at(index[cell->active_cell_index()]);
-    });
-
-    // Back to the solved state on the solver's own degrees; the direct
-    // factorization or AMG hierarchy kept for reuse belongs to the higher
-    // space, so the solver starts afresh.
-    set_degrees(0);
-    linear_solver = LinearSolver(p.linear_solver);
-    setup_system();
-    apply_design(design);
-    u        = u_saved;
-    u_ghost  = u;
-    u_states = states_saved;
+        // The estimate with weights z+ - z_h and u+ - u_h: any conforming
+        // discrete function may stand for I_h z (Galerkin orthogonality), and
+        // the discrete solutions are conforming across hanging nodes and degree
+        // changes. The indicators with the cell's own interpolant, which
+        // vanishes at the cell's lower-degree nodes and so keeps each product
+        // on the cells it comes from (they mark better).
+        Vector_t weight_z(lambda_high), weight_u(u_high);
+        weight_z -= lambda_embedded;
+        weight_u -= u_h;
+        estimate = share_products(h, weight_z, dual, weight_u, nullptr);
+        estimated_error.reinit(n_cells);
+        share_products(h, lambda_high, dual, u_high, [&](const auto &cell) {
+          return &difference.at(index[cell->active_cell_index()]);
+        });
+      }
+    catch (...)
+      {
+        restore();
+        throw;
+      }
+    restore();
     return {value, estimate};
   }
 

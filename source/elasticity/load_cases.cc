@@ -414,6 +414,13 @@ namespace forma
   LoadCases<dim>::refine_design(const std::string &file_stem)
   {
     // Each case's indicators over their sum: no case's units decide.
+    for (const auto &c : cases)
+      AssertThrow(c->triangulation().n_global_active_cells() ==
+                    cases[0]->triangulation().n_global_active_cells(),
+                  dealii::ExcMessage(
+                    "refining a design: the load cases' meshes differ "
+                    "(Finite element/Adaptive cycles adapted each to its "
+                    "own loads)."));
     dealii::Vector<float> sum;
     for (auto &c : cases)
       {

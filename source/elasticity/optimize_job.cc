@@ -326,6 +326,13 @@ namespace forma
                         "Optimization/Outer step = refine: needs Finite "
                         "element/Adaptivity = h (its Error indicator and "
                         "Refine fraction say where) and a static problem."));
+          AssertThrow(simulator.n_cases() == 1 ||
+                        parameters.adaptive_cycles == 0,
+                      dealii::ExcMessage(
+                        "Optimization/Outer step = refine with several load "
+                        "cases refines one mesh for all: set Finite "
+                        "element/Adaptive cycles = 0 (each case would adapt "
+                        "its own)."));
           simulator.guard_cell_corners(true); // designs stay refinable
         }
       if (settings.remesh_quality > 0 || settings.element_removal > 0 ||
@@ -337,9 +344,14 @@ namespace forma
                                       "Optimization/Element removal" :
                                     settings.remesh_quality > 0 ?
                                       "Optimization/Remesh quality" :
+                                    refine ?
+                                      "Optimization/Outer step = refine" :
                                       "Optimization/Outer iterations") +
                         ": the design block '" + b.name +
-                        "' lives on the mesh and cannot be remeshed."));
+                        (refine ? "' lives on the mesh's DoFs and is not "
+                                  "carried over a refinement." :
+                                  "' lives on the mesh and cannot be "
+                                  "remeshed.")));
       AssertThrow(
         !simulator.ramp_objective_weights(progress()) ||
           settings.outer_iterations >= 2,
@@ -767,9 +779,10 @@ namespace forma
         }
       catch (const std::exception &e)
         {
-          // Refused before anything changed: on without outer steps.
+          // Refused before the mesh changed: on without outer steps.
           if (simulator[0].n_refinements() != refinements)
             throw;
+          solved.clear(); // an indicator may have solved other states
           line =
             "not refined, continuing on the current mesh: " + error_message(e);
           context.print(at_iteration(last) + line);

@@ -66,6 +66,8 @@ namespace forma
       return quadrature;
     // A bilinear cell's Jacobian is smallest at a corner; quadrature
     // points alone can miss a fold there that a refinement would meet.
+    // (A trilinear cell's need not be: in 3D the corners are a better
+    // check, not a proof.)
     const QGaussLobatto<dim> corners(2);
     hp::QCollection<dim>     points;
     for (unsigned int k = 0; k < quadrature.size(); ++k)
@@ -282,10 +284,7 @@ namespace forma
     std::sort(vertex_map.begin(),
               vertex_map.end(),
               [](const auto &a, const auto &b) {
-                return std::lexicographical_compare(a.first.begin_raw(),
-                                                    a.first.end_raw(),
-                                                    b.first.begin_raw(),
-                                                    b.first.end_raw());
+                return lexicographically_before(a.first, b.first);
               });
     auto new_tria =
       make_parallel_triangulation<dim>(simplex,

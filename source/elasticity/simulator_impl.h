@@ -41,6 +41,7 @@
 #include <forma/solvers/linear_solver.h>
 #include <forma/solvers/matrix_free_elasticity.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <deque>
@@ -55,6 +56,17 @@ namespace forma
 {
   using namespace dealii;
   using Vector_t = TrilinosWrappers::MPI::Vector;
+
+  /// The order of points by coordinates (sorted vertex tables).
+  template <int dim>
+  inline bool
+  lexicographically_before(const Point<dim> &a, const Point<dim> &b)
+  {
+    return std::lexicographical_compare(a.begin_raw(),
+                                        a.end_raw(),
+                                        b.begin_raw(),
+                                        b.end_raw());
+  }
 
   namespace internal
   {
@@ -332,6 +344,9 @@ namespace forma
     /// Contact residual says so) into `estimated_error`.
     void
     kelly_indicators();
+    /// Refine and coarsen flags by `eta` (Marking, Refine fraction).
+    void
+    flag_cells(const Vector<float> &eta, const double coarsen_fraction);
     /// Static adaptive cycles: estimate, mark and refine.
     void
     refine_mesh();
@@ -650,6 +665,14 @@ namespace forma
     /// the design over; the shape and blocks per cell are interpolated.
     void
     refine_design_cells(const std::set<std::string> &cells);
+    /// Throws unless the design refines in place: a p4est mesh, a static
+    /// problem without IPC, no design block per DoF.
+    void
+    check_refinable() const;
+    /// material_of_vertex of the locally owned cells from the material
+    /// coordinates `material` (a shape field, owned entries).
+    void
+    rebuild_material_of_vertex(const Vector_t &material);
     /// The design's entries per cell of the blocks with entries per cell,
     /// by CellId, for the cells after a refinement.
     std::map<std::string, std::vector<double>>

@@ -134,23 +134,17 @@ namespace forma
     // carried over to its vertices.
     if (!material_of_vertex.empty())
       {
-        const auto before = [](const Point<dim> &a, const Point<dim> &b) {
-          return std::lexicographical_compare(a.begin_raw(),
-                                              a.end_raw(),
-                                              b.begin_raw(),
-                                              b.end_raw());
-        };
         for (const auto &cell : shape_dof_handler.active_cell_iterators())
           if (cell->is_locally_owned())
             for (const auto v : cell->vertex_indices())
               {
-                const auto it =
-                  std::lower_bound(material_of_vertex.begin(),
-                                   material_of_vertex.end(),
-                                   cell->vertex(v),
-                                   [&](const auto &entry, const Point<dim> &x) {
-                                     return before(entry.first, x);
-                                   });
+                const auto it = std::lower_bound(
+                  material_of_vertex.begin(),
+                  material_of_vertex.end(),
+                  cell->vertex(v),
+                  [&](const auto &entry, const Point<dim> &x) {
+                    return lexicographically_before(entry.first, x);
+                  });
                 AssertThrow(it != material_of_vertex.end() &&
                               it->first == cell->vertex(v),
                             ExcInternalError());
@@ -199,10 +193,7 @@ namespace forma
               }
     const auto before = [](const Entry &a, const Entry &b) {
       if (a.first != b.first)
-        return std::lexicographical_compare(a.first.begin_raw(),
-                                            a.first.end_raw(),
-                                            b.first.begin_raw(),
-                                            b.first.end_raw());
+        return lexicographically_before(a.first, b.first);
       return a.second < b.second;
     };
     std::sort(entries.begin(), entries.end(), before);

@@ -1,9 +1,10 @@
 // Refining a design in place (quad/hex meshes, hanging nodes) between
 // optimization iterations keeps what an optimization relies on:
-// - the shape: the shape field is bi/trilinear, so the offsets
-//   interpolated at the new vertices are the same shape: the volume is
-//   unchanged to round-off, and the compliance can only grow (the spaces
-//   are nested; loads and geometry are the same);
+// - the shape: the shape field is bi/trilinear, so the positions
+//   interpolated at the new vertices are the same shape, also on a curved
+//   mesh whose new vertices go on its manifold: the volume is unchanged to
+//   round-off, and the compliance can only grow (the spaces are nested;
+//   loads and geometry are the same);
 // - the blocks per cell: a refined cell's children take its entries of
 //   `cell material`;
 // - the material coordinates of a remeshed mesh: back at them, a target
@@ -275,6 +276,38 @@ namespace
   }
 
   void
+  curved_2d()
+  {
+    // A quarter ring: new vertices go on the circles, yet the shape (the
+    // bilinear cells of the design's vertices) stays: the volume with it.
+    const auto p = parameters_from_string<forma::ElasticityParameters>(
+      "set Dimension = 2\n"
+      "subsection Mesh\n set Source = generator\n"
+      " set Generator = quarter_hyper_shell\n"
+      " set Generator arguments = 0, 0 : 1 : 2 : 0 : true\nend\n"
+      "subsection Finite element\n set Degree = 1\n"
+      " set Refine fraction = 0.3\nend\n"
+      "subsection Material\n set Bodies = * : E = 1e4, nu = 0.3\nend\n"
+      "subsection Boundary conditions\n set Dirichlet = 2 : xy : 0, 0\n"
+      " set Traction = 3 : 0, -20\nend\n"
+      "subsection Design\n set Parameters = shape\n"
+      " set Fixed boundaries = 2\n"
+      " set Shape perturbation = 0.05 * x * y, 0.02 * x\nend\n"
+      "subsection Objective\n set Terms = compliance; volume\nend\n");
+    forma::ElasticitySimulator<2> s(p, MPI_COMM_WORLD);
+    s.prepare();
+    s.set_objective(std::make_shared<const forma::Objective<2>>(p.objective));
+    value(s);
+    const double volume0 = s.objective_terms()[1].second;
+    refine(s, "");
+    value(s);
+    const double volume1 = s.objective_terms()[1].second;
+    deallog << "2D quarter ring (curved): volume " << rounded(volume0, 8)
+            << " -> " << rounded(volume1, 8) << ", the same to 1e-12: "
+            << yes(std::abs(volume1 / volume0 - 1) < 1e-12) << std::endl;
+  }
+
+  void
   corner_fold_2d()
   {
     // One square cell whose corner (1, 1) moves to (0.45, 0.45): det J =
@@ -310,10 +343,10 @@ namespace
       }
     catch (const ExceptionBase &e)
       {
-        refused = std::string(e.what()).find("folds at a corner") !=
-                      std::string::npos ?
-                    "refused with a message" :
-                    "refused, wrong message";
+        refused =
+          std::string(e.what()).find("folds at a corner") != std::string::npos ?
+            "refused with a message" :
+            "refused, wrong message";
       }
     deallog << "  refinement " << refused << std::endl;
     std::string rejected = "NOT rejected";
@@ -374,6 +407,7 @@ main(int argc, char **argv)
   goal_indicator_2d(mesh);
   cell_material_2d(mesh);
   remeshed_then_refined_2d(mesh);
+  curved_2d();
   hexahedra_3d();
   corner_fold_2d();
   simplices_refused();

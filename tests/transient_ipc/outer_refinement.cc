@@ -4,8 +4,9 @@
 // then the goal estimate of the stress norm), and the next L-BFGS run goes
 // on from the same design: the shape is carried over exactly, so J moves
 // by the discretization error only. The quality guard checks the cells'
-// corners, which refined cells would meet. A run killed inside outer
-// iteration 2 resumes on the refined mesh, rebuilt from its file.
+// corners, which refined cells would meet. A run stopped inside outer
+// iteration 2 (as a killed one would be, at Max iterations = 6) resumes on
+// the refined mesh, rebuilt from its file.
 
 #include "../tests.h"
 #include <nlohmann/json.hpp>

@@ -115,8 +115,8 @@ namespace forma
       return DesignBlock::Summary::values;
     }
 
-    /// Shape blocks start at zero on a new mesh (its vertices are the
-    /// current shape).
+    /// Shape blocks start at zero on a remeshed mesh (its vertices are the
+    /// current shape); after a refinement, at the shape carried over.
     virtual bool
     restarts_on_remesh() const
     {
