@@ -22,54 +22,12 @@ using namespace dealii;
 
 namespace
 {
-  // A 3 x 1 strip of two materials (x < 1.5: 0, else 1) with the
-  // colorized boundary ids of subdivided_hyper_rectangle.
-  std::string
-  two_material_strip()
-  {
-    Triangulation<2> tria;
-    GridGenerator::subdivided_hyper_rectangle(
-      tria, {24, 8}, Point<2>(0, 0), Point<2>(3, 1), true);
-    for (const auto &cell : tria.active_cell_iterators())
-      cell->set_material_id(cell->center()[0] > 1.5 ? 1 : 0);
-    return written_msh(tria, "two_materials.msh");
-  }
-
   std::string
   prm_2d(const std::string &mesh,
          const std::string &perturbation,
          const std::string &terms)
   {
-    return "set Dimension = 2\n"
-           "subsection Mesh\n set Source = file\n set File = " +
-           mesh +
-           "\nend\n"
-           "subsection Finite element\n set Degree = 2\nend\n"
-           "subsection Material\n set Bodies = 0 : E = 1e4, nu = 0.3; "
-           "1 : E = 3e4, nu = 0.25\nend\n"
-           "subsection Boundary conditions\n set Dirichlet = 0 : xy : 0, 0\n"
-           " set Traction = 1 : 0, -50\n set Pressure = 3 : 20\nend\n"
-           "subsection Solver\n set Newton relative tolerance = 1e-12\n"
-           " set Newton absolute tolerance = 1e-14\nend\n"
-           "subsection Design\n set Parameters = shape, material\n"
-           " set Fixed boundaries = 0\n set Shape perturbation = " +
-           perturbation + "\nend\nsubsection Objective\n set Terms = " + terms +
-           "\nend\n";
-  }
-
-  std::string
-  yes(const bool b)
-  {
-    return b ? "yes" : "NO";
-  }
-
-  template <int dim>
-  double
-  value(forma::ElasticitySimulator<dim> &s)
-  {
-    s.set_design(s.design());
-    s.solve_design();
-    return s.objective();
+    return two_material_strip_prm(mesh, "shape, material", perturbation, terms);
   }
 
   void
@@ -226,7 +184,7 @@ main(int argc, char **argv)
     initlog();
   std::string mesh;
   if (Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
-    mesh = two_material_strip();
+    mesh = two_material_strip(24, 8, "two_materials.msh");
   mesh = Utilities::MPI::broadcast(MPI_COMM_WORLD, mesh, 0);
   distorted_2d(mesh);
   undeformed_2d(mesh);

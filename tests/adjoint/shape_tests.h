@@ -1,9 +1,11 @@
 // Shared by the shape-design tests of this directory (remesh,
-// remesh_boundary, shape_filter): the Taylor verdict they log, the 3D
-// tetrahedral cantilever they run and the meshes they write.
+// remesh_boundary, shape_filter, refine_design): the Taylor verdict they
+// log, the two-material strip and the 3D tetrahedral cantilever they run,
+// and the meshes they write.
 #ifndef forma_tests_adjoint_shape_tests_h
 #define forma_tests_adjoint_shape_tests_h
 
+#include <deal.II/grid/grid_generator.h>
 #include <deal.II/grid/grid_out.h>
 #include <deal.II/grid/tria.h>
 
@@ -27,6 +29,67 @@ written_msh(const dealii::Triangulation<dim> &tria, const std::string &name)
   grid_out.set_flags(dealii::GridOutFlags::Msh(true));
   grid_out.write_msh(tria, out);
   return file;
+}
+
+/// A 3 x 1 strip of nx x ny cells and two materials (x < 1.5: 0, else 1)
+/// with the colorized boundary ids of subdivided_hyper_rectangle, written
+/// as `name`; returns the file's path.
+inline std::string
+two_material_strip(const unsigned int nx,
+                   const unsigned int ny,
+                   const std::string &name)
+{
+  dealii::Triangulation<2> tria;
+  dealii::GridGenerator::subdivided_hyper_rectangle(
+    tria, {nx, ny}, dealii::Point<2>(0, 0), dealii::Point<2>(3, 1), true);
+  for (const auto &cell : tria.active_cell_iterators())
+    cell->set_material_id(cell->center()[0] > 1.5 ? 1 : 0);
+  return written_msh(tria, name);
+}
+
+/// The strip's problem: Q2 (plus `fe`, more Finite element entries),
+/// clamped at x = 0, a traction at x = 3 and a pressure on top; the design
+/// `blocks` from `perturbation`, Objective/Terms `terms`.
+inline std::string
+two_material_strip_prm(const std::string &mesh,
+                       const std::string &blocks,
+                       const std::string &perturbation,
+                       const std::string &terms,
+                       const std::string &fe = "")
+{
+  return "set Dimension = 2\n"
+         "subsection Mesh\n set Source = file\n set File = " +
+         mesh +
+         "\nend\n"
+         "subsection Finite element\n set Degree = 2\n" +
+         fe +
+         "end\n"
+         "subsection Material\n set Bodies = 0 : E = 1e4, nu = 0.3; "
+         "1 : E = 3e4, nu = 0.25\nend\n"
+         "subsection Boundary conditions\n set Dirichlet = 0 : xy : 0, 0\n"
+         " set Traction = 1 : 0, -50\n set Pressure = 3 : 20\nend\n"
+         "subsection Solver\n set Newton relative tolerance = 1e-12\n"
+         " set Newton absolute tolerance = 1e-14\nend\n"
+         "subsection Design\n set Parameters = " +
+         blocks + "\n set Fixed boundaries = 0\n set Shape perturbation = " +
+         perturbation + "\nend\nsubsection Objective\n set Terms = " + terms +
+         "\nend\n";
+}
+
+inline std::string
+yes(const bool b)
+{
+  return b ? "yes" : "NO";
+}
+
+/// J at the simulator's design, solved anew.
+template <int dim>
+double
+value(forma::ElasticitySimulator<dim> &s)
+{
+  s.set_design(s.design());
+  s.solve_design();
+  return s.objective();
 }
 
 /// "rate >= 1.9" or "FAILED, rates ..." of a 4-row Taylor test at the
