@@ -1,11 +1,10 @@
 // Refinement of a design between optimization iterations (issue 46, item
 // 4): quad/hex meshes refine in place, and the design moves with them. The
-// shape field is bi/trilinear, so its offsets interpolated at the new
+// shape field is bi/trilinear, so its positions interpolated at the new
 // vertices are the same shape; a refined cell's children take its entries
 // per cell. A refinement is recorded by the CellIds it refined, which
 // name the same cells on any number of ranks (resume).
 
-#include <deal.II/distributed/grid_refinement.h>
 #include <deal.II/distributed/solution_transfer.h>
 #include <deal.II/distributed/tria.h>
 #include <deal.II/dofs/dof_tools.h>
@@ -86,7 +85,6 @@ namespace forma
     const std::map<std::string, std::vector<double>> &by_cell)
   {
     std::vector<double> carried(design.size(), 0.);
-    std::vector<bool>   is_cell_block(design.size(), false);
     for (const auto &cell : tria->active_cell_iterators())
       if (cell->is_locally_owned())
         {
@@ -240,13 +238,7 @@ namespace forma
     const dealii::Vector<float> &indicators)
   {
     auto &mesh = refinable_mesh(*impl->tria);
-    AssertThrow(indicators.size() == mesh.n_active_cells(), ExcInternalError());
-    if (impl->p.marking == "error fraction")
-      parallel::distributed::GridRefinement::refine_and_coarsen_fixed_fraction(
-        mesh, indicators, impl->p.refine_fraction, 0.);
-    else
-      parallel::distributed::GridRefinement::refine_and_coarsen_fixed_number(
-        mesh, indicators, impl->p.refine_fraction, 0.);
+    impl->flag_cells(indicators, 0.);
     std::vector<std::string> local;
     for (const auto &cell : mesh.active_cell_iterators())
       if (cell->is_locally_owned() && cell->refine_flag_set())
@@ -285,11 +277,25 @@ namespace forma
     const auto before   = s.dof_handler.n_dofs();
     auto       all      = s.refinements;
     all.push_back(cells);
+    // Every rank learns whether the file was written: none goes on alone.
+    std::string error;
     if (!file_stem.empty() && Utilities::MPI::this_mpi_process(s.comm) == 0)
-      replace_file(
-        file_stem + ".refinement.json", [&](const std::string &file) {
-          std::ofstream(file) << nlohmann::json{{"refinements", all}}.dump();
-        });
+      try
+        {
+          replace_file(file_stem + ".refinement.json",
+                       [&](const std::string &file) {
+                         std::ofstream(file)
+                           << nlohmann::json{{"refinements", all}}.dump();
+                       });
+        }
+      catch (const std::exception &e)
+        {
+          error = e.what();
+        }
+    error = Utilities::MPI::broadcast(s.comm, error, 0);
+    AssertThrow(error.empty(),
+                ExcMessage("refining a design: cannot write '" + file_stem +
+                           ".refinement.json': " + error));
     s.refinements = std::move(all); // from here on the mesh changes
     s.refine_design_cells(std::set<std::string>(cells.begin(), cells.end()));
     if (s.objective)
