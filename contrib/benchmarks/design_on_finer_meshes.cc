@@ -52,8 +52,7 @@ main(int argc, char **argv)
       s.set_objective(std::make_shared<const forma::Objective<2>>(p.objective));
       const std::string mesh = checkpoint.at("mesh");
       const std::string stem = directory + "/" + mesh;
-      if (!mesh.empty() &&
-          std::filesystem::exists(stem + ".refinement.json"))
+      if (!mesh.empty() && std::filesystem::exists(stem + ".refinement.json"))
         s.load_refinement(stem);
       else if (!mesh.empty())
         s.load_remeshed(stem);

@@ -149,6 +149,8 @@ namespace forma
       void
       refine_and_restart();
       void
+      begin_outer_iteration(const std::size_t last);
+      void
       solve_on_new_mesh();
       bool
       roll_back(const unsigned int n_before);
@@ -691,7 +693,6 @@ namespace forma
           return false;
         }
       mesh = stem;
-      held.clear(), blocked.clear(), n_holds = 0;
       context.print(at + line);
       const double volume = simulator.state_statistics()["volume"];
       simulator.cap_volume_bounds();
@@ -701,10 +702,7 @@ namespace forma
                           {"description", line},
                           {"element_removal", true},
                           {"volume", volume}});
-      stage_settings.decrease_window_start = last;
-      outer_last_J.push_back(result.history.back());
-      outer_start = last, ++n_outer;
-      outer_starts.push_back(outer_start);
+      begin_outer_iteration(last);
       // The stage with the holes gets its own iteration budget.
       iteration_cap    = last + settings.max_iterations;
       remeshed_quality = simulator.mesh_quality();
@@ -733,13 +731,7 @@ namespace forma
           solve_on_new_mesh();
           mesh             = next;
           remeshed_quality = simulator.mesh_quality();
-          held.clear(), blocked.clear(), n_holds = 0;
-          // J jumps where the new mesh resolves the stress peaks
-          // differently: the decrease window restarts on the new mesh.
-          stage_settings.decrease_window_start = last;
-          outer_last_J.push_back(result.history.back());
-          outer_start = last, ++n_outer;
-          outer_starts.push_back(outer_start);
+          begin_outer_iteration(last);
         }
       catch (const std::exception &e)
         {
@@ -756,6 +748,23 @@ namespace forma
       context.print(at_iteration(last) + line);
       remeshes.push_back({{"iteration", last}, {"description", line}});
       restart("remeshed");
+    }
+
+
+
+    // A new mesh (remeshed, refined, with holes) after iteration `last`:
+    // the next outer iteration. J jumps where the new mesh resolves the
+    // stress differently, so the decrease window restarts; the new DoFs
+    // release held vertices.
+    template <int dim>
+    void
+    OptimizeJob<dim>::begin_outer_iteration(const std::size_t last)
+    {
+      held.clear(), blocked.clear(), n_holds = 0;
+      stage_settings.decrease_window_start = last;
+      outer_last_J.push_back(result.history.back());
+      outer_start = last, ++n_outer;
+      outer_starts.push_back(outer_start);
     }
 
 
@@ -794,12 +803,7 @@ namespace forma
       remesh_seconds += refine_timer.wall_time();
       solve_on_new_mesh();
       mesh = next;
-      held.clear(), blocked.clear(), n_holds = 0;
-      // J changes with the resolution: the decrease window restarts.
-      stage_settings.decrease_window_start = last;
-      outer_last_J.push_back(result.history.back());
-      outer_start = last, ++n_outer;
-      outer_starts.push_back(outer_start);
+      begin_outer_iteration(last);
       context.print(at_iteration(last) + line);
       // J of the same design before and after: the discretization error
       // the refinement removed.

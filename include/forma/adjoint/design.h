@@ -48,11 +48,11 @@ namespace forma
     std::string              shape_perturbation;
     double                   min_scaled_jacobian = 1e-3;
     /// Check min_scaled_jacobian at the cells' corners too (quad/hex).
-    bool check_corners = false;
-    double                   shape_bound         = 0; ///< 0: free
-    std::string              start;  ///< starting block values (records)
-    std::string              bodies; ///< material ids of per-body blocks
-    bool                     boundary_shape = false; ///< see below
+    bool        check_corners = false;
+    double      shape_bound   = 0;      ///< 0: free
+    std::string start;                  ///< starting block values (records)
+    std::string bodies;                 ///< material ids of per-body blocks
+    bool        boundary_shape = false; ///< see below
     /// Remeshing resamples the free boundary curves (2D), see
     /// resample_boundaries(); else it keeps every boundary facet.
     bool   resample_boundary    = false;
