@@ -51,6 +51,11 @@ namespace forma
   std::map<std::string, std::vector<double>>
   ElasticitySimulator<dim>::Impl::design_by_cell() const
   {
+    std::map<std::string, std::vector<double>> by_cell;
+    if (std::none_of(layout.blocks.begin(),
+                     layout.blocks.end(),
+                     [](const DesignBlock &b) { return b.per_cell > 0; }))
+      return by_cell;
     // Every rank holds the whole design, but only its own cells' indices.
     std::vector<std::string> local;
     for (const auto &cell : tria->active_cell_iterators())
@@ -61,7 +66,6 @@ namespace forma
                 << cell->global_active_cell_index();
           local.push_back(entry.str());
         }
-    std::map<std::string, std::vector<double>> by_cell;
     for (const auto &entry : gathered(local, comm))
       {
         std::istringstream in(entry);
@@ -84,6 +88,8 @@ namespace forma
   ElasticitySimulator<dim>::Impl::set_design_by_cell(
     const std::map<std::string, std::vector<double>> &by_cell)
   {
+    if (by_cell.empty()) // no block per cell
+      return;
     std::vector<double> carried(design.size(), 0.);
     for (const auto &cell : tria->active_cell_iterators())
       if (cell->is_locally_owned())
