@@ -52,7 +52,8 @@ end
 """
 CORNERS = "subsection Design\n  set Check corners = true\nend\n"
 RUNS = [
-    ("coarse, quadrature points only", ""),
+    ("coarse, quadrature points only",
+     "subsection Design\n  set Check corners = false\nend\n"),
     ("coarse", CORNERS),
     ("uniform 1", CORNERS +
      "subsection Mesh\n  set Initial refinement = 1\nend\n"),
@@ -72,6 +73,11 @@ def write_prm(work, name, p, extra):
              "subsection Objective\n"
              "  set Terms = stress : p={} ; volume bound : bound=6.1425, "
              "weight=1e5\nend\n").format(os.path.join(work, name), p)
+    # The bridge as the runs below set it up: no outer iterations, the
+    # boundary kept on a remesh (the shipped file remeshes).
+    text += ("subsection Optimization\n  set Outer iterations = 0\n"
+             "  set Inner iterations = 0\nend\n"
+             "subsection Design\n  set Remesh boundary = keep\nend\n")
     file = os.path.join(work, name + ".prm")
     open(file, "w").write(text + extra)
     return file

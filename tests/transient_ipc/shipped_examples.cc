@@ -110,10 +110,11 @@ main()
   }
   {
     const auto s = run_example("transient_ipc", "bridge_stress");
-    check("stress L2 norm reduced at least 4x",
-          final_term(s, "stress") < 0.25 * first_term(s, "stress"));
+    check("stress L2 norm reduced at least 3x",
+          final_term(s, "stress") < first_term(s, "stress") / 3);
+    check("remeshed at least once", s["optimization"]["remeshes"].size() >= 1);
     // weight 1e5 * (V - V_t)^2: excess volume below 1e-3 of V_t = 6.14
-    check("volume within 0.1% of its bound",
+    check("volume at most 0.1% above its bound",
           std::sqrt(final_term(s, "volume bound") / 1e5) < 6.1425e-3);
   }
   {
@@ -251,7 +252,7 @@ main()
   }
   {
     const auto s = run_example("transient_ipc", "hook_stress");
-    check_peak_stress_design(s, "hook", 25, "area", 1.584, 0.1, 30);
+    check_peak_stress_design(s, "hook", 24, "area", 1.584, 0.1, 30);
   }
   {
     const auto s = run_example("transient_ipc", "soft_landing");
@@ -262,8 +263,9 @@ main()
           volume_within(s, 0.08, 2e-3));
   }
   {
-    // 8 of the documented 14 iterations (the suite's time): L8 0.924x and
-    // max von Mises 0.861x there, against 0.922x and 0.860x after 14.
+    // At most 8 iterations (the suite's time); the run stops after 5,
+    // where the hexahedra's corners reach the guard: L8 0.949x, max von
+    // Mises 0.869x.
     const auto s = run_example("transient_ipc",
                                "hanger_stress_3d",
                                " --set 'Optimization/Max iterations=8'");

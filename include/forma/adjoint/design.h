@@ -48,7 +48,7 @@ namespace forma
     std::string              shape_perturbation;
     double                   min_scaled_jacobian = 1e-3;
     /// Check min_scaled_jacobian at the cells' corners too (quad/hex).
-    bool        check_corners = false;
+    bool        check_corners = true;
     double      shape_bound   = 0;      ///< 0: free
     std::string start;                  ///< starting block values (records)
     std::string bodies;                 ///< material ids of per-body blocks
