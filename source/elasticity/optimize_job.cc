@@ -553,12 +553,14 @@ namespace forma
 
 
 
-    // Algorithm 1's inner iterations; the volume stage runs on to its end.
+    // Algorithm 1's inner iterations; the volume stage, and a run whose
+    // remesh failed (it goes on on its mesh), run on to their end.
     template <int dim>
     unsigned int
     OptimizeJob<dim>::inner_iterations() const
     {
-      return stage_terms.empty() ? settings.inner_iterations : 0;
+      return stage_terms.empty() && outer_possible ? settings.inner_iterations :
+                                                     0;
     }
 
 

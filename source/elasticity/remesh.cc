@@ -409,7 +409,7 @@ namespace forma
     const unsigned int k = simplex ? 0 : p.degree - 1;
     FEValues<dim>      fv(mesh_mapping[0],
                      *shape_fe,
-                     quadrature[k],
+                     quality_points()[k],
                      update_jacobians);
     double             after = 1;
     Point<dim>         worst;

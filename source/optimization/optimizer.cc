@@ -123,7 +123,9 @@ namespace forma
                       Patterns::Integer(0),
                       "oi_max_ii of thesis Algorithm 1: accepted iterations "
                       "of one run between remeshes at most (with Outer "
-                      "iterations); 0: no limit.");
+                      "iterations); 0: no limit. After a remesh that "
+                      "failed, the run goes on on its mesh without this "
+                      "limit.");
     prm.declare_entry(
       "Hold blocked vertices",
       "false",

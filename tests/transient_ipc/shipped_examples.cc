@@ -110,8 +110,8 @@ main()
   }
   {
     const auto s = run_example("transient_ipc", "bridge_stress");
-    check("stress L2 norm reduced at least 3x",
-          final_term(s, "stress") < first_term(s, "stress") / 3);
+    check("stress L2 norm reduced at least 3.5x",
+          final_term(s, "stress") < first_term(s, "stress") / 3.5);
     check("remeshed at least once", s["optimization"]["remeshes"].size() >= 1);
     // weight 1e5 * (V - V_t)^2: excess volume below 1e-3 of V_t = 6.14
     check("volume at most 0.1% above its bound",
