@@ -22,6 +22,82 @@
 
 namespace forma
 {
+  namespace
+  {
+    // The DoF values of the ghosted `v` on the locally owned cells, by
+    // active cell index.
+    template <int dim>
+    std::vector<dealii::Vector<double>>
+    cell_values(const DoFHandler<dim> &dof_handler, const Vector_t &v)
+    {
+      std::vector<dealii::Vector<double>> values(
+        dof_handler.get_triangulation().n_active_cells());
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            auto &local = values[cell->active_cell_index()];
+            local.reinit(cell->get_fe().n_dofs_per_cell());
+            cell->get_dof_values(v, local);
+          }
+      return values;
+    }
+
+    // Each cell's space (FE index k) in the one a degree higher (k + 1):
+    // the embedding, and the difference I - I_h there.
+    template <int dim>
+    struct NestedSpaces
+    {
+      NestedSpaces(const hp::FECollection<dim>     &fe,
+                   const std::vector<unsigned int> &index)
+        : index(index)
+      {
+        for (const unsigned int k :
+             std::set<unsigned int>(index.begin(), index.end()))
+          {
+            embedding[k].reinit(fe[k + 1].n_dofs_per_cell(),
+                                fe[k].n_dofs_per_cell());
+            FETools::get_interpolation_matrix(fe[k], fe[k + 1], embedding[k]);
+            difference[k].reinit(fe[k + 1].n_dofs_per_cell(),
+                                 fe[k + 1].n_dofs_per_cell());
+            FETools::get_interpolation_difference_matrix(fe[k + 1],
+                                                         fe[k],
+                                                         difference[k]);
+          }
+      }
+
+      // The function of the cells' lower-degree values `low` in the
+      // higher space (the spaces are nested: exact).
+      Vector_t
+      embed(const DoFHandler<dim>                     &dof_handler,
+            const IndexSet                            &owned,
+            const MPI_Comm                             comm,
+            const std::vector<dealii::Vector<double>> &low) const
+      {
+        Vector_t                             high(owned, comm);
+        std::vector<types::global_dof_index> dofs;
+        for (const auto &cell : dof_handler.active_cell_iterators())
+          if (cell->is_locally_owned())
+            {
+              const unsigned int     i = cell->active_cell_index();
+              dealii::Vector<double> local(cell->get_fe().n_dofs_per_cell());
+              embedding.at(index[i]).vmult(local, low[i]);
+              dofs.resize(local.size());
+              cell->get_dof_indices(dofs);
+              for (unsigned int k = 0; k < dofs.size(); ++k)
+                if (owned.is_element(dofs[k]))
+                  high(dofs[k]) = local(k);
+            }
+        high.compress(VectorOperation::insert);
+        return high;
+      }
+
+      const std::vector<unsigned int>            index;
+      std::map<unsigned int, FullMatrix<double>> embedding, difference;
+    };
+  } // namespace
+
+
+
   template <int dim>
   std::vector<std::vector<double>>
   ElasticitySimulator<dim>::Impl::goal_weights(const Objective<dim> &J,
@@ -100,21 +176,15 @@ namespace forma
     double         value    = 0;
     const Vector_t lambda_h = goal_adjoint(J, dJ_du, value);
     Vector_t       lambda_ghost(owned, relevant, comm);
-    lambda_ghost                                = lambda_h;
-    u_ghost                                     = u;
-    const unsigned int                  n_cells = tria->n_active_cells();
-    std::vector<dealii::Vector<double>> u_low(n_cells), lambda_low(n_cells);
-    std::vector<unsigned int>           index(n_cells, 0);
+    lambda_ghost                  = lambda_h;
+    u_ghost                       = u;
+    const auto         u_low      = cell_values(dof_handler, u_ghost);
+    const auto         lambda_low = cell_values(dof_handler, lambda_ghost);
+    const unsigned int n_cells    = tria->n_active_cells();
+    std::vector<unsigned int> index(n_cells, 0);
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
-        {
-          const unsigned int i = cell->active_cell_index();
-          index[i]             = cell->active_fe_index();
-          u_low[i].reinit(cell->get_fe().n_dofs_per_cell());
-          lambda_low[i].reinit(cell->get_fe().n_dofs_per_cell());
-          cell->get_dof_values(u_ghost, u_low[i]);
-          cell->get_dof_values(lambda_ghost, lambda_low[i]);
-        }
+        index[cell->active_cell_index()] = cell->active_fe_index();
     const auto set_degrees = [&](const unsigned int raise) {
       for (const auto &cell : dof_handler.active_cell_iterators())
         if (cell->is_locally_owned())
@@ -138,40 +208,13 @@ namespace forma
       {
         // One degree higher, where the discrete solutions embed exactly (the
         // spaces are nested).
+        // The design's shape and materials, not the mesh's.
         set_degrees(1);
         setup_system();
-        apply_design(
-          design); // the design's shape and materials, not the mesh's
-        std::map<unsigned int, FullMatrix<double>> embedding, difference;
-        for (const unsigned int k :
-             std::set<unsigned int>(index.begin(), index.end()))
-          {
-            embedding[k].reinit(fe[k + 1].n_dofs_per_cell(),
-                                fe[k].n_dofs_per_cell());
-            FETools::get_interpolation_matrix(fe[k], fe[k + 1], embedding[k]);
-            difference[k].reinit(fe[k + 1].n_dofs_per_cell(),
-                                 fe[k + 1].n_dofs_per_cell());
-            FETools::get_interpolation_difference_matrix(fe[k + 1],
-                                                         fe[k],
-                                                         difference[k]);
-          }
-        std::vector<types::global_dof_index> dofs;
-        const auto embed = [&](const std::vector<dealii::Vector<double>> &low) {
-          Vector_t high(owned, comm);
-          for (const auto &cell : dof_handler.active_cell_iterators())
-            if (cell->is_locally_owned())
-              {
-                const unsigned int     i = cell->active_cell_index();
-                dealii::Vector<double> local(cell->get_fe().n_dofs_per_cell());
-                embedding[index[i]].vmult(local, low[i]);
-                dofs.resize(local.size());
-                cell->get_dof_indices(dofs);
-                for (unsigned int k = 0; k < dofs.size(); ++k)
-                  if (owned.is_element(dofs[k]))
-                    high(dofs[k]) = local(k);
-              }
-          high.compress(VectorOperation::insert);
-          return high;
+        apply_design(design);
+        const NestedSpaces<dim> spaces(fe, index);
+        const auto              embed = [&](const auto &low) {
+          return spaces.embed(dof_handler, owned, comm, low);
         };
 
         // At u_h: the primal residual h = -rho, J and dJ/du (the adjoint
@@ -220,7 +263,7 @@ namespace forma
         estimate = share_products(h, weight_z, dual, weight_u, nullptr);
         estimated_error.reinit(n_cells);
         share_products(h, lambda_high, dual, u_high, [&](const auto &cell) {
-          return &difference.at(index[cell->active_cell_index()]);
+          return &spaces.difference.at(index[cell->active_cell_index()]);
         });
       }
     catch (...)
