@@ -3,7 +3,8 @@
 
 The bridge of thesis Fig. 3.4 (parameter_files/transient_ipc/
 bridge_stress.prm: an L^p stress norm with the volume held), optimized on
-the coarse mesh as shipped, on uniformly refined meshes, with Gmsh remeshes
+the coarse mesh (the earlier bridge settings: no outer iterations, no
+boundary smoothing), on uniformly refined meshes, with Gmsh remeshes
 between 3 outer iterations of at most 12 L-BFGS iterations, and with
 Optimization/Outer step = refine (3 outer iterations of at most 12
 L-BFGS iterations; the mesh is refined where Kelly's indicator, or the
@@ -15,10 +16,10 @@ run reports it and its error against the reference, the reference J of the
 design over the initial design's (on the coarse mesh refined three times),
 the smallest scaled Jacobian at the final design's cell corners, and the
 wall time. Every run checks Design/Min scaled Jacobian at the cells' corners
-(Design/Check corners) but one: the coarse run as shipped, checked at the
-quadrature points only, whose design folds cells at their corners (it
-cannot be refined, and its J is not that of a valid shape). Runs p = 2 (as
-shipped) and p = 8 (peaks matter).
+(Design/Check corners) but one: the coarse run checked at the quadrature
+points only (Check corners = false), whose design folds cells at their corners (it
+cannot be refined, and its J is not that of a valid shape). Runs p = 2 (the
+file's) and p = 8 (peaks matter).
 
 Writes results/outer_refinement.csv and prints a Markdown table.
 

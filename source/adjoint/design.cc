@@ -56,7 +56,8 @@ namespace forma
                         Patterns::Double(0, 1),
                         "A shape whose scaled Jacobian (det J over the "
                         "product of the column lengths, at the quadrature "
-                        "points) falls below this somewhere is rejected as "
+                        "points and, with Check corners, the cells' "
+                        "corners) falls below this somewhere is rejected as "
                         "inverted or degenerate (thesis ch. 3.9).");
       prm.declare_entry(
         "Check corners",
@@ -67,9 +68,10 @@ namespace forma
         "smallest at a corner, and quadrature points alone let a cell fold "
         "there unseen: without this check bridge_stress's design folds a "
         "cell (-0.95 at a corner, 0.200 at its quadrature points). false "
-        "reproduces results computed before the check was the default. In "
-        "3D the corners of a trilinear cell are a stronger check, not a "
-        "proof.");
+        "reproduces results computed before the check was the default "
+        "(Optimization/Outer step = refine checks the corners regardless: "
+        "the children of a cell folded at a corner are inverted). In 3D the "
+        "corners of a trilinear cell are a stronger check, not a proof.");
       prm.declare_entry(
         "Shape parameterization",
         "vertices",

@@ -208,10 +208,9 @@ namespace forma
       {
         // One degree higher, where the discrete solutions embed exactly (the
         // spaces are nested).
-        // The design's shape and materials, not the mesh's.
         set_degrees(1);
         setup_system();
-        apply_design(design);
+        apply_design(design); // its shape and materials, not the mesh's
         const NestedSpaces<dim> spaces(fe, index);
         const auto              embed = [&](const auto &low) {
           return spaces.embed(dof_handler, owned, comm, low);

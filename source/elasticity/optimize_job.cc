@@ -101,6 +101,9 @@ namespace forma
         }
       stage_terms = place.stage_terms;
       stage_start = place.stage_start;
+      // A resumed run does not retry a remesh that failed.
+      outer_possible = place.outer_possible;
+      remesh_allowed &= outer_possible;
     }
 
 
@@ -344,7 +347,8 @@ namespace forma
 
 
     // Algorithm 1's inner iterations; the volume stage, and a run whose
-    // remesh failed (it goes on on its mesh), run on to their end.
+    // remesh failed or whose refinement was refused (it goes on on its
+    // mesh), run on to their end.
     template <int dim>
     unsigned int
     OptimizeJob<dim>::inner_iterations() const
@@ -381,6 +385,7 @@ namespace forma
           std::min(iteration_cap, outer_start + inner_iterations()) :
           iteration_cap;
       stage_settings.outer_iteration = n_outer;
+      stage_settings.outer_possible  = outer_possible;
       stage_settings.outer_start     = outer_start;
       model.initial                  = simulator.design();
       model.scale                    = simulator.design_scales(model.initial);

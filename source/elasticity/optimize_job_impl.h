@@ -162,13 +162,14 @@ namespace forma
       unsigned int n_holds    = 0;
       std::size_t  n_accepted = 0; ///< the last accepted iteration
 
-      nlohmann::json history          = nlohmann::json::array();
-      std::string    restart_kind     = "remeshed";
-      double         remesh_seconds   = 0;
-      bool           remesh_allowed   = false;
-      bool           removal_done     = false;
-      bool           outer_possible   = true; ///< false once a remesh failed
-      double         remeshed_quality = 1;
+      nlohmann::json history        = nlohmann::json::array();
+      std::string    restart_kind   = "remeshed";
+      double         remesh_seconds = 0;
+      bool           remesh_allowed = false;
+      bool           removal_done   = false;
+      /// False once a remesh failed or a refinement was refused.
+      bool   outer_possible   = true;
+      double remeshed_quality = 1;
 
       nlohmann::json      state0;
       OptimizationResult  result;

@@ -124,8 +124,8 @@ namespace forma
                       "oi_max_ii of thesis Algorithm 1: accepted iterations "
                       "of one run between remeshes at most (with Outer "
                       "iterations); 0: no limit. After a remesh that "
-                      "failed, the run goes on on its mesh without this "
-                      "limit.");
+                      "failed or a refinement that was refused, the run "
+                      "goes on on its mesh without this limit.");
     prm.declare_entry(
       "Hold blocked vertices",
       "false",
@@ -376,6 +376,8 @@ namespace forma
             c["decrease_window_start"] = run.window_start;
             c["outer_iteration"]       = run.parameters.outer_iteration;
             c["outer_start"]           = run.parameters.outer_start;
+            if (!run.parameters.outer_possible)
+              c["outer_possible"] = false;
             if (!run.parameters.stage_terms.empty())
               {
                 c["stage_terms"] = run.parameters.stage_terms;
@@ -512,7 +514,8 @@ namespace forma
             c.value("outer_iteration", 1u),
             c.value("outer_start", 0u),
             c.value("stage_terms", std::string()),
-            c.value("stage_start", 0u)};
+            c.value("stage_start", 0u),
+            c.value("outer_possible", true)};
   }
 
 

@@ -112,7 +112,8 @@ main()
     const auto s = run_example("transient_ipc", "bridge_stress");
     check("stress L2 norm reduced at least 3.5x",
           final_term(s, "stress") < first_term(s, "stress") / 3.5);
-    check("remeshed at least once", s["optimization"]["remeshes"].size() >= 1);
+    check("remeshed at least once",
+          s["optimization"]["outer_iterations"].get<unsigned int>() >= 2);
     // weight 1e5 * (V - V_t)^2: excess volume below 1e-3 of V_t = 6.14
     check("volume at most 0.1% above its bound",
           std::sqrt(final_term(s, "volume bound") / 1e5) < 6.1425e-3);
@@ -269,6 +270,6 @@ main()
     const auto s = run_example("transient_ipc",
                                "hanger_stress_3d",
                                " --set 'Optimization/Max iterations=8'");
-    check_peak_stress_design(s, "hanger", 5, "volume", 1.6376, 0.2, 10);
+    check_peak_stress_design(s, "hanger", 4, "volume", 1.6376, 0.2, 10);
   }
 }

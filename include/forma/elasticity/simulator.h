@@ -242,7 +242,8 @@ namespace forma
      */
     //@{
     /// Smallest scaled Jacobian det J / prod |J e_k| over the quadrature
-    /// points of the current design (1: undistorted, <= 0: inverted).
+    /// points of the current design, and its cells' corners unless
+    /// Design/Check corners = false (1: undistorted, <= 0: inverted).
     double
     mesh_quality() const;
 

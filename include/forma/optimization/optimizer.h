@@ -37,6 +37,9 @@ namespace forma
     /// it started at, recorded in the checkpoint (not parameter-file
     /// entries).
     unsigned int outer_iteration = 1, outer_start = 0;
+    /// False once a remesh failed or a refinement was refused: the run goes
+    /// on on its mesh without outer iterations (also in the checkpoint).
+    bool outer_possible = true;
     /// Shape optimization: hold the vertices where the mesh-quality guard
     /// blocks the line search and go on (see the parameter's text).
     bool hold_blocked_vertices = false;
@@ -160,7 +163,8 @@ namespace forma
     unsigned int outer_iteration = 1, outer_start = 0;
     /// See OptimizationParameters::stage_terms (empty: the first stage).
     std::string  stage_terms;
-    unsigned int stage_start = 0;
+    unsigned int stage_start    = 0;
+    bool         outer_possible = true;
   };
 
   CheckpointPlace
