@@ -264,9 +264,8 @@ main()
           volume_within(s, 0.08, 2e-3));
   }
   {
-    // At most 8 iterations (the suite's time); the run stops after 5,
-    // where the hexahedra's corners reach the guard: L8 0.949x, max von
-    // Mises 0.869x.
+    // At most 8 iterations (the suite's time); the run stalls after 5:
+    // L8 0.949x, max von Mises 0.869x.
     const auto s = run_example("transient_ipc",
                                "hanger_stress_3d",
                                " --set 'Optimization/Max iterations=8'");
