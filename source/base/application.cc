@@ -24,6 +24,12 @@ namespace forma
   std::string
   error_message(const std::exception &exc)
   {
+    // deal.II's writers (DataOut, GridOut) say only "an input/output
+    // error" with a page of generic advice.
+    if (dynamic_cast<const dealii::StandardExceptions::ExcIO *>(&exc))
+      return "an input/output error: a file could not be read or written "
+             "in full (is the disk full, or a directory missing or not "
+             "writable?)";
     std::string text;
     if (const auto *deal_exc =
           dynamic_cast<const dealii::ExceptionBase *>(&exc))

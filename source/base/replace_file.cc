@@ -1,6 +1,9 @@
+#include <deal.II/base/exceptions.h>
+
 #include <forma/base/replace_file.h>
 
 #include <filesystem>
+#include <fstream>
 
 namespace forma
 {
@@ -21,5 +24,22 @@ namespace forma
         throw;
       }
     std::filesystem::rename(tmp, file);
+  }
+
+
+
+  void
+  replace_file_text(const std::string &file, const std::string &text)
+  {
+    replace_file(file, [&](const std::string &tmp) {
+      std::ofstream out(tmp, std::ios::binary);
+      out << text;
+      // A full disk shows when the buffer goes out, at the latest here.
+      out.close();
+      AssertThrow(!out.fail(),
+                  dealii::ExcMessage("cannot write '" + file +
+                                     "' (is the disk full, or the directory "
+                                     "not writable?)"));
+    });
   }
 } // namespace forma

@@ -1,5 +1,6 @@
 #include <deal.II/base/exceptions.h>
 
+#include <forma/base/on_root.h>
 #include <forma/base/run_context.h>
 
 #include <filesystem>
@@ -14,37 +15,26 @@ namespace forma
     , output_directory(dir)
     , staging_directory((fs::path(dir) / ".forma-staging").string())
   {
-    std::string error;
-    if (is_root())
-      {
-        try
+    on_root_or_throw(
+      comm,
+      [&]() {
+        fs::create_directories(output_directory);
+        // A staging directory left behind is from a run that did not
+        // finish (killed, typically; a failed one renames its own):
+        // kept for inspection, its log above all, unless it is empty.
+        if (fs::exists(staging_directory) && !fs::is_empty(staging_directory))
           {
-            fs::create_directories(output_directory);
-            // A staging directory left behind is from a run that did not
-            // finish (killed, typically; a failed one renames its own):
-            // kept for inspection, its log above all, unless it is empty.
-            if (fs::exists(staging_directory) &&
-                !fs::is_empty(staging_directory))
-              {
-                const fs::path interrupted =
-                  fs::path(output_directory) / "interrupted-run";
-                fs::remove_all(interrupted);
-                fs::rename(staging_directory, interrupted);
-              }
-            fs::remove_all(staging_directory);
-            fs::create_directories(staging_directory);
-            log_file = std::make_unique<std::ofstream>(path("log.txt").c_str());
-            if (!*log_file)
-              error = "cannot write into the output directory '" + dir + "'";
+            const fs::path interrupted =
+              fs::path(output_directory) / "interrupted-run";
+            fs::remove_all(interrupted);
+            fs::rename(staging_directory, interrupted);
           }
-        catch (const std::exception &e)
-          {
-            error =
-              "cannot create the output directory '" + dir + "': " + e.what();
-          }
-      }
-    error = dealii::Utilities::MPI::broadcast(comm, error, 0);
-    AssertThrow(error.empty(), dealii::ExcMessage(error));
+        fs::remove_all(staging_directory);
+        fs::create_directories(staging_directory);
+        log_file = std::make_unique<std::ofstream>(path("log.txt").c_str());
+        AssertThrow(*log_file, dealii::ExcMessage("log.txt cannot be written"));
+      },
+      "cannot use the output directory '" + dir + "'");
     summary["status"] = "running";
   }
 
@@ -130,38 +120,36 @@ namespace forma
     write_summary();
     // Moved on root, failed on all ranks (a throw on root alone would leave
     // the others waiting).
-    std::string error;
-    if (is_root())
-      {
+    on_root_or_throw(
+      comm,
+      [&]() {
         log_file.reset();
-        try
+        // Most writers do not check their streams, so a full disk would
+        // pass unseen: results written onto one may be cut short, and do
+        // not replace earlier ones.
+        AssertThrow(fs::space(staging_directory).available > 0,
+                    dealii::ExcMessage(
+                      "the disk is full, so the results may be incomplete; "
+                      "earlier results are kept"));
+        fs::remove_all(fs::path(output_directory) / "failed-run");
+        fs::remove_all(fs::path(output_directory) / "interrupted-run");
+        for (const auto &entry : fs::directory_iterator(staging_directory))
           {
-            fs::remove_all(fs::path(output_directory) / "failed-run");
-            fs::remove_all(fs::path(output_directory) / "interrupted-run");
-            for (const auto &entry : fs::directory_iterator(staging_directory))
-              {
-                const fs::path target =
-                  fs::path(output_directory) / entry.path().filename();
-                fs::remove_all(target);
-                fs::rename(entry.path(), target);
-              }
-            fs::remove_all(staging_directory);
-            // Only now that the results are in place: a kill before this
-            // leaves e.g. a progress file to resume from.
-            for (const auto &file : obsolete_on_commit)
-              {
-                std::error_code ignored;
-                fs::remove(persistent_path(file), ignored);
-              }
+            const fs::path target =
+              fs::path(output_directory) / entry.path().filename();
+            fs::remove_all(target);
+            fs::rename(entry.path(), target);
           }
-        catch (const std::exception &e)
+        fs::remove_all(staging_directory);
+        // Only now that the results are in place: a kill before this
+        // leaves e.g. a progress file to resume from.
+        for (const auto &file : obsolete_on_commit)
           {
-            error = "cannot move the results into '" + output_directory +
-                    "': " + e.what();
+            std::error_code ignored;
+            fs::remove(persistent_path(file), ignored);
           }
-      }
-    error = dealii::Utilities::MPI::broadcast(comm, error, 0);
-    AssertThrow(error.empty(), dealii::ExcMessage(error));
+      },
+      "cannot move the results into '" + output_directory + "'");
     finished = true;
   }
 

@@ -10,6 +10,7 @@
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/grid/cell_id.h>
 
+#include <forma/base/on_root.h>
 #include <forma/base/replace_file.h>
 
 #include "simulator_impl.h"
@@ -283,25 +284,14 @@ namespace forma
     const auto before   = s.dof_handler.n_dofs();
     auto       all      = s.refinements;
     all.push_back(cells);
-    // Every rank learns whether the file was written: none goes on alone.
-    std::string error;
-    if (!file_stem.empty() && Utilities::MPI::this_mpi_process(s.comm) == 0)
-      try
-        {
-          replace_file(file_stem + ".refinement.json",
-                       [&](const std::string &file) {
-                         std::ofstream(file)
-                           << nlohmann::json{{"refinements", all}}.dump();
-                       });
-        }
-      catch (const std::exception &e)
-        {
-          error = e.what();
-        }
-    error = Utilities::MPI::broadcast(s.comm, error, 0);
-    AssertThrow(error.empty(),
-                ExcMessage("refining a design: cannot write '" + file_stem +
-                           ".refinement.json': " + error));
+    if (!file_stem.empty())
+      on_root_or_throw(
+        s.comm,
+        [&]() {
+          replace_file_text(file_stem + ".refinement.json",
+                            nlohmann::json{{"refinements", all}}.dump());
+        },
+        "refining a design: cannot write '" + file_stem + ".refinement.json'");
     s.refinements = std::move(all); // from here on the mesh changes
     s.refine_design_cells(std::set<std::string>(cells.begin(), cells.end()));
     if (s.objective)

@@ -11,7 +11,9 @@
 #include <deal.II/numerics/vector_tools_evaluate.h>
 
 #include <forma/base/application.h>
+#include <forma/base/on_root.h>
 #include <forma/base/records.h>
+#include <forma/base/replace_file.h>
 #include <forma/base/run_context.h>
 #include <forma/mesh/boundary_resampling.h>
 #include <forma/mesh/remesh.h>
@@ -383,24 +385,13 @@ namespace forma
                            "(Gmsh makes tetrahedra); use 'Mesh/Convert to "
                            "simplices = true' for 3D shape optimization with "
                            "remeshing."));
-    const double before   = Utilities::MPI::min(min_scaled_jacobian(), comm);
-    const bool   root     = Utilities::MPI::this_mpi_process(comm) == 0;
-    auto         boundary = region_boundaries(removed, open_id);
-    std::string  msh, error;
-    if (root)
-      try
-        {
-          if (p.design.resample_boundary)
-            boundary = resample_boundaries(boundary, boundary_resampling());
-          msh = mesh_regions(boundary, !simplex);
-        }
-      catch (const std::exception &e)
-        {
-          error = error_message(e);
-        }
-    error = Utilities::MPI::broadcast(comm, error, 0);
-    AssertThrow(error.empty(), ExcMessage(error));
-    msh = Utilities::MPI::broadcast(comm, msh, 0);
+    const double      before = Utilities::MPI::min(min_scaled_jacobian(), comm);
+    auto              boundary = region_boundaries(removed, open_id);
+    const std::string msh      = on_root_or_throw(comm, [&]() {
+      if (p.design.resample_boundary)
+        boundary = resample_boundaries(boundary, boundary_resampling());
+      return mesh_regions(boundary, !simplex);
+    });
 
     // A remesh that does not improve the quality (the kept boundary can
     // limit it) is refused.
@@ -567,7 +558,6 @@ namespace forma
     auto        &s        = *impl;
     const double before   = mesh_quality();
     const auto   n_before = s.tria->n_global_active_cells();
-    const bool   root     = Utilities::MPI::this_mpi_process(s.comm) == 0;
     AssertThrow(removed.empty() || removed.size() == s.tria->n_active_cells(),
                 ExcInternalError());
     const std::string msh =
@@ -582,17 +572,17 @@ namespace forma
     // Files first: a resumed run restores this mesh from them; so only a
     // mesh that setup_system() will take, checked before anything changes.
     s.check_parts_are_held(serial);
-    if (root && !file_stem.empty())
-      {
-        std::ofstream(file_stem + ".msh") << msh;
-        nlohmann::json j = nlohmann::json::array();
-        for (const auto &p : X)
-          {
-            std::vector<double> c(p.begin_raw(), p.end_raw());
-            j.push_back(c);
-          }
-        std::ofstream(file_stem + ".json") << j.dump();
-      }
+    if (!file_stem.empty())
+      on_root_or_throw(
+        s.comm,
+        [&]() {
+          nlohmann::json j = nlohmann::json::array();
+          for (const auto &p : X)
+            j.push_back(std::vector<double>(p.begin_raw(), p.end_raw()));
+          replace_file_text(file_stem + ".msh", msh);
+          replace_file_text(file_stem + ".json", j.dump());
+        },
+        "remeshing");
     s.replace_mesh(serial, X);
     if (s.objective)
       set_objective(s.objective); // the reference run on the new mesh

@@ -24,6 +24,8 @@
 #include <forma/homogenization/periodic_homogenization.h>
 #include <forma/solvers/sparse_cholesky.h>
 
+#include <tuple>
+
 namespace forma
 {
   using namespace dealii;
@@ -151,6 +153,50 @@ namespace forma
                 FullMatrix<double>                                   &K,
                 std::vector<Vector<double>>                          &F) const;
 
+    /// The right-hand sides of the unit test strains' cell problems: T^T F
+    /// on the free dofs (serial direct) or the condensed F; and int_Y V
+    /// over the locally owned cells.
+    struct Loads
+    {
+      FullMatrix<double>                         average;
+      std::vector<Vector<double>>                free_rhs;
+      std::vector<TrilinosWrappers::MPI::Vector> rhs;
+    };
+
+    /// One pass over the cells: the matrix (in `cholesky` or `matrix`),
+    /// the loads of all test strains, and cell_tensors.
+    Loads
+    assemble(const MaterialFunction &material);
+
+    /// Congruent cells: K and F from the shared kernel; returns the
+    /// cell's measure.
+    double
+    shared_cell_system(const Tensor<2, nv>         &V,
+                       FullMatrix<double>          &K,
+                       std::vector<Vector<double>> &F) const;
+
+    /// Serial direct: add the cell's K and F to T^T K T and T^T F.
+    void
+    add_reduced(const FullMatrix<double>                   &K,
+                const std::vector<Vector<double>>          &F,
+                const std::vector<types::global_dof_index> &local,
+                std::vector<Vector<double>>                &free_rhs);
+
+    /// The fluctuations of all test strains (in `fluctuation`), one
+    /// iteration count per strain; returns f_c . w_d.
+    FullMatrix<double>
+    solve_cell_problems(Loads &loads, std::vector<unsigned int> &iterations);
+
+    /// C^H = (int V - f . w) / |Y|: exact for stationary w (direct solves).
+    void
+    energies_at_stationarity(const FullMatrix<double> &average,
+                             const FullMatrix<double> &load_work,
+                             SymmetricTensor<4, dim>  &C) const;
+
+    /// C^H from the mutual energies of the fluctuations, cell by cell.
+    void
+    energies_by_cells(SymmetricTensor<4, dim> &C) const;
+
     /**
      * Add a cell's int (A_c + B w_c)^T V (A_d + B w_d)
      *   = |K| V_cd + V_c. (int B) w_d + V_d. (int B) w_c + w_c^T K(V) w_d
@@ -195,6 +241,12 @@ namespace forma
     Kernel                                       shared_kernel;
     mutable std::unique_ptr<FEValues<dim>>       fe_values;
     mutable std::vector<std::array<double, nv>>  strains, stresses;
+    /// add_reduced()'s rows of T on a cell (local dof, free dof, weight)
+    /// and one row of the cell's T^T K T.
+    std::vector<std::tuple<unsigned int, unsigned int, double>>
+                              reduction_scratch;
+    std::vector<unsigned int> row_columns;
+    std::vector<double>       row_values;
     /// add_mutual_energies()'s cell matrix and product.
     mutable FullMatrix<double> energy_matrix;
     mutable Vector<double>     energy_vector;

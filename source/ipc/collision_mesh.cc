@@ -101,6 +101,219 @@ namespace forma
         (void)quad;
         return tris;
       }
+
+
+
+      /**
+       * A rank's records of its boundary support points, to be gathered:
+       * per vertex [key, dofs..., body] and [x, y, z]; per primitive its
+       * vertex keys (the key of a vertex is its x DoF); with a shape DoF
+       * handler, per vertex [key, n, (shape DoF, component) x n] and the n
+       * weights (the shape field at the vertex).
+       */
+      template <int dim>
+      class BoundaryRecords
+      {
+      public:
+        BoundaryRecords(const DoFHandler<dim> *shape_dof_handler)
+          : shape_dof_handler(shape_dof_handler)
+        {}
+
+        /// The support points and primitives of face f of `cell` (fv: the
+        /// cell's support points, cell_dofs its DoFs).
+        void
+        add_face(const typename DoFHandler<dim>::active_cell_iterator &cell,
+                 const unsigned int                                    f,
+                 const FEValues<dim>                                  &fv,
+                 const std::vector<types::global_dof_index> &cell_dofs);
+
+        std::vector<types::global_dof_index> v_ints, prims, w_ints;
+        std::vector<double>                  v_reals, w_reals;
+
+      private:
+        /// Support point i of the cell, with the DoFs `point`.
+        void
+        add_vertex(const typename DoFHandler<dim>::active_cell_iterator &cell,
+                   const std::array<types::global_dof_index, dim>       &point,
+                   const unsigned int                                    i,
+                   const FEValues<dim>                                  &fv);
+
+        void
+        add_shape_weights(
+          const typename DoFHandler<dim>::active_cell_iterator &cell,
+          const types::global_dof_index                         key,
+          const unsigned int                                    i);
+
+        const DoFHandler<dim> *shape_dof_handler;
+        /// Position of each vertex's record in v_ints.
+        std::map<types::global_dof_index, unsigned int> seen;
+        std::vector<types::global_dof_index>            face_dofs, shape_dofs;
+      };
+
+
+
+      template <int dim>
+      void
+      BoundaryRecords<dim>::add_face(
+        const typename DoFHandler<dim>::active_cell_iterator &cell,
+        const unsigned int                                    f,
+        const FEValues<dim>                                  &fv,
+        const std::vector<types::global_dof_index>           &cell_dofs)
+      {
+        const auto        &cfe      = cell->get_fe();
+        const auto        &base     = cfe.base_element(0);
+        const unsigned int n_points = base.n_dofs_per_face(f);
+        const auto         face     = cell->face(f);
+        face_dofs.resize(cfe.n_dofs_per_face(f));
+        face->get_dof_indices(face_dofs, cell->active_fe_index());
+        std::vector<std::array<types::global_dof_index, dim>> point(n_points);
+        for (unsigned int i = 0; i < face_dofs.size(); ++i)
+          {
+            const auto ci = cfe.face_system_to_component_index(i, f);
+            point[ci.second][ci.first] = face_dofs[i];
+          }
+        for (unsigned int b = 0; b < n_points; ++b)
+          {
+            const unsigned int i =
+              std::find(cell_dofs.begin(), cell_dofs.end(), point[b][0]) -
+              cell_dofs.begin();
+            Assert(i < cell_dofs.size(), ExcInternalError());
+            add_vertex(cell, point[b], i, fv);
+          }
+
+        const std::vector<Point<dim - 1>> &unit =
+          base.get_unit_face_support_points(f);
+        if (dim == 2)
+          {
+            std::vector<unsigned int> order(n_points);
+            for (unsigned int b = 0; b < n_points; ++b)
+              order[b] = b;
+            std::sort(order.begin(),
+                      order.end(),
+                      [&](unsigned int a, unsigned int b) {
+                        return unit[a][0] < unit[b][0];
+                      });
+            for (unsigned int k = 0; k + 1 < n_points; ++k)
+              {
+                prims.push_back(point[order[k]][0]);
+                prims.push_back(point[order[k + 1]][0]);
+              }
+          }
+        else
+          for (const auto &t :
+               lattice_triangles<dim>(unit, face->n_vertices() == 4))
+            for (const unsigned int b : t)
+              prims.push_back(point[b][0]);
+      }
+
+
+
+      template <int dim>
+      void
+      BoundaryRecords<dim>::add_vertex(
+        const typename DoFHandler<dim>::active_cell_iterator &cell,
+        const std::array<types::global_dof_index, dim>       &point,
+        const unsigned int                                    i,
+        const FEValues<dim>                                  &fv)
+      {
+        const types::global_dof_index key = point[0];
+        const auto                    it  = seen.find(key);
+        if (it != seen.end())
+          {
+            // A vertex of several bodies: the lowest material id, whatever
+            // the cell order.
+            auto &body = v_ints[it->second + dim + 1];
+            body = std::min<types::global_dof_index>(body, cell->material_id());
+            return;
+          }
+        seen[key] = v_ints.size();
+        v_ints.push_back(key);
+        for (unsigned int d = 0; d < dim; ++d)
+          v_ints.push_back(point[d]);
+        v_ints.push_back(cell->material_id());
+        for (unsigned int d = 0; d < 3; ++d)
+          v_reals.push_back(d < dim ? fv.quadrature_point(i)[d] : 0.);
+        if (shape_dof_handler)
+          add_shape_weights(cell, key, i);
+      }
+
+
+
+      template <int dim>
+      void
+      BoundaryRecords<dim>::add_shape_weights(
+        const typename DoFHandler<dim>::active_cell_iterator &cell,
+        const types::global_dof_index                         key,
+        const unsigned int                                    i)
+      {
+        const typename DoFHandler<dim>::active_cell_iterator shape_cell(
+          &cell->get_triangulation(),
+          cell->level(),
+          cell->index(),
+          shape_dof_handler);
+        const auto &sfe = shape_cell->get_fe();
+        shape_dofs.resize(sfe.n_dofs_per_cell());
+        shape_cell->get_dof_indices(shape_dofs);
+        const Point<dim> &xi = cell->get_fe().get_unit_support_points()[i];
+        w_ints.push_back(key);
+        const std::size_t count = w_ints.size();
+        w_ints.push_back(0);
+        for (unsigned int a = 0; a < sfe.n_dofs_per_cell(); ++a)
+          {
+            const double value = sfe.shape_value(a, xi);
+            if (std::abs(value) < 1e-12)
+              continue;
+            ++w_ints[count];
+            w_ints.push_back(shape_dofs[a]);
+            w_ints.push_back(sfe.system_to_component_index(a).first);
+            w_reals.push_back(value);
+          }
+      }
+
+
+
+      /// A vertex of the collision mesh as gathered from the ranks.
+      template <int dim>
+      struct GatheredVertex
+      {
+        std::array<types::global_dof_index, dim> dofs;
+        types::material_id                       body;
+        Vec                                      x;
+      };
+
+
+
+      /// Every rank's vertex records, by key (the lowest body of a vertex
+      /// that several ranks hold).
+      template <int dim>
+      std::map<types::global_dof_index, GatheredVertex<dim>>
+      gather_vertices(const BoundaryRecords<dim> &records, const MPI_Comm comm)
+      {
+        const auto all_ints = Utilities::MPI::all_gather(comm, records.v_ints);
+        const auto all_reals =
+          Utilities::MPI::all_gather(comm, records.v_reals);
+        std::map<types::global_dof_index, GatheredVertex<dim>> vertices;
+        for (unsigned int r = 0; r < all_ints.size(); ++r)
+          for (unsigned int k = 0; k * (dim + 2) < all_ints[r].size(); ++k)
+            {
+              const types::global_dof_index *v  = &all_ints[r][k * (dim + 2)];
+              auto                           it = vertices.find(v[0]);
+              if (it != vertices.end())
+                {
+                  it->second.body =
+                    std::min<types::material_id>(it->second.body, v[dim + 1]);
+                  continue;
+                }
+              GatheredVertex<dim> x;
+              for (unsigned int d = 0; d < dim; ++d)
+                x.dofs[d] = v[1 + d];
+              x.body = v[dim + 1];
+              for (unsigned int d = 0; d < 3; ++d)
+                x.x[d] = all_reals[r][3 * k + d];
+              vertices.emplace(v[0], x);
+            }
+        return vertices;
+      }
     } // namespace
 
 
@@ -130,17 +343,8 @@ namespace forma
                                   support,
                                   update_quadrature_points);
 
-      // Local records: per vertex [key, dofs..., body] and [x, y, z]; per
-      // primitive its vertex keys (the key of a vertex is its x DoF).
-      std::vector<types::global_dof_index> v_ints, prims;
-      std::vector<double>                  v_reals;
-      /// Position of each vertex's record in v_ints.
-      std::map<types::global_dof_index, unsigned int> seen;
-      std::vector<types::global_dof_index>            cell_dofs, face_dofs;
-      // Upsampling records: per vertex [key, n, (shape DoF, component) x n]
-      // and the n weights.
-      std::vector<types::global_dof_index> w_ints, shape_dofs;
-      std::vector<double>                  w_reals;
+      BoundaryRecords<dim>                 records(shape_dof_handler);
+      std::vector<types::global_dof_index> cell_dofs;
       for (const auto &cell : dof_handler.active_cell_iterators())
         {
           if (!cell->is_locally_owned() || !cell->at_boundary())
@@ -153,154 +357,41 @@ namespace forma
                   (!boundaries.empty() &&
                    boundaries.count(face->boundary_id()) == 0))
                 continue;
-              const auto &cfe = cell->get_fe();
               if (!fe_ready)
                 {
                   fe_values.reinit(cell);
-                  cell_dofs.resize(cfe.n_dofs_per_cell());
+                  cell_dofs.resize(cell->get_fe().n_dofs_per_cell());
                   cell->get_dof_indices(cell_dofs);
                   fe_ready = true;
                 }
-              const FEValues<dim> &fv       = fe_values.get_present_fe_values();
-              const auto          &base     = cfe.base_element(0);
-              const unsigned int   n_points = base.n_dofs_per_face(f);
-              face_dofs.resize(cfe.n_dofs_per_face(f));
-              face->get_dof_indices(face_dofs, cell->active_fe_index());
-              std::vector<std::array<types::global_dof_index, dim>> point(
-                n_points);
-              for (unsigned int i = 0; i < face_dofs.size(); ++i)
-                {
-                  const auto ci = cfe.face_system_to_component_index(i, f);
-                  point[ci.second][ci.first] = face_dofs[i];
-                }
-              for (unsigned int b = 0; b < n_points; ++b)
-                {
-                  const types::global_dof_index key = point[b][0];
-                  const auto                    it  = seen.find(key);
-                  if (it != seen.end())
-                    {
-                      // A vertex of several bodies: the lowest material id,
-                      // whatever the cell order.
-                      auto &body = v_ints[it->second + dim + 1];
-                      body =
-                        std::min<types::global_dof_index>(body,
-                                                          cell->material_id());
-                      continue;
-                    }
-                  seen[key] = v_ints.size();
-                  const unsigned int i =
-                    std::find(cell_dofs.begin(), cell_dofs.end(), key) -
-                    cell_dofs.begin();
-                  Assert(i < cell_dofs.size(), ExcInternalError());
-                  v_ints.push_back(key);
-                  for (unsigned int d = 0; d < dim; ++d)
-                    v_ints.push_back(point[b][d]);
-                  v_ints.push_back(cell->material_id());
-                  for (unsigned int d = 0; d < 3; ++d)
-                    v_reals.push_back(d < dim ? fv.quadrature_point(i)[d] : 0.);
-                  if (shape_dof_handler)
-                    {
-                      const typename DoFHandler<dim>::active_cell_iterator
-                                  shape_cell(&cell->get_triangulation(),
-                                   cell->level(),
-                                   cell->index(),
-                                   shape_dof_handler);
-                      const auto &sfe = shape_cell->get_fe();
-                      shape_dofs.resize(sfe.n_dofs_per_cell());
-                      shape_cell->get_dof_indices(shape_dofs);
-                      const Point<dim> &xi = cfe.get_unit_support_points()[i];
-                      w_ints.push_back(key);
-                      const std::size_t count = w_ints.size();
-                      w_ints.push_back(0);
-                      for (unsigned int a = 0; a < sfe.n_dofs_per_cell(); ++a)
-                        {
-                          const double value = sfe.shape_value(a, xi);
-                          if (std::abs(value) < 1e-12)
-                            continue;
-                          ++w_ints[count];
-                          w_ints.push_back(shape_dofs[a]);
-                          w_ints.push_back(
-                            sfe.system_to_component_index(a).first);
-                          w_reals.push_back(value);
-                        }
-                    }
-                }
-
-              const std::vector<Point<dim - 1>> &unit =
-                base.get_unit_face_support_points(f);
-              if (dim == 2)
-                {
-                  std::vector<unsigned int> order(n_points);
-                  for (unsigned int b = 0; b < n_points; ++b)
-                    order[b] = b;
-                  std::sort(order.begin(),
-                            order.end(),
-                            [&](unsigned int a, unsigned int b) {
-                              return unit[a][0] < unit[b][0];
-                            });
-                  for (unsigned int k = 0; k + 1 < n_points; ++k)
-                    {
-                      prims.push_back(point[order[k]][0]);
-                      prims.push_back(point[order[k + 1]][0]);
-                    }
-                }
-              else
-                for (const auto &t :
-                     lattice_triangles<dim>(unit, face->n_vertices() == 4))
-                  for (const unsigned int b : t)
-                    prims.push_back(point[b][0]);
+              records.add_face(cell,
+                               f,
+                               fe_values.get_present_fe_values(),
+                               cell_dofs);
             }
         }
 
       // Gather everything on every rank.
       std::map<types::global_dof_index, unsigned int> index;
-      {
-        const auto all_ints  = Utilities::MPI::all_gather(comm, v_ints);
-        const auto all_reals = Utilities::MPI::all_gather(comm, v_reals);
-        struct Vertex
+      collision_dofs.set_size(dof_handler.n_dofs());
+      for (const auto &[key, v] : gather_vertices(records, comm))
         {
-          std::array<types::global_dof_index, dim> dofs;
-          types::material_id                       body;
-          Vec                                      x;
-        };
-        std::map<types::global_dof_index, Vertex> vertices;
-        for (unsigned int r = 0; r < all_ints.size(); ++r)
-          for (unsigned int k = 0; k * (dim + 2) < all_ints[r].size(); ++k)
-            {
-              const types::global_dof_index *v  = &all_ints[r][k * (dim + 2)];
-              auto                           it = vertices.find(v[0]);
-              if (it != vertices.end())
-                {
-                  it->second.body =
-                    std::min<types::material_id>(it->second.body, v[dim + 1]);
-                  continue;
-                }
-              Vertex x;
-              for (unsigned int d = 0; d < dim; ++d)
-                x.dofs[d] = v[1 + d];
-              x.body = v[dim + 1];
-              for (unsigned int d = 0; d < 3; ++d)
-                x.x[d] = all_reals[r][3 * k + d];
-              vertices.emplace(v[0], x);
-            }
-        collision_dofs.set_size(dof_handler.n_dofs());
-        for (const auto &v : vertices)
-          {
-            index[v.first] = rest.size();
-            rest.push_back(v.second.x);
-            dofs.push_back(v.second.dofs);
-            body.push_back(v.second.body);
-            for (const auto i : v.second.dofs)
-              collision_dofs.add_index(i);
-          }
-        collision_dofs.compress();
-      }
+          index[key] = rest.size();
+          rest.push_back(v.x);
+          dofs.push_back(v.dofs);
+          body.push_back(v.body);
+          for (const auto i : v.dofs)
+            collision_dofs.add_index(i);
+        }
+      collision_dofs.compress();
 
       shape_weights.assign(rest.size(), {});
       if (shape_dof_handler)
         {
-          const auto all_ints  = Utilities::MPI::all_gather(comm, w_ints);
-          const auto all_reals = Utilities::MPI::all_gather(comm, w_reals);
+          const auto all_ints =
+            Utilities::MPI::all_gather(comm, records.w_ints);
+          const auto all_reals =
+            Utilities::MPI::all_gather(comm, records.w_reals);
           for (unsigned int r = 0; r < all_ints.size(); ++r)
             for (std::size_t k = 0, l = 0; k < all_ints[r].size();)
               {
@@ -317,7 +408,7 @@ namespace forma
               }
         }
 
-      const auto all_prims = Utilities::MPI::all_gather(comm, prims);
+      const auto all_prims = Utilities::MPI::all_gather(comm, records.prims);
       obstacle.assign(rest.size(), -1);
       for (const auto &p : all_prims)
         for (unsigned int k = 0; dim * k < p.size(); ++k)

@@ -5,6 +5,7 @@
 #include <deal.II/grid/grid_tools.h>
 
 #include <forma/base/application.h>
+#include <forma/base/on_root.h>
 
 #include <gmsh.h>
 #include <unistd.h>
@@ -246,38 +247,47 @@ namespace forma
 
 
 
+    void
+    in_gmsh_session(const std::string           &model,
+                    const std::string           &context,
+                    const std::function<void()> &f)
+    {
+      try
+        {
+          std::lock_guard<std::mutex> lock(gmsh_mutex());
+          GmshSession                 session(model);
+          f();
+        }
+      catch (const std::string &message) // what the Gmsh API throws
+        {
+          AssertThrow(
+            false, ExcMessage(gmsh_error(context, "failed (" + message + ")")));
+        }
+      catch (const std::exception &)
+        {
+          throw;
+        }
+      catch (...)
+        {
+          AssertThrow(false,
+                      ExcMessage(context +
+                                 ": meshing failed with an unknown error"));
+        }
+    }
+
+
+
     GmshTriangles
     gmsh_on_root(const MPI_Comm                        comm,
                  const std::string                    &model,
                  const std::string                    &context,
                  const std::function<GmshTriangles()> &generate)
     {
-      GmshTriangles msh;
-      std::string   error;
-      if (Utilities::MPI::this_mpi_process(comm) == 0)
-        try
-          {
-            std::lock_guard<std::mutex> lock(gmsh_mutex());
-            GmshSession                 session(model);
-            msh = generate();
-          }
-        catch (const std::string &message) // what the Gmsh API throws
-          {
-            error = gmsh_error(context, "failed (" + message + ")");
-          }
-        catch (const std::exception &e)
-          {
-            error = error_message(e);
-          }
-        catch (...)
-          {
-            error = context + ": meshing failed with an unknown error";
-          }
-      if (Utilities::MPI::n_mpi_processes(comm) > 1) // (no serialization)
-        std::tie(msh, error) =
-          Utilities::MPI::broadcast(comm, std::make_pair(msh, error));
-      AssertThrow(error.empty(), ExcMessage(error));
-      return msh;
+      return on_root_or_throw(comm, [&]() {
+        GmshTriangles msh;
+        in_gmsh_session(model, context, [&]() { msh = generate(); });
+        return msh;
+      });
     }
   } // namespace internal
 } // namespace forma

@@ -71,6 +71,13 @@ namespace forma
     GmshTriangles
     gmsh_triangulate(const double size, const std::string &context);
 
+    /// Run f in a Gmsh session `model` (holding gmsh_mutex()); what Gmsh
+    /// throws becomes an ExcMessage that names `context`.
+    void
+    in_gmsh_session(const std::string           &model,
+                    const std::string           &context,
+                    const std::function<void()> &f);
+
     /// Run `generate` (it builds a model and returns its mesh) in a Gmsh
     /// session on the root of `comm` only, so that every rank reads the
     /// same mesh: every rank gets the mesh, or throws the root's error

@@ -797,19 +797,138 @@ namespace forma
 
 
 
-    // Both meshers: with `periodic`, material loops must reach the box's
-    // sides; without, the material must stay inside the box and every
-    // loop with positive area is a piece of it.
+    /// The material's contours of one tracing: its pieces, its holes and
+    /// the piece each hole lies in.
+    struct Contours
+    {
+      std::vector<std::vector<Point<2>>> outer, holes;
+      std::vector<int>                   owner;
+    };
+
+
+
+    /**
+     * One level set meshed, for both meshers: with `periodic`, material
+     * loops must reach the box's sides; without, the material must stay
+     * inside the box and every loop with positive area is a piece of it.
+     * Where resampled contours cross, the material is thickened around
+     * the crossing and traced again.
+     */
+    class LevelSetMesher
+    {
+    public:
+      LevelSetMesher(const std::function<double(const Point<2> &)> &phi_in,
+                     const Point<2>                                &box,
+                     const Tensor<1, 2>                            &origin,
+                     const bool                                     periodic,
+                     const LevelSetMeshParameters                  &parameters,
+                     const std::string                             &context);
+
+      LevelSetMesher(const LevelSetMesher &) = delete;
+
+      /// Meshed on the root of comm, read on every rank.
+      void
+      mesh(Triangulation<2> &tria, const MPI_Comm comm, LevelSetMeshInfo *info);
+
+    private:
+      void
+      check_arguments() const;
+
+      /// phi_in with the material thickened around `thickened` (box
+      /// coordinates; the nearest periodic copy).
+      double
+      thickened_value(const Point<2> &x) const;
+
+      /// A point in the user's coordinates, for messages.
+      std::string
+      at(const Point<2> &x) const;
+
+      /// The half stands for the whole cell only if phi has the symmetry:
+      /// spot-checked on a 16 x 16 grid of points off the sampling grid.
+      void
+      check_symmetry() const;
+
+      /// The traced and resampled loops, sorted into pieces and holes.
+      Contours
+      trace();
+
+      /// Resampled contours of features near the boundary element size may
+      /// touch: a small hole that does is filled, anything else is
+      /// thickened if allowed (false: the crossings are in `retry`), or an
+      /// error that names the cause.
+      bool
+      resolve_crossings(Contours &c);
+
+      /// Each hole's innermost piece (islands sit in holes).
+      void
+      find_owners(Contours &c) const;
+
+      void
+      keep_largest_piece(Contours &c);
+
+      /// Frontal-Delaunay, and plain Delaunay if that cannot recover a
+      /// boundary edge (it happens at near-touching contours), each on a
+      /// fresh model.
+      internal::GmshTriangles
+      triangulate(const Contours &c) const;
+
+      /// One tracing and meshing; where contours cross and thickenings are
+      /// left it returns nothing and puts the crossings in `retry`.
+      internal::GmshTriangles
+      attempt();
+
+      /// Thicken at the crossings of `retry` (and at their rotated images).
+      void
+      thicken();
+
+      const std::function<double(const Point<2> &)> &phi_in;
+      const Point<2>                                 box;
+      const Tensor<1, 2>                             origin;
+      const bool                                     periodic;
+      const LevelSetMeshParameters                  &parameters;
+      const std::string                             &context;
+      /// Symmetric cells: trace and mesh the lower half, then add its copy
+      /// rotated by pi; a piece traced there stands for two.
+      const bool         symmetric;
+      const Point<2>     traced_box;
+      const unsigned int copies;
+      const double       depth, radius;
+      /// A std::function: the tracer keeps a reference to it.
+      const std::function<double(const Point<2> &)> phi;
+      std::vector<Point<2>>                         thickened, retry;
+      LevelSetMeshInfo                              local_info;
+    };
+
+
+
+    LevelSetMesher::LevelSetMesher(
+      const std::function<double(const Point<2> &)> &phi_in,
+      const Point<2>                                &box,
+      const Tensor<1, 2>                            &origin,
+      const bool                                     periodic,
+      const LevelSetMeshParameters                  &parameters,
+      const std::string                             &context)
+      : phi_in(phi_in)
+      , box(box)
+      , origin(origin)
+      , periodic(periodic)
+      , parameters(parameters)
+      , context(context)
+      , symmetric(parameters.centrally_symmetric)
+      , traced_box(symmetric ? Point<2>(box[0], box[1] / 2) : box)
+      , copies(symmetric ? 2 : 1)
+      , depth(parameters.boundary_size)
+      , radius(4 * parameters.boundary_size)
+      , phi([this](const Point<2> &x) { return thickened_value(x); })
+    {
+      check_arguments();
+      check_symmetry();
+    }
+
+
+
     void
-    mesh_level_set(const std::function<double(const Point<2> &)> &phi_in,
-                   const Point<2>                                &box,
-                   const Tensor<1, 2>                            &origin,
-                   const bool                                     periodic,
-                   const LevelSetMeshParameters                  &parameters,
-                   Triangulation<2>                              &tria,
-                   const MPI_Comm                                 comm,
-                   LevelSetMeshInfo                              *info,
-                   const std::string                             &context)
+    LevelSetMesher::check_arguments() const
     {
       AssertThrow(box[0] > 0 && box[1] > 0,
                   ExcMessage(context + ": the box must have positive sides"));
@@ -833,41 +952,41 @@ namespace forma
       AssertThrow(periodic || !parameters.centrally_symmetric,
                   ExcMessage(context + ": centrally_symmetric is for "
                                        "periodic cells"));
-      // Symmetric cells: trace and mesh the lower half, then add its copy
-      // rotated by pi; a piece traced there stands for two.
-      const bool     symmetric = parameters.centrally_symmetric;
-      const Point<2> traced_box =
-        symmetric ? Point<2>(box[0], box[1] / 2) : box;
-      const unsigned int copies = symmetric ? 2 : 1;
-      LevelSetMeshInfo   local_info;
-      // The level set with the material thickened around `thickened` (box
-      // coordinates; the nearest periodic copy).
-      std::vector<Point<2>> thickened;
-      const double          depth  = parameters.boundary_size;
-      const double          radius = 4 * parameters.boundary_size;
+    }
 
-      // A std::function: the tracer keeps a reference to it.
-      const std::function<double(const Point<2> &)> phi =
-        [&](const Point<2> &x) {
-          double value = phi_in(x);
-          for (const Point<2> &c : thickened)
-            {
-              Tensor<1, 2> d = x - c;
-              if (periodic)
-                for (unsigned int i = 0; i < 2; ++i)
-                  d[i] -= box[i] * std::round(d[i] / box[i]);
-              const double t = d.norm_square() / (radius * radius);
-              if (t < 1)
-                value -= depth * (1 - t) * (1 - t);
-            }
-          return value;
-        };
-      const auto at = [&](const Point<2> &x) {
-        return "(" + sig(x[0] + origin[0], 4) + ", " +
-               sig(x[1] + origin[1], 4) + ")";
-      };
-      // The half stands for the whole cell only if phi has the symmetry:
-      // spot-checked on a 16 x 16 grid of points off the sampling grid.
+
+
+    double
+    LevelSetMesher::thickened_value(const Point<2> &x) const
+    {
+      double value = phi_in(x);
+      for (const Point<2> &c : thickened)
+        {
+          Tensor<1, 2> d = x - c;
+          if (periodic)
+            for (unsigned int i = 0; i < 2; ++i)
+              d[i] -= box[i] * std::round(d[i] / box[i]);
+          const double t = d.norm_square() / (radius * radius);
+          if (t < 1)
+            value -= depth * (1 - t) * (1 - t);
+        }
+      return value;
+    }
+
+
+
+    std::string
+    LevelSetMesher::at(const Point<2> &x) const
+    {
+      return "(" + sig(x[0] + origin[0], 4) + ", " + sig(x[1] + origin[1], 4) +
+             ")";
+    }
+
+
+
+    void
+    LevelSetMesher::check_symmetry() const
+    {
       for (unsigned int i = 0; symmetric && i < 16; ++i)
         for (unsigned int j = 0; j < 16; ++j)
           {
@@ -883,168 +1002,226 @@ namespace forma
                                    "), so the cell cannot be meshed as half "
                                    "plus its rotated copy"));
           }
-      // One tracing and meshing; where contours cross and thickenings are
-      // left it returns nothing and puts the crossings in `retry`.
-      std::vector<Point<2>> retry;
+    }
 
-      const auto attempt = [&]() {
-        local_info             = LevelSetMeshInfo();
-        local_info.thickenings = thickened.size();
-        // The half's grid spacing is the whole cell's.
-        Tracer       tracer(phi,
-                      traced_box,
-                      static_cast<unsigned int>(
-                        std::lround(parameters.grid *
-                                    std::max(traced_box[0], traced_box[1]) /
-                                    std::max(box[0], box[1]))),
-                      symmetric);
-        const double spacing = std::max(box[0], box[1]) / parameters.grid;
-        std::vector<std::vector<Point<2>>> outer, holes;
-        for (const auto &loop : tracer.loops())
-          {
-            const bool touches =
-              std::any_of(loop.begin(), loop.end(), [](const LoopVertex &v) {
-                return v.fixed;
-              });
-            std::vector<Point<2>> polygon =
-              resample(loop,
-                       phi,
-                       traced_box,
-                       parameters.boundary_size,
-                       spacing,
-                       symmetric ? parameters.size : 0);
-            const double a = signed_area(polygon);
-            AssertThrow(periodic || !touches,
-                        ExcMessage(context + ": the material reaches the "
-                                             "sides of its box"));
-            if (touches || (!periodic && a > 0))
-              outer.push_back(std::move(polygon));
-            else if (a > 0)
-              local_info.dropped_islands += copies;
-            else if (-a < std::pow(parameters.boundary_size, 2))
-              local_info.dropped_holes += copies;
-            else
-              holes.push_back(std::move(polygon));
-          }
-        AssertThrow(!outer.empty(),
-                    ExcMessage(context +
-                               (periodic ?
-                                  ": the material does not reach the sides "
-                                  "of the cell, so it cannot form a "
-                                  "periodic structure" :
-                                  ": there is no material to mesh")));
-        // Resampled contours of features near the boundary element size
-        // may touch: a small hole that does is filled, anything else is
-        // thickened if allowed, or an error that names the cause.
+
+
+    Contours
+    LevelSetMesher::trace()
+    {
+      // The half's grid spacing is the whole cell's.
+      const unsigned int n = static_cast<unsigned int>(
+        std::lround(parameters.grid * std::max(traced_box[0], traced_box[1]) /
+                    std::max(box[0], box[1])));
+      Tracer       tracer(phi, traced_box, n, symmetric);
+      const double spacing = std::max(box[0], box[1]) / parameters.grid;
+      Contours     c;
+      for (const auto &loop : tracer.loops())
         {
-          std::vector<std::vector<Point<2>>> all = outer;
-          all.insert(all.end(), holes.begin(), holes.end());
-          std::vector<Point<2>>   where, where_outer;
-          const std::vector<bool> crossed = crossing_loops(all, &where);
-          const std::vector<bool> outer_crossed =
-            crossing_loops(outer, &where_outer);
-          // A piece crossed by itself or a piece, or a hole crossed that is
-          // too large to fill: all thickened at once.
-          for (unsigned int k = 0; k < all.size(); ++k)
-            if (thickened.size() + copies * (retry.size() + 1) <=
-                parameters.max_thickenings)
-              if (k < outer.size() ?
-                    outer_crossed[k] :
-                    crossed[k] && -signed_area(all[k]) >=
-                                    16 * std::pow(parameters.boundary_size, 2))
-                retry.push_back(k < outer.size() ? where_outer[k] : where[k]);
-          if (!retry.empty())
-            return internal::GmshTriangles();
-          for (unsigned int k = 0; k < outer.size(); ++k)
-            AssertThrow(!outer_crossed[k],
-                        ExcMessage(context +
-                                   ": the resampled material boundary "
-                                   "crosses itself near " +
-                                   at(where_outer[k]) +
-                                   ": a gap or a joint is thinner than the "
-                                   "boundary element size " +
-                                   sig(parameters.boundary_size, 3)));
-          std::vector<std::vector<Point<2>>> kept;
-          for (unsigned int k = 0; k < holes.size(); ++k)
-            if (!crossed[outer.size() + k])
-              kept.push_back(std::move(holes[k]));
-            else
-              {
-                AssertThrow(-signed_area(holes[k]) <
-                              16 * std::pow(parameters.boundary_size, 2),
-                            ExcMessage(
-                              context +
-                              ": a hole's resampled boundary crosses the "
-                              "material's boundary near " +
-                              at(where[outer.size() + k]) +
-                              ": a wall is thinner than the boundary "
-                              "element size " +
-                              sig(parameters.boundary_size, 3)));
-                local_info.dropped_holes += copies;
-              }
-          holes = std::move(kept);
+          const bool touches =
+            std::any_of(loop.begin(), loop.end(), [](const LoopVertex &v) {
+              return v.fixed;
+            });
+          std::vector<Point<2>> polygon =
+            resample(loop,
+                     phi,
+                     traced_box,
+                     parameters.boundary_size,
+                     spacing,
+                     symmetric ? parameters.size : 0);
+          const double a = signed_area(polygon);
+          AssertThrow(periodic || !touches,
+                      ExcMessage(context + ": the material reaches the "
+                                           "sides of its box"));
+          if (touches || (!periodic && a > 0))
+            c.outer.push_back(std::move(polygon));
+          else if (a > 0)
+            local_info.dropped_islands += copies;
+          else if (-a < std::pow(parameters.boundary_size, 2))
+            local_info.dropped_holes += copies;
+          else
+            c.holes.push_back(std::move(polygon));
         }
-        std::vector<int> owner(holes.size(), -1);
-        for (unsigned int k = 0; k < holes.size(); ++k)
+      AssertThrow(!c.outer.empty(),
+                  ExcMessage(context +
+                             (periodic ?
+                                ": the material does not reach the sides "
+                                "of the cell, so it cannot form a "
+                                "periodic structure" :
+                                ": there is no material to mesh")));
+      return c;
+    }
+
+
+
+    bool
+    LevelSetMesher::resolve_crossings(Contours &c)
+    {
+      auto                              &outer = c.outer, &holes = c.holes;
+      std::vector<std::vector<Point<2>>> all = outer;
+      all.insert(all.end(), holes.begin(), holes.end());
+      std::vector<Point<2>>   where, where_outer;
+      const std::vector<bool> crossed = crossing_loops(all, &where);
+      const std::vector<bool> outer_crossed =
+        crossing_loops(outer, &where_outer);
+      const double large_hole = 16 * std::pow(parameters.boundary_size, 2);
+      // A piece crossed by itself or a piece, or a hole crossed that is too
+      // large to fill: all thickened at once.
+      for (unsigned int k = 0; k < all.size(); ++k)
+        if (thickened.size() + copies * (retry.size() + 1) <=
+            parameters.max_thickenings)
+          if (k < outer.size() ?
+                outer_crossed[k] :
+                crossed[k] && -signed_area(all[k]) >= large_hole)
+            retry.push_back(k < outer.size() ? where_outer[k] : where[k]);
+      if (!retry.empty())
+        return false;
+      for (unsigned int k = 0; k < outer.size(); ++k)
+        AssertThrow(!outer_crossed[k],
+                    ExcMessage(context +
+                               ": the resampled material boundary "
+                               "crosses itself near " +
+                               at(where_outer[k]) +
+                               ": a gap or a joint is thinner than the "
+                               "boundary element size " +
+                               sig(parameters.boundary_size, 3)));
+      std::vector<std::vector<Point<2>>> kept;
+      for (unsigned int k = 0; k < holes.size(); ++k)
+        if (!crossed[outer.size() + k])
+          kept.push_back(std::move(holes[k]));
+        else
           {
-            // The innermost piece around it (islands sit in holes).
-            double smallest = 1e300;
-            for (unsigned int o = 0; o < outer.size(); ++o)
-              if (inside(outer[o], holes[k][0]) &&
-                  std::abs(signed_area(outer[o])) < smallest)
-                {
-                  owner[k] = o;
-                  smallest = std::abs(signed_area(outer[o]));
-                }
-            AssertThrow(owner[k] >= 0,
+            AssertThrow(-signed_area(holes[k]) < large_hole,
                         ExcMessage(context +
-                                   ": a hole of the material lies in no "
-                                   "piece of it (inconsistent contours)"));
+                                   ": a hole's resampled boundary crosses "
+                                   "the material's boundary near " +
+                                   at(where[outer.size() + k]) +
+                                   ": a wall is thinner than the boundary "
+                                   "element size " +
+                                   sig(parameters.boundary_size, 3)));
+            local_info.dropped_holes += copies;
           }
-        if (parameters.largest_piece_only && outer.size() > 1)
+      holes = std::move(kept);
+      return true;
+    }
+
+
+
+    void
+    LevelSetMesher::find_owners(Contours &c) const
+    {
+      c.owner.assign(c.holes.size(), -1);
+      for (unsigned int k = 0; k < c.holes.size(); ++k)
+        {
+          double smallest = 1e300;
+          for (unsigned int o = 0; o < c.outer.size(); ++o)
+            if (inside(c.outer[o], c.holes[k][0]) &&
+                std::abs(signed_area(c.outer[o])) < smallest)
+              {
+                c.owner[k] = o;
+                smallest   = std::abs(signed_area(c.outer[o]));
+              }
+          AssertThrow(c.owner[k] >= 0,
+                      ExcMessage(context +
+                                 ": a hole of the material lies in no "
+                                 "piece of it (inconsistent contours)"));
+        }
+    }
+
+
+
+    void
+    LevelSetMesher::keep_largest_piece(Contours &c)
+    {
+      if (c.outer.size() <= 1)
+        return;
+      unsigned int largest = 0;
+      for (unsigned int o = 1; o < c.outer.size(); ++o)
+        if (std::abs(signed_area(c.outer[o])) >
+            std::abs(signed_area(c.outer[largest])))
+          largest = o;
+      std::vector<std::vector<Point<2>>> kept;
+      for (unsigned int k = 0; k < c.holes.size(); ++k)
+        if (c.owner[k] == static_cast<int>(largest))
+          kept.push_back(std::move(c.holes[k]));
+      local_info.dropped_islands += c.outer.size() - 1;
+      c.outer = {std::move(c.outer[largest])};
+      c.holes = std::move(kept);
+      c.owner.assign(c.holes.size(), 0);
+    }
+
+
+
+    internal::GmshTriangles
+    LevelSetMesher::triangulate(const Contours &c) const
+    {
+      for (const int algorithm : {6, 5})
+        try
           {
-            unsigned int largest = 0;
-            for (unsigned int o = 1; o < outer.size(); ++o)
-              if (std::abs(signed_area(outer[o])) >
-                  std::abs(signed_area(outer[largest])))
-                largest = o;
-            std::vector<std::vector<Point<2>>> kept;
-            for (unsigned int k = 0; k < holes.size(); ++k)
-              if (owner[k] == static_cast<int>(largest))
-                kept.push_back(std::move(holes[k]));
-            local_info.dropped_islands += outer.size() - 1;
-            outer = {std::move(outer[largest])};
-            holes = std::move(kept);
-            owner.assign(holes.size(), 0);
+            if (algorithm != 6)
+              {
+                gmsh::clear();
+                gmsh::model::add("forma-level-set-mesh");
+              }
+            return generate(c.outer, c.holes, c.owner, parameters, algorithm);
           }
-        // Frontal-Delaunay, and plain Delaunay if that cannot recover a
-        // boundary edge (it happens at near-touching contours), each on
-        // a fresh model.
-        for (const int algorithm : {6, 5})
-          try
-            {
-              if (algorithm != 6)
-                {
-                  gmsh::clear();
-                  gmsh::model::add("forma-level-set-mesh");
-                }
-              return generate(outer, holes, owner, parameters, algorithm);
-            }
-          catch (const std::string &) // what the Gmsh API throws
-            {
-              if (algorithm == 5)
-                throw;
-            }
-          catch (const std::exception &e)
-            {
-              AssertThrow(algorithm != 5,
-                          ExcMessage(
-                            error_message(e) +
-                            " (is a gap or a joint of the structure "
-                            "thinner than the boundary element size?)"));
-            }
+        catch (const std::string &) // what the Gmsh API throws
+          {
+            if (algorithm == 5)
+              throw;
+          }
+        catch (const std::exception &e)
+          {
+            AssertThrow(algorithm != 5,
+                        ExcMessage(error_message(e) +
+                                   " (is a gap or a joint of the structure "
+                                   "thinner than the boundary element "
+                                   "size?)"));
+          }
+      return internal::GmshTriangles();
+    }
+
+
+
+    internal::GmshTriangles
+    LevelSetMesher::attempt()
+    {
+      local_info             = LevelSetMeshInfo();
+      local_info.thickenings = thickened.size();
+      Contours c             = trace();
+      if (!resolve_crossings(c))
         return internal::GmshTriangles();
-      };
+      find_owners(c);
+      if (parameters.largest_piece_only)
+        keep_largest_piece(c);
+      return triangulate(c);
+    }
+
+
+
+    void
+    LevelSetMesher::thicken()
+    {
+      for (const Point<2> &c : retry)
+        {
+          thickened.push_back(c);
+          // And its image, unless that overlaps it (a point near a center
+          // of the rotation would be thickened twice).
+          Tensor<1, 2> d = 2 * c - box;
+          for (unsigned int i = 0; i < 2; ++i)
+            d[i] -= box[i] * std::round(d[i] / box[i]);
+          if (symmetric && d.norm() > radius)
+            thickened.emplace_back(box[0] - c[0], box[1] - c[1]);
+        }
+    }
+
+
+
+    void
+    LevelSetMesher::mesh(Triangulation<2> &tria,
+                         const MPI_Comm    comm,
+                         LevelSetMeshInfo *info)
+    {
       internal::GmshTriangles mesh =
         internal::gmsh_on_root(comm, "forma-level-set-mesh", context, [&]() {
           for (;;)
@@ -1053,18 +1230,7 @@ namespace forma
               internal::GmshTriangles result = attempt();
               if (retry.empty())
                 return result;
-              // Before any Gmsh model is made.
-              for (const Point<2> &c : retry)
-                {
-                  thickened.push_back(c);
-                  // And its image, unless that overlaps it (a point near a
-                  // center of the rotation would be thickened twice).
-                  Tensor<1, 2> d = 2 * c - box;
-                  for (unsigned int i = 0; i < 2; ++i)
-                    d[i] -= box[i] * std::round(d[i] / box[i]);
-                  if (symmetric && d.norm() > radius)
-                    thickened.emplace_back(box[0] - c[0], box[1] - c[1]);
-                }
+              thicken(); // before any Gmsh model is made
             }
         });
       if (symmetric)
@@ -1096,6 +1262,23 @@ namespace forma
           *info      = Utilities::MPI::broadcast(comm, local_info);
           info->area = area;
         }
+    }
+
+
+
+    void
+    mesh_level_set(const std::function<double(const Point<2> &)> &phi,
+                   const Point<2>                                &box,
+                   const Tensor<1, 2>                            &origin,
+                   const bool                                     periodic,
+                   const LevelSetMeshParameters                  &parameters,
+                   Triangulation<2>                              &tria,
+                   const MPI_Comm                                 comm,
+                   LevelSetMeshInfo                              *info,
+                   const std::string                             &context)
+    {
+      LevelSetMesher(phi, box, origin, periodic, parameters, context)
+        .mesh(tria, comm, info);
     }
   } // namespace
 

@@ -8,6 +8,7 @@
 #include <deal.II/base/utilities.h>
 
 #include <forma/base/application.h>
+#include <forma/base/on_root.h>
 #include <forma/base/records.h>
 #include <forma/ipc/distance.h>
 #include <forma/mesh/pipe_graph.h>
@@ -826,31 +827,12 @@ namespace forma
   {
     g.check();
     // Meshed once, on the root, so every rank reads the same cells.
-    std::string text, error;
-    const bool  mpi = Utilities::MPI::job_supports_mpi();
-    if (!mpi || Utilities::MPI::this_mpi_process(comm) == 0)
-      try
-        {
-          std::lock_guard<std::mutex> lock(internal::gmsh_mutex());
-          internal::GmshSession       session("forma-pipe-graph");
-          text = mesh_text(g);
-        }
-      catch (const std::string &message) // what the Gmsh API throws
-        {
-          error = internal::gmsh_error(section, "failed (" + message + ")");
-        }
-      catch (const std::exception &e)
-        {
-          error = error_message(e);
-        }
-      catch (...)
-        {
-          error = section + ": meshing failed with an unknown error.";
-        }
-    if (mpi && Utilities::MPI::n_mpi_processes(comm) > 1)
-      std::tie(text, error) =
-        Utilities::MPI::broadcast(comm, std::make_pair(text, error));
-    AssertThrow(error.empty(), ExcMessage(error));
-    return text;
+    return on_root_or_throw(comm, [&]() {
+      std::string text;
+      internal::in_gmsh_session("forma-pipe-graph", section, [&]() {
+        text = mesh_text(g);
+      });
+      return text;
+    });
   }
 } // namespace forma

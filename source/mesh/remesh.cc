@@ -11,8 +11,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
-#include <mutex>
 #include <numeric>
 #include <set>
 #include <sstream>
@@ -498,44 +498,30 @@ namespace forma
                 ExcMessage("remeshing: Gmsh cannot make hexahedral meshes."));
     AssertThrow(!boundaries.facets.empty(),
                 ExcMessage("remeshing: the mesh has no boundary."));
-    std::lock_guard<std::mutex> lock(internal::gmsh_mutex());
-    try
+    const auto in_session = [](const std::function<std::string()> &f) {
+      std::string msh;
+      internal::in_gmsh_session("forma-remesh", "remeshing", [&]() {
+        msh = f();
+      });
+      return msh;
+    };
+    if constexpr (dim == 2)
       {
-        if constexpr (dim == 2)
+        // Quads: Blossom recombination keeping every boundary segment (a
+        // region of a quad mesh has an even number) gives an all-quad mesh
+        // of the same resolution in most cases; where it leaves triangles,
+        // subdivide a mesh of twice the size.
+        if (quads)
           {
-            // Quads: Blossom recombination keeping every boundary segment
-            // (a region of a quad mesh has an even number) gives an
-            // all-quad mesh of the same resolution in most cases; where
-            // it leaves triangles, subdivide a mesh of twice the size.
-            if (quads)
-              {
-                internal::GmshSession session("forma-remesh");
-                std::string           msh = mesh_2d(boundaries, true, false);
-                if (!msh.empty())
-                  return msh;
-              }
-            internal::GmshSession session("forma-remesh");
-            return mesh_2d(boundaries, quads, quads);
+            const std::string msh =
+              in_session([&]() { return mesh_2d(boundaries, true, false); });
+            if (!msh.empty())
+              return msh;
           }
-        else
-          {
-            internal::GmshSession session("forma-remesh");
-            return mesh_3d(boundaries);
-          }
+        return in_session([&]() { return mesh_2d(boundaries, quads, quads); });
       }
-    catch (const std::string &message) // what the Gmsh API throws
-      {
-        AssertThrow(false, ExcMessage(gmsh_error("failed (" + message + ")")));
-      }
-    catch (const std::exception &)
-      {
-        throw;
-      }
-    catch (...)
-      {
-        AssertThrow(false, ExcMessage(gmsh_error("failed")));
-      }
-    return {};
+    else
+      return in_session([&]() { return mesh_3d(boundaries); });
   }
 
 

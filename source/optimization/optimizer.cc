@@ -383,9 +383,17 @@ namespace forma
                 c["stage_terms"] = run.parameters.stage_terms;
                 c["stage_start"] = run.parameters.stage_start;
               }
-            replace_file(run.checkpoint, [&](const std::string &file) {
-              std::ofstream(file) << c.dump();
-            });
+            // A failed write (a full disk) costs only the resumability:
+            // the last checkpoint stays whole. Logged, not thrown (on root
+            // alone it would leave the other ranks waiting).
+            try
+              {
+                replace_file_text(run.checkpoint, c.dump());
+              }
+            catch (const std::exception &e)
+              {
+                run.context.log("checkpoint not written: " + error_message(e));
+              }
           }
         if (k < run.parameters.max_iterations && run.model.remesh_needed &&
             run.model.remesh_needed())

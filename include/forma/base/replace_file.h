@@ -14,6 +14,14 @@ namespace forma
   void
   replace_file(const std::string                              &file,
                const std::function<void(const std::string &)> &write);
+
+  /**
+   * Replace `file` whole with `text` (see replace_file()). Throws, and
+   * leaves the old file as it was, if the text cannot be written in full
+   * (a full disk, an unwritable directory).
+   */
+  void
+  replace_file_text(const std::string &file, const std::string &text);
 } // namespace forma
 
 #endif

@@ -18,6 +18,7 @@
 #include <iomanip>
 #include <limits>
 #include <map>
+#include <memory>
 #include <sstream>
 
 namespace forma
@@ -138,6 +139,379 @@ namespace forma
                 {"shape_derivative_norm", d.norm},
                 {"corner_share", corner_share(d, s, size)}};
       }
+
+
+      /// The Inverse and Conforming mesh sections, read once.
+      struct InverseSettings
+      {
+        double                 target_E = 0, target_nu = 0;
+        std::string            table_file; ///< resolved; empty: none
+        unsigned int           table_ny = 0, n_candidates = 0;
+        OptimizationParameters op;
+        bool                   compliance_objective = false;
+        bool                   report_shape         = false;
+        double                 mesh_size            = 0;
+        unsigned int           mesh_degree          = 0;
+      };
+
+
+
+      InverseSettings
+      read_inverse_settings(ParameterHandler &prm, const std::string &directory)
+      {
+        InverseSettings s;
+        prm.enter_subsection("Inverse");
+        s.target_E             = prm.get_double("Target Young's modulus");
+        s.target_nu            = prm.get_double("Target Poisson's ratio");
+        s.table_file           = prm.get("Table file");
+        s.table_ny             = prm.get_integer("Table cells along height");
+        s.n_candidates         = prm.get_integer("Candidates");
+        s.op.max_iterations    = prm.get_integer("Max iterations");
+        const double tolerance = prm.get_double("Tolerance");
+        s.compliance_objective = prm.get("Objective") == "compliance";
+        s.report_shape         = prm.get_bool("Report shape derivative");
+        prm.leave_subsection();
+        AssertThrow(!s.report_shape || s.compliance_objective,
+                    ExcMessage("Inverse/Report shape derivative needs "
+                               "Inverse/Objective = compliance (thesis Table "
+                               "5.1's objective)."));
+        prm.enter_subsection("Conforming mesh");
+        s.mesh_size   = prm.get_double("Element size");
+        s.mesh_degree = prm.get_integer("Degree");
+        prm.leave_subsection();
+        if (!s.table_file.empty() && s.table_file[0] != '/')
+          s.table_file = directory + "/" + s.table_file;
+        s.op.value_target       = s.compliance_objective ?
+                                    -std::numeric_limits<double>::infinity() :
+                                    tolerance * tolerance;
+        s.op.relative_decrease  = 1e-6;
+        s.op.decrease_window    = 3;
+        s.op.gradient_tolerance = 1e-8;
+        s.op.print_iterations   = false;
+        return s;
+      }
+
+
+
+      /// No structure reaches a target beyond the Hashin-Shtrikman bounds.
+      void
+      check_target(const InverseSettings &s, const Setup &setup)
+      {
+        const auto hs = hashin_shtrikman(setup.base, setup.weak, 1);
+        AssertThrow(
+          s.target_E * setup.base.E <= hs.max_young_modulus(s.target_nu) &&
+            s.target_nu > -1 && s.target_nu < 1,
+          ExcMessage("Inverse: the target (E/Eb, nu) = (" + sig(s.target_E) +
+                     ", " + sig(s.target_nu) +
+                     ") lies outside the Hashin-Shtrikman bounds "
+                     "(E/Eb <= " +
+                     sig(hs.max_young_modulus(s.target_nu) / setup.base.E) +
+                     " at this nu): no structure reaches it"));
+      }
+
+
+
+      /// The table the candidates come from: the given file, or the Sweep
+      /// grid homogenized on a coarse grid.
+      std::vector<TableSample>
+      starting_table(const InverseSettings &s,
+                     const SweepGrid       &grid,
+                     const Setup           &setup,
+                     RunContext            &context)
+      {
+        std::vector<TableSample> table;
+        if (!s.table_file.empty())
+          {
+            table = read_sample_table(s.table_file);
+            context.print("inverse: " + std::to_string(table.size()) +
+                          " samples from the table file");
+            return table;
+          }
+        const auto values =
+          homogenize_all(grid.structures, setup, s.table_ny, context);
+        for (unsigned int k = 0; k < grid.structures.size(); ++k)
+          table.push_back({grid.structures[k],
+                           values[k * n_fields + f_E],
+                           values[k * n_fields + f_nu]});
+        return table;
+      }
+
+
+
+      /// The structure with the design variables q: p1, p2, p4, or p1,
+      /// theta and alpha in degrees.
+      HexagonalLaminate
+      with(HexagonalLaminate s, const std::vector<double> &q)
+      {
+        if (s.limit)
+          s.p1 = q[0], s.theta = q[1], s.alpha = q[2] * numbers::PI / 180;
+        else
+          s.p1 = q[0], s.p2 = q[1], s.p4 = q[2];
+        s.check();
+        return s;
+      }
+
+
+
+      /// The design variables of with() at s0, their bounds and scales.
+      DesignModel
+      design_variables(const HexagonalLaminate &s0)
+      {
+        DesignModel model;
+        if (s0.limit)
+          {
+            model.initial = {s0.p1, s0.theta, s0.alpha * 180 / numbers::PI};
+            model.scale   = {0.1, 0.1, 10};
+            model.lower   = {0.02, 0, -89};
+            model.upper   = {0.98, 1, 89};
+          }
+        else
+          {
+            model.initial = {s0.p1, s0.p2, s0.p4};
+            model.scale   = {0.1, 0.1, 0.1};
+            model.lower   = {0.02, 0, 0.02};
+            model.upper   = {0.98, 1, 1};
+          }
+        // E and nu are even in p2 (alpha): a mirrored structure has the
+        // same isotropic moduli, so a non-chiral start is stationary in
+        // chirality and an exact gradient never leaves it. Start slightly
+        // chiral (p2 = 0.05, alpha = 2 degrees).
+        if (s0.limit && std::abs(model.initial[2]) < 2)
+          model.initial[2] = 2;
+        if (!s0.limit && model.initial[1] < 0.05)
+          model.initial[1] = 0.05;
+        return model;
+      }
+
+
+
+      /// What a candidate's refinement reaches.
+      struct Refined
+      {
+        HexagonalLaminate structure;
+        Sample            sample;
+        /// The moduli misfit and the optimized objective.
+        double         misfit = 0, objective = 0;
+        nlohmann::json summary;
+      };
+
+
+
+      /**
+       * The refinement of the candidates on the Grid resolution: J (the
+       * moduli misfit or the compliance misfit) and its exact gradient
+       * (the pixel tensors' derivatives through C^H's material gradient).
+       * Every rank refines the same candidates (the runs are short, and
+       * the optimizer's collective output stays consistent).
+       */
+      class Refinement
+      {
+      public:
+        Refinement(const InverseSettings &s,
+                   const Setup           &setup,
+                   RunContext            &context)
+          : s(s)
+          , setup(setup)
+          , context(context)
+          , E_star(s.target_E * setup.base.E)
+          , compliance(E_star, s.target_nu)
+          , ny(setup.cells_along_height)
+          , nx(grid_nx(ny))
+          , cell(family_grid(MPI_COMM_SELF, setup, ny))
+        {}
+
+        double
+        misfit(const double E, const double nu) const
+        {
+          return std::pow(E / E_star - 1, 2) + std::pow(nu - s.target_nu, 2);
+        }
+
+        /// The optimized J.
+        double
+        objective(const Sample &r) const
+        {
+          return s.compliance_objective ? compliance.value(r.C) :
+                                          misfit(r.fit.E, r.fit.nu);
+        }
+
+        /// Candidate `c` (from 1) refined from s0; Table 5.1's rows (Report
+        /// shape derivative) go to shape_rows.
+        Refined
+        run(const HexagonalLaminate &s0,
+            const unsigned int       c,
+            nlohmann::json          &shape_rows);
+
+        unsigned int
+        grid_width() const
+        {
+          return nx;
+        }
+
+      private:
+        Sample
+        moduli(const HexagonalLaminate &structure) const
+        {
+          return evaluate(
+            *cell,
+            pixel_material(
+              structure, setup.base, setup.weak, setup.gray, nx, ny),
+            setup);
+        }
+
+        /// dJ/dq at the homogenization r of with(s0, q); returns J.
+        double
+        gradient(const HexagonalLaminate   &s0,
+                 const std::vector<double> &q,
+                 const Sample              &r,
+                 std::vector<double>       &dJ) const;
+
+        /// Table 5.1's row for an accepted iterate.
+        nlohmann::json
+        shape_row(const HexagonalLaminate   &structure,
+                  const unsigned int         k,
+                  const double               value,
+                  const std::vector<double> &dJ) const;
+
+        const InverseSettings                     &s;
+        const Setup                               &setup;
+        RunContext                                &context;
+        const double                               E_star;
+        const ComplianceMisfit                     compliance;
+        const unsigned int                         ny, nx;
+        std::unique_ptr<PeriodicHomogenization<2>> cell;
+      };
+
+
+
+      double
+      Refinement::gradient(const HexagonalLaminate   &s0,
+                           const std::vector<double> &q,
+                           const Sample              &r,
+                           std::vector<double>       &dJ) const
+      {
+        const auto g = evaluate_gradient(*cell, with(s0, q), setup, nx, ny, r);
+        const double dJ_dE  = 2 * (r.fit.E / E_star - 1) / E_star,
+                     dJ_dnu = 2 * (r.fit.nu - s.target_nu);
+        const auto G        = compliance.derivative(r.C);
+        dJ.assign(q.size(), 0);
+        for (unsigned int i = 0; i < q.size(); ++i)
+          dJ[i] = s.compliance_objective ? full_contraction(G, g.C[i]) :
+                                           dJ_dE * g.E[i] + dJ_dnu * g.nu[i];
+        // The optimizer's alpha is in degrees.
+        if (s0.limit)
+          dJ[2] *= numbers::PI / 180;
+        return objective(r);
+      }
+
+
+
+      nlohmann::json
+      Refinement::shape_row(const HexagonalLaminate   &structure,
+                            const unsigned int         k,
+                            const double               value,
+                            const std::vector<double> &dJ) const
+      {
+        double norm = 0;
+        for (const double x : dJ)
+          norm += x * x;
+        norm     = std::sqrt(norm);
+        auto row = shape_derivative_row(
+          structure, setup, s.mesh_size, s.mesh_degree, compliance);
+        row["iteration"]               = k;
+        row["J"]                       = value;
+        row["parameter_gradient_norm"] = norm;
+        row["structure"]               = structure_json(structure);
+        context.print(
+          "inverse: [iteration " + std::to_string(k) + "] J = " + sig(value) +
+          ", |dJ/dq| = " + sig(norm, 3) +
+          "; conforming mesh: E/Eb = " + sig(double(row["mesh_E_over_Eb"])) +
+          ", nu = " + sig(double(row["mesh_nu"])) +
+          ", |dJ/dX| = " + sig(double(row["shape_derivative_norm"]), 4) + ", " +
+          sig(100 * double(row["corner_share"]), 3) +
+          "% of |dJ/dX|^2 near corners");
+        return row;
+      }
+
+
+
+      Refined
+      Refinement::run(const HexagonalLaminate &s0,
+                      const unsigned int       c,
+                      nlohmann::json          &shape_rows)
+      {
+        DesignModel model = design_variables(s0);
+        // The line search asks for J and then the gradient at the same
+        // design, and the result is the last accepted one: keep the last
+        // homogenization.
+        std::vector<double> last_q;
+        Sample              last;
+        const auto          sample_at = [&](const std::vector<double> &q) {
+          if (q != last_q)
+            {
+              last   = moduli(with(s0, q));
+              last_q = q;
+            }
+          return last;
+        };
+        model.value = [&](const std::vector<double> &q) {
+          return objective(sample_at(q));
+        };
+        // The last gradient, for the report of an accepted design.
+        std::vector<double> gradient_q, last_gradient;
+        model.gradient = [&](const std::vector<double> &q,
+                             std::vector<double>       &dJ) {
+          const double J = gradient(s0, q, sample_at(q), dJ);
+          gradient_q = q, last_gradient = dJ;
+          return J;
+        };
+        model.accepted = [&](const unsigned int         k,
+                             const std::vector<double> &q,
+                             const double               value) {
+          if (!s.report_shape)
+            return;
+          std::vector<double> dJ = last_gradient;
+          if (q != gradient_q)
+            model.gradient(q, dJ);
+          auto row         = shape_row(with(s0, q), k, value, dJ);
+          row["candidate"] = c;
+          shape_rows.push_back(row);
+        };
+        const auto result = optimize(model, s.op, context);
+        Refined    out;
+        out.structure = with(s0, result.design);
+        out.sample    = sample_at(result.design);
+        out.misfit    = misfit(out.sample.fit.E, out.sample.fit.nu);
+        out.objective = objective(out.sample);
+        context.print(
+          "inverse: candidate " + std::to_string(c) +
+          " reaches E/Eb = " + sig(out.sample.fit.E / setup.base.E) +
+          ", nu = " + sig(out.sample.fit.nu) + " (" + result.stop_reason + ")");
+        out.summary                = structure_json(out.structure);
+        out.summary["E_over_Eb"]   = out.sample.fit.E / setup.base.E;
+        out.summary["nu"]          = out.sample.fit.nu;
+        out.summary["misfit"]      = out.misfit;
+        out.summary["objective"]   = out.objective;
+        out.summary["iterations"]  = result.history.size() - 1;
+        out.summary["stop_reason"] = result.stop_reason;
+        return out;
+      }
+
+
+
+      /// "hexagon p1 = ..., p2 = ..." as the progress lines name a start.
+      std::string
+      describe(const TableSample &start, const Setup &setup)
+      {
+        const auto &s = start.structure;
+        return s.family_name() +
+               (s.limit ?
+                  " limit p1 = " + sig(s.p1) + ", theta = " + sig(s.theta) +
+                    ", alpha = " + sig(s.alpha * 180 / numbers::PI) :
+                  " p1 = " + sig(s.p1) + ", p2 = " + sig(s.p2) +
+                    ", p3 = " + sig(s.p3) + ", p4 = " + sig(s.p4)) +
+               " (table: E/Eb = " + sig(start.E / setup.base.E) +
+               ", nu = " + sig(start.nu) + ")";
+      }
     } // namespace
 
 
@@ -159,261 +533,63 @@ namespace forma
                  const Setup       &setup,
                  RunContext        &context)
     {
-      prm.enter_subsection("Inverse");
-      const double       target_E   = prm.get_double("Target Young's modulus");
-      const double       target_nu  = prm.get_double("Target Poisson's ratio");
-      std::string        table_file = prm.get("Table file");
-      const unsigned int table_ny = prm.get_integer("Table cells along height");
-      const unsigned int n_candidates = prm.get_integer("Candidates");
-      OptimizationParameters op;
-      op.max_iterations                 = prm.get_integer("Max iterations");
-      const double tolerance            = prm.get_double("Tolerance");
-      const bool   compliance_objective = prm.get("Objective") == "compliance";
-      const bool   report_shape = prm.get_bool("Report shape derivative");
-      prm.leave_subsection();
-      AssertThrow(!report_shape || compliance_objective,
-                  ExcMessage("Inverse/Report shape derivative needs "
-                             "Inverse/Objective = compliance (thesis Table "
-                             "5.1's objective)."));
-      prm.enter_subsection("Conforming mesh");
-      const double       mesh_size   = prm.get_double("Element size");
-      const unsigned int mesh_degree = prm.get_integer("Degree");
-      prm.leave_subsection();
-      op.value_target       = compliance_objective ?
-                                -std::numeric_limits<double>::infinity() :
-                                tolerance * tolerance;
-      op.relative_decrease  = 1e-6;
-      op.decrease_window    = 3;
-      op.gradient_tolerance = 1e-8;
-      op.print_iterations   = false;
-      // E is relative to the base's 2D Young's modulus.
-      const double E_star = target_E * setup.base.E;
-      {
-        const auto hs = hashin_shtrikman(setup.base, setup.weak, 1);
-        AssertThrow(E_star <= hs.max_young_modulus(target_nu) &&
-                      target_nu > -1 && target_nu < 1,
-                    ExcMessage(
-                      "Inverse: the target (E/Eb, nu) = (" + sig(target_E) +
-                      ", " + sig(target_nu) +
-                      ") lies outside the Hashin-Shtrikman bounds "
-                      "(E/Eb <= " +
-                      sig(hs.max_young_modulus(target_nu) / setup.base.E) +
-                      " at this nu): no structure reaches it"));
-      }
-      const SweepGrid grid = read_sweep_grid(prm);
+      const InverseSettings s = read_inverse_settings(prm, prm_directory);
+      check_target(s, setup);
+      const SweepGrid                grid = read_sweep_grid(prm);
+      const std::vector<TableSample> table =
+        starting_table(s, grid, setup, context);
 
-      // The table: given, or the Sweep grid on a coarse grid.
-      std::vector<TableSample> table;
-      if (!table_file.empty())
-        {
-          if (table_file[0] != '/')
-            table_file = prm_directory + "/" + table_file;
-          table = read_sample_table(table_file);
-          context.print("inverse: " + std::to_string(table.size()) +
-                        " samples from the table file");
-        }
-      else
-        {
-          const auto values =
-            homogenize_all(grid.structures, setup, table_ny, context);
-          for (unsigned int k = 0; k < grid.structures.size(); ++k)
-            table.push_back({grid.structures[k],
-                             values[k * n_fields + f_E],
-                             values[k * n_fields + f_nu]});
-        }
-
-      auto misfit = [&](const double E, const double nu) {
-        return std::pow(E / E_star - 1, 2) + std::pow(nu - target_nu, 2);
-      };
-      const ComplianceMisfit compliance(E_star, target_nu);
-      // The optimized J: the moduli misfit or the compliance misfit.
-      auto objective = [&](const Sample &r) {
-        return compliance_objective ? compliance.value(r.C) :
-                                      misfit(r.fit.E, r.fit.nu);
-      };
-      nlohmann::json shape_rows = nlohmann::json::array();
+      // The table's samples of the Sweep section's families, nearest first.
+      Refinement refinement(s, setup, context);
       std::vector<std::pair<double, unsigned int>> ranked;
       for (unsigned int k = 0; k < table.size(); ++k)
         if (std::count(grid.families.begin(),
                        grid.families.end(),
                        table[k].structure.family) > 0 &&
             table[k].structure.limit == grid.limit)
-          ranked.push_back({misfit(table[k].E, table[k].nu), k});
+          ranked.push_back({refinement.misfit(table[k].E, table[k].nu), k});
       AssertThrow(!ranked.empty(),
                   ExcMessage("Inverse: the table has no sample of the "
                              "families (and Limit structures setting) of the "
                              "Sweep section"));
       std::sort(ranked.begin(), ranked.end());
-      ranked.resize(std::min<std::size_t>(ranked.size(), n_candidates));
+      ranked.resize(std::min<std::size_t>(ranked.size(), s.n_candidates));
 
-      // Refinement on the Grid resolution.
-      const unsigned int ny   = setup.cells_along_height;
-      const unsigned int nx   = grid_nx(ny);
-      const auto         cell = family_grid(MPI_COMM_SELF, setup, ny);
-      // Every rank refines the same candidates (the runs are short, and the
-      // optimizer's collective output stays consistent).
-      auto with = [](HexagonalLaminate s, const std::vector<double> &q) {
-        if (s.limit)
-          s.p1 = q[0], s.theta = q[1], s.alpha = q[2] * numbers::PI / 180;
-        else
-          s.p1 = q[0], s.p2 = q[1], s.p4 = q[2];
-        s.check();
-        return s;
-      };
-      auto moduli = [&](const HexagonalLaminate &s) {
-        const auto r = evaluate(
-          *cell,
-          pixel_material(s, setup.base, setup.weak, setup.gray, nx, ny),
-          setup);
-        return r;
-      };
-
-      nlohmann::json    candidates     = nlohmann::json::array();
-      double            best_J         = std::numeric_limits<double>::max();
-      double            best_objective = std::numeric_limits<double>::max();
-      HexagonalLaminate best;
-      Sample            best_sample;
+      nlohmann::json shape_rows = nlohmann::json::array();
+      nlohmann::json candidates = nlohmann::json::array();
+      Refined        best;
+      best.objective = std::numeric_limits<double>::max();
+      best.misfit    = std::numeric_limits<double>::max();
       for (unsigned int c = 0; c < ranked.size(); ++c)
         {
           const TableSample &start = table[ranked[c].second];
-          const auto        &s0    = start.structure;
-          context.print(
-            "inverse: candidate " + std::to_string(c + 1) + "/" +
-            std::to_string(ranked.size()) + ": " + s0.family_name() +
-            (s0.limit ?
-               " limit p1 = " + sig(s0.p1) + ", theta = " + sig(s0.theta) +
-                 ", alpha = " + sig(s0.alpha * 180 / numbers::PI) :
-               " p1 = " + sig(s0.p1) + ", p2 = " + sig(s0.p2) +
-                 ", p3 = " + sig(s0.p3) + ", p4 = " + sig(s0.p4)) +
-            " (table: E/Eb = " + sig(start.E / setup.base.E) +
-            ", nu = " + sig(start.nu) + ")");
-          DesignModel model;
-          if (s0.limit)
-            {
-              model.initial = {s0.p1, s0.theta, s0.alpha * 180 / numbers::PI};
-              model.scale   = {0.1, 0.1, 10};
-              model.lower   = {0.02, 0, -89};
-              model.upper   = {0.98, 1, 89};
-            }
-          else
-            {
-              model.initial = {s0.p1, s0.p2, s0.p4};
-              model.scale   = {0.1, 0.1, 0.1};
-              model.lower   = {0.02, 0, 0.02};
-              model.upper   = {0.98, 1, 1};
-            }
-          // E and nu are even in p2 (alpha): a mirrored structure has the
-          // same isotropic moduli, so a non-chiral start is stationary in
-          // chirality and an exact gradient never leaves it. Start slightly
-          // chiral (p2 = 0.05, alpha = 2 degrees).
-          if (s0.limit && std::abs(model.initial[2]) < 2)
-            model.initial[2] = 2;
-          if (!s0.limit && model.initial[1] < 0.05)
-            model.initial[1] = 0.05;
-          // The line search asks for J and then the gradient at the same
-          // design, and the result is the last accepted one: keep the last
-          // homogenization.
-          std::vector<double> last_q;
-          Sample              last;
-          auto                sample_at = [&](const std::vector<double> &q) {
-            if (q != last_q)
-              {
-                last   = moduli(with(s0, q));
-                last_q = q;
-              }
-            return last;
-          };
-          auto J = [&](const std::vector<double> &q) {
-            return objective(sample_at(q));
-          };
-          model.value = J;
-          // Exact: the pixel tensors' derivatives through C^H's material
-          // gradient at the last homogenization (sample_at's).
-          // The last gradient, for the report of an accepted design.
-          std::vector<double> gradient_q, gradient;
-          model.gradient = [&](const std::vector<double> &q,
-                               std::vector<double>       &dJ) {
-            const Sample r = sample_at(q);
-            const auto   g =
-              evaluate_gradient(*cell, with(s0, q), setup, nx, ny, r);
-            const double dJ_dE  = 2 * (r.fit.E / E_star - 1) / E_star,
-                         dJ_dnu = 2 * (r.fit.nu - target_nu);
-            const auto G        = compliance.derivative(r.C);
-            dJ.assign(q.size(), 0);
-            for (unsigned int i = 0; i < q.size(); ++i)
-              dJ[i] = compliance_objective ? full_contraction(G, g.C[i]) :
-                                             dJ_dE * g.E[i] + dJ_dnu * g.nu[i];
-            // The optimizer's alpha is in degrees.
-            if (s0.limit)
-              dJ[2] *= numbers::PI / 180;
-            gradient_q = q, gradient = dJ;
-            return objective(r);
-          };
-          model.accepted = [&](const unsigned int         k,
-                               const std::vector<double> &q,
-                               const double               value) {
-            if (!report_shape)
-              return;
-            std::vector<double> dJ = gradient;
-            if (q != gradient_q)
-              model.gradient(q, dJ);
-            double norm = 0;
-            for (const double x : dJ)
-              norm += x * x;
-            auto row = shape_derivative_row(
-              with(s0, q), setup, mesh_size, mesh_degree, compliance);
-            row["candidate"]               = c + 1;
-            row["iteration"]               = k;
-            row["J"]                       = value;
-            row["parameter_gradient_norm"] = std::sqrt(norm);
-            row["structure"]               = structure_json(with(s0, q));
-            context.print(
-              "inverse: [iteration " + std::to_string(k) +
-              "] J = " + sig(value) + ", |dJ/dq| = " + sig(std::sqrt(norm), 3) +
-              "; conforming mesh: E/Eb = " +
-              sig(double(row["mesh_E_over_Eb"])) +
-              ", nu = " + sig(double(row["mesh_nu"])) +
-              ", |dJ/dX| = " + sig(double(row["shape_derivative_norm"]), 4) +
-              ", " + sig(100 * double(row["corner_share"]), 3) +
-              "% of |dJ/dX|^2 near corners");
-            shape_rows.push_back(row);
-          };
-          const auto   result = optimize(model, op, context);
-          const auto   s      = with(s0, result.design);
-          const auto   r      = sample_at(result.design);
-          const double Jc     = misfit(r.fit.E, r.fit.nu);
-          const double Jo     = objective(r);
-          context.print("inverse: candidate " + std::to_string(c + 1) +
-                        " reaches E/Eb = " + sig(r.fit.E / setup.base.E) +
-                        ", nu = " + sig(r.fit.nu) + " (" + result.stop_reason +
-                        ")");
-          nlohmann::json j = structure_json(s);
-          j["E_over_Eb"]   = r.fit.E / setup.base.E;
-          j["nu"]          = r.fit.nu;
-          j["misfit"]      = Jc;
-          j["objective"]   = Jo;
-          j["iterations"]  = result.history.size() - 1;
-          j["stop_reason"] = result.stop_reason;
-          candidates.push_back(j);
-          if (Jo < best_objective)
-            best_objective = Jo, best_J = Jc, best = s, best_sample = r;
-          if (Jc <= op.value_target)
+          context.print("inverse: candidate " + std::to_string(c + 1) + "/" +
+                        std::to_string(ranked.size()) + ": " +
+                        describe(start, setup));
+          Refined r = refinement.run(start.structure, c + 1, shape_rows);
+          candidates.push_back(r.summary);
+          const bool reached = r.misfit <= s.op.value_target;
+          if (r.objective < best.objective)
+            best = std::move(r);
+          if (reached)
             break;
         }
-      context.print(
-        "inverse: target E/Eb = " + sig(target_E) + ", nu = " + sig(target_nu) +
-        "; achieved E/Eb = " + sig(best_sample.fit.E / setup.base.E) +
-        ", nu = " + sig(best_sample.fit.nu) + " (misfit " +
-        sig(std::sqrt(best_J), 2) + ")");
-      context.summary["target"] = {{"E_over_Eb", target_E}, {"nu", target_nu}};
-      context.summary["structure"]  = structure_json(best);
-      context.summary["result"]     = sample_json(best_sample, setup);
-      context.summary["misfit"]     = std::sqrt(best_J);
-      context.summary["reached"]    = best_J <= op.value_target;
+      context.print("inverse: target E/Eb = " + sig(s.target_E) +
+                    ", nu = " + sig(s.target_nu) + "; achieved E/Eb = " +
+                    sig(best.sample.fit.E / setup.base.E) +
+                    ", nu = " + sig(best.sample.fit.nu) + " (misfit " +
+                    sig(std::sqrt(best.misfit), 2) + ")");
+      context.summary["target"]     = {{"E_over_Eb", s.target_E},
+                                       {"nu", s.target_nu}};
+      context.summary["structure"]  = structure_json(best.structure);
+      context.summary["result"]     = sample_json(best.sample, setup);
+      context.summary["misfit"]     = std::sqrt(best.misfit);
+      context.summary["reached"]    = best.misfit <= s.op.value_target;
       context.summary["candidates"] = candidates;
-      if (report_shape)
+      if (s.report_shape)
         context.summary["shape_derivative"] = shape_rows;
-      context.summary["grid"] = {nx, ny};
+      context.summary["grid"] = {refinement.grid_width(),
+                                 setup.cells_along_height};
     }
   } // namespace laminate
 } // namespace forma

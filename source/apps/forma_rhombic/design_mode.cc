@@ -5,6 +5,7 @@
 
 #include <forma/adjoint/design.h>
 #include <forma/base/application.h>
+#include <forma/base/on_root.h>
 #include <forma/base/parameter_override.h>
 #include <forma/base/records.h>
 #include <forma/base/run_context.h>
@@ -464,12 +465,282 @@ namespace forma
         if (cut_summary.count("final_objective"))
           context.summary["cut_grid"]["final_objective"] =
             cut_summary["final_objective"];
-        on_root(context.communicator(), [&]() {
+        on_root_or_throw(context.communicator(), [&]() {
           write_level_set_picture(context.path("cut_grid_geometry.png"),
                                   cropped,
                                   domain.lo,
                                   domain.hi);
         });
+      }
+
+
+      /// Two-scale/Pointwise table, read first: a bad file must not cost a
+      /// design (empty unless the 'pointwise table' baseline is asked for).
+      PointwiseTable
+      read_baseline_table(const TwoScaleSettings &settings, const Setup &setup)
+      {
+        PointwiseTable table;
+        if (!settings.baselines.count("pointwise table"))
+          return table;
+        AssertThrow(!settings.table_file.empty(),
+                    ExcMessage("Two-scale/Baselines: 'pointwise table' "
+                               "needs Two-scale/Pointwise table (a "
+                               "pointwise_table.json of Mode = pointwise "
+                               "table)."));
+        table = PointwiseTable::read(settings.table_file);
+        AssertThrow(std::abs(table.base_nu - setup.base.nu) < 1e-12,
+                    ExcMessage("Two-scale/Pointwise table: the table was "
+                               "built for a base Poisson's ratio of " +
+                               sig(table.base_nu) + ", this run's base has " +
+                               sig(setup.base.nu) + "."));
+        return table;
+      }
+
+
+
+      /// The rhombic mesh's quads as the map sees them: each quad's angle
+      /// clamped to the map's range, its coverage region D and its center.
+      struct MapCells
+      {
+        std::vector<double>         alpha;
+        std::vector<CoverageRegion> region;
+        std::vector<Point<2>>       centers;
+        unsigned int                clamped = 0;
+      };
+
+
+
+      MapCells
+      map_cells(const Triangulation<2, 2> &tria,
+                const QuadMeshShape       &shape,
+                const MaterialMap         &map,
+                const Setup               &setup,
+                const RunContext          &context)
+      {
+        const auto [angle_lo, angle_hi] = map.covered_angles();
+        const unsigned int n_cells      = tria.n_active_cells();
+        MapCells           m;
+        m.alpha.resize(n_cells);
+        m.region.resize(n_cells);
+        for (const auto &cell : tria.active_cell_iterators())
+          {
+            const unsigned int c = cell->active_cell_index();
+            const double       a = shape.alpha[c] * degrees;
+            m.alpha[c]           = std::clamp(a, angle_lo, angle_hi);
+            m.clamped += (m.alpha[c] != a);
+            m.region[c] = map.coverage(m.alpha[c], setup.base.nu);
+            AssertThrow(!m.region[c].empty(),
+                        ExcMessage("the map has no coverage at " +
+                                   sig(m.alpha[c]) + " degrees (cell " +
+                                   std::to_string(c) + ")."));
+            m.centers.push_back(cell->center());
+          }
+        context.print("map: angles " + sig(angle_lo) + "-" + sig(angle_hi) +
+                      " degrees; " + std::to_string(m.clamped) +
+                      " quads sharper than the map's range use its smallest "
+                      "angle");
+        return m;
+      }
+
+
+
+      /// Two-scale/Macro problem, on the rhombic mesh written to
+      /// `mesh_file`, checked for what the two-scale design needs.
+      ElasticityParameters
+      macro_problem(const TwoScaleSettings &settings,
+                    const std::string      &mesh_file,
+                    ParameterHandler       &macro)
+      {
+        ElasticityParameters parameters =
+          read_macro_problem(settings.macro_file,
+                             settings.macro_settings,
+                             macro);
+        AssertThrow(parameters.dim == 2 && parameters.plane_stress,
+                    ExcMessage("Two-scale/Macro problem: the homogenized "
+                               "moduli are 2D; set Dimension = 2 and "
+                               "Material/Plane = stress."));
+        AssertThrow(parameters.design.blocks ==
+                        std::vector<std::string>{"cell material"} &&
+                      parameters.design.young_poisson,
+                    ExcMessage("Two-scale/Macro problem: the design must be "
+                               "'cell material' alone, in Young's modulus "
+                               "and Poisson's ratio."));
+        parameters.mesh.source               = "file";
+        parameters.mesh.file                 = mesh_file;
+        parameters.mesh.file_as_given        = "rhombic_mesh.msh";
+        parameters.mesh.initial_refinement   = 0;
+        parameters.mesh.convert_to_simplices = false; // cells are the quads
+        return parameters;
+      }
+
+
+
+      /// The quad of each of the macro problem's cells: the simulator
+      /// numbers cells its own way, so they are matched by center (within
+      /// `tolerance`, squared).
+      std::vector<unsigned int>
+      match_quads(const std::vector<Point<2>> &quad_centers,
+                  const std::vector<Point<2>> &simulator_centers,
+                  const double                 tolerance)
+      {
+        const unsigned int n_cells = quad_centers.size();
+        AssertThrow(simulator_centers.size() == n_cells,
+                    ExcMessage("Two-scale/Macro problem: its mesh must be "
+                               "the rhombic quad mesh, cell for cell (no "
+                               "refinement or adaptivity)."));
+        std::vector<unsigned int> quad_of(n_cells, 0);
+        std::vector<bool>         matched(n_cells, false);
+        for (unsigned int g = 0; g < n_cells; ++g)
+          {
+            double best = 1e300;
+            for (unsigned int c = 0; c < n_cells; ++c)
+              if (quad_centers[c].distance_square(simulator_centers[g]) < best)
+                {
+                  best = quad_centers[c].distance_square(simulator_centers[g]);
+                  quad_of[g] = c;
+                }
+            AssertThrow(best < tolerance && !matched[quad_of[g]],
+                        ExcMessage("Two-scale: a cell of the macro problem "
+                                   "matches no quad of the rhombic mesh."));
+            matched[quad_of[g]] = true;
+          }
+        return quad_of;
+      }
+
+
+
+      /// The design per quad of the rhombic mesh (in its order): the
+      /// materials and the map's structures.
+      struct CellDesign
+      {
+        std::vector<double>           E, nu;
+        std::vector<RhombicStructure> structures;
+      };
+
+
+
+      /// Each cell's structure from the map (ch. 4.6), inside D(alpha), for
+      /// the macro problem's materials (in its cell order).
+      CellDesign
+      structures_from_map(const std::vector<std::array<double, 2>> &materials,
+                          const std::vector<unsigned int>          &quad_of,
+                          const MapCells                           &cells,
+                          const MaterialMap                        &map,
+                          const Setup                              &setup)
+      {
+        const unsigned int n_cells = quad_of.size();
+        CellDesign         d;
+        d.E.resize(n_cells);
+        d.nu.resize(n_cells);
+        d.structures.resize(n_cells);
+        for (unsigned int g = 0; g < n_cells; ++g)
+          {
+            const unsigned int c = quad_of[g];
+            d.E[c]               = materials[g][0];
+            d.nu[c]              = materials[g][1];
+            bool inside          = false;
+            d.structures[c] =
+              map.query(d.E[c], d.nu[c], cells.alpha[c], setup.base.nu, inside);
+          }
+        return d;
+      }
+
+
+
+      /// Fig. 4.22: structures made for squares (the map at 90 degrees) on
+      /// the same quads, checked at the fine scale.
+      void
+      remapped_square_baseline(const std::vector<Quad> &quads,
+                               const CellDesign        &design,
+                               const MaterialMap       &map,
+                               const Setup             &setup,
+                               const Tiler             &tile,
+                               const FineScaleCheck    &fine_scale,
+                               LoadCases<2>            &homogenized)
+      {
+        std::vector<RhombicStructure> squares(quads.size());
+        for (unsigned int c = 0; c < quads.size(); ++c)
+          {
+            bool inside = false;
+            squares[c] =
+              map.query(design.E[c], design.nu[c], 90, setup.base.nu, inside);
+          }
+        const TiledObject remapped = tile(quads, squares);
+        fine_scale([&remapped](const Point<2> &x) { return remapped(x); },
+                   remapped.lo,
+                   remapped.hi,
+                   "remapped_square",
+                   homogenized);
+      }
+
+
+
+      /// Fig. 4.23: the same quads and materials, each quad given the
+      /// table's structure nearest to its material, mapped onto it.
+      void
+      pointwise_table_baseline(const std::vector<Quad> &quads,
+                               const CellDesign        &design,
+                               const PointwiseTable    &table,
+                               const TiledObject       &family,
+                               const TwoScaleSettings  &settings,
+                               const Tiler             &tile,
+                               const FineScaleCheck    &fine_scale,
+                               LoadCases<2>            &homogenized,
+                               RunContext              &context)
+      {
+        const unsigned int            n_cells = quads.size();
+        std::vector<RhombicStructure> looked_up(n_cells);
+        double                        dE = 0, dnu = 0;
+        for (unsigned int c = 0; c < n_cells; ++c)
+          {
+            const auto &e = table.nearest(design.E[c], design.nu[c]);
+            looked_up[c]  = e.structure;
+            dE += std::abs(e.E / design.E[c] - 1) / n_cells;
+            dnu += std::abs(e.nu - design.nu[c]) / n_cells;
+          }
+        context.print(
+          "pointwise table: " + std::to_string(table.entries.size()) +
+          " structures; nearest entry |E/E* - 1| mean " + sig(dE, 2) +
+          ", |nu - nu*| mean " + sig(dnu, 2));
+        const TiledObject pointwise = tile(quads, looked_up);
+        fine_scale([&pointwise](const Point<2> &x) { return pointwise(x); },
+                   pointwise.lo,
+                   pointwise.hi,
+                   "pointwise_table",
+                   homogenized);
+        context.print("pointwise table: joint radii p5 of neighbours "
+                      "differ by up to " +
+                      sig(pointwise.largest_joint_mismatch, 2) +
+                      (settings.merge ? " (merged)" : "") +
+                      "; the family's by up to " +
+                      sig(family.largest_joint_mismatch, 2));
+        context.summary["pointwise_table"] = {
+          {"largest_joint_mismatch", pointwise.largest_joint_mismatch},
+          {"family_largest_joint_mismatch", family.largest_joint_mismatch},
+          {"entries", table.entries.size()},
+          {"mean_lookup_E_error", dE},
+          {"mean_lookup_nu_error", dnu}};
+      }
+
+
+
+      /// The summary's cells: center, angle, material and structure.
+      nlohmann::json
+      cells_summary(const MapCells &cells, const CellDesign &design)
+      {
+        nlohmann::json json = nlohmann::json::array();
+        for (unsigned int c = 0; c < cells.centers.size(); ++c)
+          {
+            const auto         &p = design.structures[c].p;
+            std::vector<double> parameters(p.begin(), p.end());
+            json.push_back(
+              {{"center", {cells.centers[c][0], cells.centers[c][1]}},
+               {"alpha", cells.alpha[c]},
+               {"E_relative", design.E[c]},
+               {"nu", design.nu[c]},
+               {"parameters", parameters}});
+          }
+        return json;
       }
     } // namespace
 
@@ -483,24 +754,8 @@ namespace forma
     {
       const TwoScaleSettings settings =
         TwoScaleSettings::parse(prm, prm_directory);
-      // The baselines' table first: a bad file must not cost a design.
-      PointwiseTable table;
-      if (settings.baselines.count("pointwise table"))
-        {
-          AssertThrow(!settings.table_file.empty(),
-                      ExcMessage("Two-scale/Baselines: 'pointwise table' "
-                                 "needs Two-scale/Pointwise table (a "
-                                 "pointwise_table.json of Mode = pointwise "
-                                 "table)."));
-          table = PointwiseTable::read(settings.table_file);
-          AssertThrow(std::abs(table.base_nu - setup.base.nu) < 1e-12,
-                      ExcMessage("Two-scale/Pointwise table: the table was "
-                                 "built for a base Poisson's ratio of " +
-                                 sig(table.base_nu) + ", this run's base has " +
-                                 sig(setup.base.nu) + "."));
-        }
-      const MaterialMap map           = read_map(prm, prm_directory);
-      const auto [angle_lo, angle_hi] = map.covered_angles();
+      const PointwiseTable table = read_baseline_table(settings, setup);
+      const MaterialMap    map   = read_map(prm, prm_directory);
 
       // Wall seconds per stage (log and summary only: not deterministic).
       nlohmann::json seconds;
@@ -518,55 +773,15 @@ namespace forma
       const std::string   mesh_file = context.path("rhombic_mesh.msh");
       const PolygonDomain domain    = PolygonDomain::boundary_of(tria);
       MPI_Barrier(context.communicator()); // the root wrote it
-
-      // Each quad's angle, clamped to the map's range, and its region D.
-      const unsigned int          n_cells = tria.n_active_cells();
-      std::vector<double>         alpha(n_cells);
-      std::vector<CoverageRegion> region(n_cells);
-      std::vector<Point<2>>       centers;
-      unsigned int                clamped = 0;
-      for (const auto &cell : tria.active_cell_iterators())
-        {
-          const unsigned int c = cell->active_cell_index();
-          const double       a = shape.alpha[c] * degrees;
-          alpha[c]             = std::clamp(a, angle_lo, angle_hi);
-          clamped += (alpha[c] != a);
-          region[c] = map.coverage(alpha[c], setup.base.nu);
-          AssertThrow(!region[c].empty(),
-                      ExcMessage("the map has no coverage at " + sig(alpha[c]) +
-                                 " degrees (cell " + std::to_string(c) + ")."));
-          centers.push_back(cell->center());
-        }
-      context.print("map: angles " + sig(angle_lo) + "-" + sig(angle_hi) +
-                    " degrees; " + std::to_string(clamped) +
-                    " quads sharper than the map's range use its smallest "
-                    "angle");
-
+      const MapCells     cells   = map_cells(tria, shape, map, setup, context);
+      const unsigned int n_cells = tria.n_active_cells();
       lap("rhombic mesh");
 
       // 2. Per-cell materials for the macro problem (ch. 4.8).
       ParameterHandler     macro;
       ElasticityParameters parameters =
-        read_macro_problem(settings.macro_file, settings.macro_settings, macro);
-      AssertThrow(parameters.dim == 2 && parameters.plane_stress,
-                  ExcMessage("Two-scale/Macro problem: the homogenized "
-                             "moduli are 2D; set Dimension = 2 and "
-                             "Material/Plane = stress."));
-      AssertThrow(parameters.design.blocks ==
-                      std::vector<std::string>{"cell material"} &&
-                    parameters.design.young_poisson,
-                  ExcMessage("Two-scale/Macro problem: the design must be "
-                             "'cell material' alone, in Young's modulus and "
-                             "Poisson's ratio."));
-      parameters.mesh.source               = "file";
-      parameters.mesh.file                 = mesh_file;
-      parameters.mesh.file_as_given        = "rhombic_mesh.msh";
-      parameters.mesh.initial_refinement   = 0;
-      parameters.mesh.convert_to_simplices = false; // cells are the quads
-
-      // The simulator numbers cells its own way: match them by center.
+        macro_problem(settings, mesh_file, macro);
       std::vector<unsigned int>   quad_of;
-      const double                E_b = setup.base.E;
       const std::array<double, 4> box = {
         {map.E.front(),
          map.E.back(),
@@ -574,33 +789,16 @@ namespace forma
          map.nu.back() + setup.base.nu * map.E.back()}};
       CoverageConstraint coverage{
         "cell material",
-        E_b,
+        setup.base.E,
         settings.coverage_weight,
         box,
         [&](const std::vector<Point<2>> &simulator_centers) {
-          AssertThrow(simulator_centers.size() == n_cells,
-                      ExcMessage("Two-scale/Macro problem: its mesh must be "
-                                 "the rhombic quad mesh, cell for cell (no "
-                                 "refinement or adaptivity)."));
-          quad_of.assign(n_cells, 0);
-          std::vector<bool>           matched(n_cells, false);
+          quad_of = match_quads(cells.centers,
+                                simulator_centers,
+                                1e-10 * tria.begin_active()->measure());
           std::vector<const Region *> regions;
-          for (unsigned int g = 0; g < n_cells; ++g)
-            {
-              double best = 1e300;
-              for (unsigned int c = 0; c < n_cells; ++c)
-                if (centers[c].distance_square(simulator_centers[g]) < best)
-                  {
-                    best = centers[c].distance_square(simulator_centers[g]);
-                    quad_of[g] = c;
-                  }
-              AssertThrow(best < 1e-10 * tria.begin_active()->measure() &&
-                            !matched[quad_of[g]],
-                          ExcMessage("Two-scale: a cell of the macro problem "
-                                     "matches no quad of the rhombic mesh."));
-              matched[quad_of[g]] = true;
-              regions.push_back(&region[quad_of[g]]);
-            }
+          for (const unsigned int c : quad_of)
+            regions.push_back(&cells.region[c]);
           return regions;
         },
         0,
@@ -624,21 +822,12 @@ namespace forma
           context.print("constant material E/E_b = " + m[0] + ", nu = " + m[1] +
                         " in all " + std::to_string(n_cells) + " cells");
         }
-
       lap("materials");
 
       // 3. Each cell's structure from the map (ch. 4.6), inside D(alpha).
-      std::vector<RhombicStructure> structures(n_cells);
-      std::vector<double>           E(n_cells), nu(n_cells);
-      for (unsigned int g = 0; g < n_cells; ++g)
-        {
-          const unsigned int c = quad_of[g];
-          E[c]                 = materials[g][0];
-          nu[c]                = materials[g][1];
-          bool inside          = false;
-          structures[c] =
-            map.query(E[c], nu[c], alpha[c], setup.base.nu, inside);
-        }
+      const CellDesign design =
+        structures_from_map(materials, quad_of, cells, map, setup);
+      const auto &E = design.E, &nu = design.nu;
       context.print("materials: E/E_b " +
                     sig(*std::min_element(E.begin(), E.end()), 3) + "-" +
                     sig(*std::max_element(E.begin(), E.end()), 3) + ", nu " +
@@ -646,28 +835,21 @@ namespace forma
                     sig(*std::max_element(nu.begin(), nu.end()), 3) + "; " +
                     projection.describe("cells", [&](const unsigned int g) {
                       return "cell " + std::to_string(quad_of[g]) + " (" +
-                             sig(alpha[quad_of[g]], 3) + " degrees)";
+                             sig(cells.alpha[quad_of[g]], 3) + " degrees)";
                     }));
-
       lap("map");
-
       if (settings.check_moduli)
         {
-          check_cell_moduli(structures, E, nu, setup, context);
+          check_cell_moduli(design.structures, E, nu, setup, context);
           lap("cell moduli");
         }
 
       // 4. Fine-scale check (ch. 4.8): the tiled geometry meshed and
       // simulated in the base material with the same supports and loads,
       // against the homogenized solution (per-cell materials) on the
-      // compared boundary.
-      // The family against the baseline of ch. 4.8 (Fig. 4.22): structures
-      // made for squares (the map at 90 degrees) mapped onto the quads.
-      double h = 0; // the quads' mean size
-      for (const auto &cell : tria.active_cell_iterators())
-        h += std::sqrt(cell->measure()) / n_cells;
-      // A baseline that cannot be built, meshed or solved is reported, not
-      // fatal: the design is the family's.
+      // compared boundary; then the baselines of ch. 4.8, each against its
+      // own homogenized solution. A baseline that cannot be built, meshed
+      // or solved is reported, not fatal: the design is the family's.
       const auto baseline = [&](const std::string           &name,
                                 const std::function<void()> &run) {
         try
@@ -681,75 +863,42 @@ namespace forma
             context.summary["fine_scale"][name] = {{"error", message}};
           }
       };
-
+      double h = 0; // the quads' mean size
+      for (const auto &cell : tria.active_cell_iterators())
+        h += std::sqrt(cell->measure()) / n_cells;
       // Tilings, optionally of subdivided cells (Fig. 4.21).
       const unsigned int   n_sub  = 1u << settings.refinement;
       const double         h_tile = h / n_sub;
       const Tiler          tile{n_sub, settings.merge};
       const FineScaleCheck fine_scale(
         settings, domain, parameters, setup, context, h, h_tile, lap);
-      const TiledObject tiled = tile(quads_of(tria), structures);
-      const auto tiled_phi = [&tiled](const Point<2> &x) { return tiled(x); };
+      const std::vector<Quad> quads = quads_of(tria);
+      const TiledObject       tiled = tile(quads, design.structures);
       if (settings.fine_check)
         {
-          // The family, then the baselines of ch. 4.8, each against its own
-          // homogenized solution.
           const auto homogenized =
             solved(parameters, q, context.communicator());
-          fine_scale(tiled_phi, tiled.lo, tiled.hi, "family", *homogenized);
+          fine_scale([&tiled](const Point<2> &x) { return tiled(x); },
+                     tiled.lo,
+                     tiled.hi,
+                     "family",
+                     *homogenized);
           if (settings.baselines.count("remapped square"))
             baseline("remapped_square", [&]() {
-              // Fig. 4.22: structures made for squares on the same quads.
-              std::vector<RhombicStructure> squares(n_cells);
-              for (unsigned int c = 0; c < n_cells; ++c)
-                {
-                  bool inside = false;
-                  squares[c] =
-                    map.query(E[c], nu[c], 90, setup.base.nu, inside);
-                }
-              const TiledObject remapped = tile(quads_of(tria), squares);
-              fine_scale([&remapped](const Point<2> &x) { return remapped(x); },
-                         remapped.lo,
-                         remapped.hi,
-                         "remapped_square",
-                         *homogenized);
+              remapped_square_baseline(
+                quads, design, map, setup, tile, fine_scale, *homogenized);
             });
           if (settings.baselines.count("pointwise table"))
             baseline("pointwise_table", [&]() {
-              // Fig. 4.23: the same quads and materials, each quad given the
-              // table's structure nearest to its material, mapped onto it.
-              std::vector<RhombicStructure> looked_up(n_cells);
-              double                        dE = 0, dnu = 0;
-              for (unsigned int c = 0; c < n_cells; ++c)
-                {
-                  const auto &e = table.nearest(E[c], nu[c]);
-                  looked_up[c]  = e.structure;
-                  dE += std::abs(e.E / E[c] - 1) / n_cells;
-                  dnu += std::abs(e.nu - nu[c]) / n_cells;
-                }
-              context.print(
-                "pointwise table: " + std::to_string(table.entries.size()) +
-                " structures; nearest entry |E/E* - 1| mean " + sig(dE, 2) +
-                ", |nu - nu*| mean " + sig(dnu, 2));
-              const TiledObject pointwise = tile(quads_of(tria), looked_up);
-              fine_scale([&pointwise](
-                           const Point<2> &x) { return pointwise(x); },
-                         pointwise.lo,
-                         pointwise.hi,
-                         "pointwise_table",
-                         *homogenized);
-              context.print("pointwise table: joint radii p5 of neighbours "
-                            "differ by up to " +
-                            sig(pointwise.largest_joint_mismatch, 2) +
-                            (settings.merge ? " (merged)" : "") +
-                            "; the family's by up to " +
-                            sig(tiled.largest_joint_mismatch, 2));
-              context.summary["pointwise_table"] = {
-                {"largest_joint_mismatch", pointwise.largest_joint_mismatch},
-                {"family_largest_joint_mismatch", tiled.largest_joint_mismatch},
-                {"entries", table.entries.size()},
-                {"mean_lookup_E_error", dE},
-                {"mean_lookup_nu_error", dnu}};
+              pointwise_table_baseline(quads,
+                                       design,
+                                       table,
+                                       tiled,
+                                       settings,
+                                       tile,
+                                       fine_scale,
+                                       *homogenized,
+                                       context);
             });
         }
       if (settings.fine_check && settings.baselines.count("cut grid"))
@@ -767,26 +916,15 @@ namespace forma
                             tile,
                             fine_scale);
         });
-      context.summary["seconds"] = seconds;
-
-      nlohmann::json cells = nlohmann::json::array();
-      for (unsigned int c = 0; c < n_cells; ++c)
-        {
-          std::vector<double> p(structures[c].p.begin(), structures[c].p.end());
-          cells.push_back({{"center", {centers[c][0], centers[c][1]}},
-                           {"alpha", alpha[c]},
-                           {"E_relative", E[c]},
-                           {"nu", nu[c]},
-                           {"parameters", p}});
-        }
-      context.summary["cells"]     = cells;
+      context.summary["seconds"]   = seconds;
+      context.summary["cells"]     = cells_summary(cells, design);
       context.summary["two_scale"] = {{"cells", n_cells},
-                                      {"clamped_angles", clamped},
+                                      {"clamped_angles", cells.clamped},
                                       {"projected_cells", projection.outside},
                                       {"largest_coverage_violation",
                                        projection.worst}};
       write_design_outputs(
-        tria, E, nu, alpha, structures, map, box, tiled, context);
+        tria, E, nu, cells.alpha, design.structures, map, box, tiled, context);
     }
   } // namespace rhombic
 } // namespace forma

@@ -6,6 +6,7 @@
 #include <deal.II/numerics/data_out.h>
 
 #include <forma/base/application.h>
+#include <forma/base/on_root.h>
 #include <forma/base/outline.h>
 #include <forma/base/plot.h>
 #include <forma/base/records.h>
@@ -115,32 +116,13 @@ namespace forma
       }
 
 
-      /// Run f on the root of comm only; an error there is thrown on every
-      /// rank (collective, and a barrier: the root is done when it returns).
-      void
-      on_root(const MPI_Comm comm, const std::function<void()> &f)
-      {
-        std::string error;
-        if (Utilities::MPI::this_mpi_process(comm) == 0)
-          try
-            {
-              f();
-            }
-          catch (const std::exception &e)
-            {
-              error = error_message(e);
-            }
-        error = Utilities::MPI::broadcast(comm, error);
-        AssertThrow(error.empty(), ExcMessage(error));
-      }
-
       /// A mesh (material and boundary ids) for the simulator to read back.
       void
       write_msh(const Triangulation<2> &tria,
                 const std::string      &file,
                 const MPI_Comm          comm)
       {
-        on_root(comm, [&]() {
+        on_root_or_throw(comm, [&]() {
           std::ofstream msh(file);
           msh << std::setprecision(17);
           GridOut out;
@@ -326,7 +308,7 @@ namespace forma
                                "."));
         result.file = context.path("fine_mesh_" + name + ".msh");
         write_msh(fine_tria, result.file, context.communicator());
-        on_root(context.communicator(), [&]() {
+        on_root_or_throw(context.communicator(), [&]() {
           // The outline for fabrication (e.g. a laser cutter).
           std::vector<std::vector<std::array<double, 2>>> outline;
           for (const auto &loop :
@@ -408,7 +390,7 @@ namespace forma
           fine_simulator.cell_vertex_displacements();
         const DeformedCells homogenized_cells =
           homogenized[0].cell_vertex_displacements();
-        on_root(context.communicator(), [&]() {
+        on_root_or_throw(context.communicator(), [&]() {
           write_deformation_png(context.path("fine_scale_" + name + ".png"),
                                 fine_cells,
                                 homogenized_cells);
@@ -482,7 +464,7 @@ namespace forma
       {
         const unsigned int n_cells = structures.size();
         const auto tiled_phi = [&tiled](const Point<2> &x) { return tiled(x); };
-        on_root(context.communicator(), [&]() {
+        on_root_or_throw(context.communicator(), [&]() {
           // PNG previews, and SVG with real strokes for papers.
           for (const std::string extension : {".png", ".svg"})
             {

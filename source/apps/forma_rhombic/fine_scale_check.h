@@ -42,11 +42,6 @@ namespace forma
         const dealii::Point<2>                                &lo,
         const dealii::Point<2>                                &hi);
 
-      /// Run f on the root of comm only; an error there is thrown on every
-      /// rank (collective, and a barrier: the root is done when it returns).
-      void
-      on_root(const MPI_Comm comm, const std::function<void()> &f);
-
       /// A mesh (material and boundary ids) for the simulator to read back.
       void
       write_msh(const dealii::Triangulation<2> &tria,
