@@ -3,6 +3,8 @@
 #include <forma/base/on_root.h>
 #include <forma/base/run_context.h>
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <iostream>
 
@@ -127,7 +129,9 @@ namespace forma
         // Most writers do not check their streams, so a full disk would
         // pass unseen: results written onto one may be cut short, and do
         // not replace earlier ones.
-        AssertThrow(fs::space(staging_directory).available > 0,
+        // (Root may write into the blocks reserved for it.)
+        const auto space = fs::space(staging_directory);
+        AssertThrow((geteuid() == 0 ? space.free : space.available) > 0,
                     dealii::ExcMessage(
                       "the disk is full, so the results may be incomplete; "
                       "earlier results are kept"));

@@ -11,60 +11,115 @@ namespace forma
 {
   using namespace dealii;
 
-  template <int dim>
-  std::vector<bool>
-  select_low_stress_cells(const Triangulation<dim, dim>      &tria,
-                          const std::vector<double>          &cell_stress,
-                          const double                        ratio,
-                          const types::boundary_id            open_id,
-                          const std::set<types::boundary_id> &holding)
+  namespace
   {
-    const unsigned int n = tria.n_active_cells();
-    AssertThrow(cell_stress.size() == n,
-                ExcMessage("element removal: one stress value per cell is "
-                           "needed (" +
-                           std::to_string(cell_stress.size()) + " for " +
-                           std::to_string(n) + " cells)."));
-    AssertThrow(ratio > 0 && ratio < 1,
-                ExcMessage("element removal: the stress ratio must lie in "
-                           "(0, 1)."));
+    /**
+     * select_low_stress_cells()'s state: which cells must stay (anchored:
+     * on a support, a contact or a glued interface; held: on a boundary of
+     * `holding`), and which are removed.
+     */
+    template <int dim>
+    class LowStressSelection
+    {
+    public:
+      using cell_iterator = typename Triangulation<dim>::active_cell_iterator;
 
-    // Filtered stress and the cells that must stay.
-    std::vector<double> filtered(n, 0.);
-    std::vector<bool>   anchored(n, false), held(n, false);
-    double              max_filtered = 0;
-    for (const auto &cell : tria.active_cell_iterators())
-      {
-        const unsigned int c     = cell->active_cell_index();
-        double             sum   = cell_stress[c];
-        unsigned int       count = 1;
-        for (const auto f : cell->face_indices())
-          if (cell->at_boundary(f))
-            {
-              const auto id = cell->face(f)->boundary_id();
-              anchored[c]   = anchored[c] || id != open_id;
-              held[c]       = held[c] || holding.count(id) > 0;
-            }
-          else
-            {
-              // A glued (uncut) interface between materials stays too.
-              anchored[c] = anchored[c] || cell->neighbor(f)->material_id() !=
-                                             cell->material_id();
-              sum += cell_stress[cell->neighbor(f)->active_cell_index()];
-              ++count;
-            }
-        filtered[c]  = sum / count;
-        max_filtered = std::max(max_filtered, filtered[c]);
-      }
-    std::vector<bool> remove(n, false);
-    for (unsigned int c = 0; c < n; ++c)
-      remove[c] = !anchored[c] && filtered[c] < ratio * max_filtered;
+      /// The cells whose filtered stress (their own and their neighbours'
+      /// mean) is below ratio times its maximum, anchored ones excepted.
+      LowStressSelection(const Triangulation<dim, dim>      &tria,
+                         const std::vector<double>          &cell_stress,
+                         const double                        ratio,
+                         const types::boundary_id            open_id,
+                         const std::set<types::boundary_id> &holding);
 
-    const auto vertex_cells = GridTools::vertex_to_cell_map(tria);
-    using cell_iterator     = typename Triangulation<dim>::active_cell_iterator;
+      /// Pinches: removal must not split the kept cells around a vertex
+      /// into more fans than the mesh has there; otherwise the removed
+      /// cells there come back. Returns whether any did.
+      bool
+      restore_pinches();
 
-    // Face-connected fans of the given cells around one vertex.
-    const auto count_fans = [](const std::vector<cell_iterator> &cells) {
+      /**
+       * Pieces: one that touches a support or contact stays; one that
+       * touches only the open boundary would float and goes whole; one
+       * that carries a load or another condition but is cut off from every
+       * support gets its removed neighbours back (layer by layer it joins
+       * its part again). Returns whether any came back.
+       */
+      bool
+      settle_pieces();
+
+      std::vector<bool> remove;
+
+    private:
+      /// Face-connected fans of the given cells around one vertex.
+      static unsigned int
+      count_fans(const std::vector<cell_iterator> &cells);
+
+      const Triangulation<dim, dim>       &tria;
+      std::vector<bool>                    anchored, held;
+      std::vector<std::set<cell_iterator>> vertex_cells;
+      /// A vertex can join cells through itself alone in the mesh as given
+      /// (where a cut interface ends): only fans the removal adds are
+      /// pinches.
+      std::vector<unsigned int> fans_as_given;
+    };
+
+
+
+    template <int dim>
+    LowStressSelection<dim>::LowStressSelection(
+      const Triangulation<dim, dim>      &tria,
+      const std::vector<double>          &cell_stress,
+      const double                        ratio,
+      const types::boundary_id            open_id,
+      const std::set<types::boundary_id> &holding)
+      : remove(tria.n_active_cells(), false)
+      , tria(tria)
+      , anchored(tria.n_active_cells(), false)
+      , held(tria.n_active_cells(), false)
+      , vertex_cells(GridTools::vertex_to_cell_map(tria))
+    {
+      const unsigned int  n = tria.n_active_cells();
+      std::vector<double> filtered(n, 0.);
+      double              max_filtered = 0;
+      for (const auto &cell : tria.active_cell_iterators())
+        {
+          const unsigned int c     = cell->active_cell_index();
+          double             sum   = cell_stress[c];
+          unsigned int       count = 1;
+          for (const auto f : cell->face_indices())
+            if (cell->at_boundary(f))
+              {
+                const auto id = cell->face(f)->boundary_id();
+                anchored[c]   = anchored[c] || id != open_id;
+                held[c]       = held[c] || holding.count(id) > 0;
+              }
+            else
+              {
+                // A glued (uncut) interface between materials stays too.
+                anchored[c] = anchored[c] || cell->neighbor(f)->material_id() !=
+                                               cell->material_id();
+                sum += cell_stress[cell->neighbor(f)->active_cell_index()];
+                ++count;
+              }
+          filtered[c]  = sum / count;
+          max_filtered = std::max(max_filtered, filtered[c]);
+        }
+      for (unsigned int c = 0; c < n; ++c)
+        remove[c] = !anchored[c] && filtered[c] < ratio * max_filtered;
+      fans_as_given.resize(vertex_cells.size());
+      for (unsigned int v = 0; v < vertex_cells.size(); ++v)
+        fans_as_given[v] =
+          count_fans(std::vector<cell_iterator>(vertex_cells[v].begin(),
+                                                vertex_cells[v].end()));
+    }
+
+
+
+    template <int dim>
+    unsigned int
+    LowStressSelection<dim>::count_fans(const std::vector<cell_iterator> &cells)
+    {
       std::vector<bool> reached(cells.size(), false);
       unsigned int      fans = 0;
       for (unsigned int s = 0; s < cells.size(); ++s)
@@ -90,19 +145,14 @@ namespace forma
             }
         }
       return fans;
-    };
-    // A vertex can join cells through itself alone in the mesh as given
-    // (where a cut interface ends): only fans the removal adds are pinches.
-    std::vector<unsigned int> fans_as_given(vertex_cells.size());
-    for (unsigned int v = 0; v < vertex_cells.size(); ++v)
-      fans_as_given[v] =
-        count_fans(std::vector<cell_iterator>(vertex_cells[v].begin(),
-                                              vertex_cells[v].end()));
+    }
 
-    // Pinches: removal must not split the kept cells around a vertex into
-    // more fans than the mesh has there; otherwise the removed cells there
-    // come back. Returns whether any did.
-    const auto restore_pinches = [&]() {
+
+
+    template <int dim>
+    bool
+    LowStressSelection<dim>::restore_pinches()
+    {
       bool restored = false;
       for (unsigned int v = 0; v < vertex_cells.size(); ++v)
         {
@@ -121,14 +171,15 @@ namespace forma
           restored = true;
         }
       return restored;
-    };
+    }
 
-    // Pieces: one that touches a support or contact stays; one that touches
-    // only the open boundary would float and goes whole; one that carries a
-    // load or another condition but is cut off from every support gets its
-    // removed neighbours back (layer by layer it joins its part again).
-    const auto settle_pieces = [&]() {
-      std::vector<int>          piece(n, -1);
+
+
+    template <int dim>
+    bool
+    LowStressSelection<dim>::settle_pieces()
+    {
+      std::vector<int>          piece(tria.n_active_cells(), -1);
       std::vector<unsigned int> drop, back;
       for (const auto &seed : tria.active_cell_iterators())
         {
@@ -175,8 +226,29 @@ namespace forma
       for (const auto c : back)
         remove[c] = false;
       return !back.empty();
-    };
+    }
+  } // namespace
 
+
+
+  template <int dim>
+  std::vector<bool>
+  select_low_stress_cells(const Triangulation<dim, dim>      &tria,
+                          const std::vector<double>          &cell_stress,
+                          const double                        ratio,
+                          const types::boundary_id            open_id,
+                          const std::set<types::boundary_id> &holding)
+  {
+    const unsigned int n = tria.n_active_cells();
+    AssertThrow(cell_stress.size() == n,
+                ExcMessage("element removal: one stress value per cell is "
+                           "needed (" +
+                           std::to_string(cell_stress.size()) + " for " +
+                           std::to_string(n) + " cells)."));
+    AssertThrow(ratio > 0 && ratio < 1,
+                ExcMessage("element removal: the stress ratio must lie in "
+                           "(0, 1)."));
+    LowStressSelection<dim> s(tria, cell_stress, ratio, open_id, holding);
     // Restoring joins fans and pieces; a restored cell joins a piece that
     // is held or anchored and stays. The cap guards against a cycle.
     unsigned int rounds = 0;
@@ -185,10 +257,10 @@ namespace forma
         AssertThrow(rounds < n + 2,
                     ExcMessage("element removal: the choice of cells does "
                                "not settle."));
-        changed = restore_pinches();
-        changed = settle_pieces() || changed;
+        changed = s.restore_pinches();
+        changed = s.settle_pieces() || changed;
       }
-    return remove;
+    return s.remove;
   }
 
   template std::vector<bool>

@@ -95,17 +95,27 @@ namespace forma
       return in;
     }
 
-    // `paired`: every Gmsh line spans two facets of a chain (one where a
-    // chain has an odd count); the mesh is made at that size, recombined
-    // and subdivided into quads, and the midpoint Gmsh puts on each line
-    // is moved to the vertex between its two facets.
-    std::string
-    mesh_2d(const RegionBoundaries<2> &b, const bool quads, const bool paired)
+    /// A Gmsh line of the 2D remesh: one facet, or two paired ones.
+    struct Line
     {
-      // One Gmsh line per facet (meshed with no new node: the boundary keeps
-      // its vertices), shared by the regions on both sides so that the mesh
-      // stays conforming. Lines are made along chains of facets with one
-      // key, which checks that the boundaries are manifold.
+      unsigned int a, b;
+      int          middle; ///< the vertex between paired facets, or -1
+      Key          key;
+      int          tag = 0;
+    };
+
+
+
+    /**
+     * One line per facet (meshed with no new node: the boundary keeps its
+     * vertices), shared by the regions on both sides so that the mesh
+     * stays conforming; with `paired`, one per two facets of a chain.
+     * Lines are made along chains of facets with one key, which checks that
+     * the boundaries are manifold.
+     */
+    std::vector<Line>
+    boundary_lines(const RegionBoundaries<2> &b, const bool paired)
+    {
       std::map<Key, std::map<unsigned int, unsigned int>> next; // a -> b
       for (const auto &f : b.facets)
         {
@@ -119,14 +129,6 @@ namespace forma
               Utilities::to_string(b.vertices[f.vertices[0]][1]) +
               "): cannot remesh a pinched region."));
         }
-
-      struct Line
-      {
-        unsigned int a, b;
-        int          middle; ///< the vertex between paired facets, or -1
-        Key          key;
-        int          tag = 0;
-      };
       std::vector<Line> lines;
       for (auto &[key, n] : next)
         {
@@ -164,8 +166,16 @@ namespace forma
                   }
             }
         }
+      return lines;
+    }
 
-      // Point sizes: the lengths of the lines through them.
+
+
+    /// The lines' points (sized by the lengths of the lines through them)
+    /// and lines in Gmsh; sets each line's tag.
+    void
+    add_lines(const RegionBoundaries<2> &b, std::vector<Line> &lines)
+    {
       std::map<unsigned int, std::pair<double, unsigned int>> size;
       for (const auto &l : lines)
         for (const auto v : {l.a, l.b})
@@ -185,71 +195,93 @@ namespace forma
           l.tag = gmsh::model::geo::addLine(point_tag[l.a], point_tag[l.b]);
           gmsh::model::geo::mesh::setTransfiniteCurve(l.tag, 2);
         }
+    }
 
-      // Loops of every region, counterclockwise around it.
-      const auto                               regions = regions_of(b);
-      std::map<unsigned int, std::vector<int>> physical_surfaces;
-      for (const auto m : regions)
+
+
+    /// The plane surfaces of material m: its loops of lines,
+    /// counterclockwise around it, each hole in the smallest outer loop
+    /// around it.
+    std::vector<int>
+    add_region_surfaces(const RegionBoundaries<2> &b,
+                        const std::vector<Line>   &lines,
+                        const unsigned int         m)
+    {
+      std::map<unsigned int, std::pair<unsigned int, int>> from; // a->b
+      for (const auto &l : lines)
+        if (l.key[0] == m)
+          from.emplace(l.a, std::make_pair(l.b, l.tag));
+        else if (l.key[1] == m)
+          from.emplace(l.b, std::make_pair(l.a, -l.tag));
+      struct Loop
+      {
+        std::vector<int>      curves;
+        std::vector<Point<2>> polygon;
+        double                area;
+      };
+      std::vector<Loop> outer, holes;
+      while (!from.empty())
         {
-          std::map<unsigned int, std::pair<unsigned int, int>> from; // a->b
-          for (const auto &l : lines)
-            if (l.key[0] == m)
-              from.emplace(l.a, std::make_pair(l.b, l.tag));
-            else if (l.key[1] == m)
-              from.emplace(l.b, std::make_pair(l.a, -l.tag));
-          struct Loop
-          {
-            std::vector<int>      curves;
-            std::vector<Point<2>> polygon;
-            double                area;
-          };
-          std::vector<Loop> outer, holes;
-          while (!from.empty())
+          Loop               loop;
+          const unsigned int start = from.begin()->first;
+          unsigned int       v     = start;
+          for (auto it = from.find(v); it != from.end(); it = from.find(v))
             {
-              Loop               loop;
-              const unsigned int start = from.begin()->first;
-              unsigned int       v     = start;
-              for (auto it = from.find(v); it != from.end(); it = from.find(v))
-                {
-                  loop.curves.push_back(it->second.second);
-                  loop.polygon.push_back(b.vertices[v]);
-                  v = it->second.first;
-                  from.erase(it);
-                }
-              AssertThrow(v == start,
-                          ExcMessage(
-                            "remeshing: the boundary of material " +
-                            std::to_string(m) + " is not closed: it ends at (" +
-                            Utilities::to_string(b.vertices[v][0]) + ", " +
-                            Utilities::to_string(b.vertices[v][1]) + ")."));
-              loop.area = signed_area(loop.polygon);
-              (loop.area > 0 ? outer : holes).push_back(std::move(loop));
+              loop.curves.push_back(it->second.second);
+              loop.polygon.push_back(b.vertices[v]);
+              v = it->second.first;
+              from.erase(it);
             }
-          AssertThrow(!outer.empty(),
-                      ExcMessage("remeshing: material " + std::to_string(m) +
-                                 " has no outer boundary."));
-          std::vector<std::vector<int>> surface_loops(outer.size());
-          for (unsigned int k = 0; k < outer.size(); ++k)
-            surface_loops[k].push_back(
-              gmsh::model::geo::addCurveLoop(outer[k].curves));
-          for (const auto &h : holes)
-            {
-              int best = -1;
-              for (unsigned int k = 0; k < outer.size(); ++k)
-                if (inside_polygon(h.polygon[0], outer[k].polygon) &&
-                    (best < 0 || outer[k].area < outer[best].area))
-                  best = k;
-              AssertThrow(best >= 0,
-                          ExcMessage("remeshing: a hole of material " +
-                                     std::to_string(m) +
-                                     " lies outside all its boundaries."));
-              surface_loops[best].push_back(
-                gmsh::model::geo::addCurveLoop(h.curves));
-            }
-          for (const auto &s : surface_loops)
-            physical_surfaces[m].push_back(
-              gmsh::model::geo::addPlaneSurface(s));
+          AssertThrow(v == start,
+                      ExcMessage(
+                        "remeshing: the boundary of material " +
+                        std::to_string(m) + " is not closed: it ends at (" +
+                        Utilities::to_string(b.vertices[v][0]) + ", " +
+                        Utilities::to_string(b.vertices[v][1]) + ")."));
+          loop.area = signed_area(loop.polygon);
+          (loop.area > 0 ? outer : holes).push_back(std::move(loop));
         }
+      AssertThrow(!outer.empty(),
+                  ExcMessage("remeshing: material " + std::to_string(m) +
+                             " has no outer boundary."));
+      std::vector<std::vector<int>> surface_loops(outer.size());
+      for (unsigned int k = 0; k < outer.size(); ++k)
+        surface_loops[k].push_back(
+          gmsh::model::geo::addCurveLoop(outer[k].curves));
+      for (const auto &h : holes)
+        {
+          int best = -1;
+          for (unsigned int k = 0; k < outer.size(); ++k)
+            if (inside_polygon(h.polygon[0], outer[k].polygon) &&
+                (best < 0 || outer[k].area < outer[best].area))
+              best = k;
+          AssertThrow(best >= 0,
+                      ExcMessage("remeshing: a hole of material " +
+                                 std::to_string(m) +
+                                 " lies outside all its boundaries."));
+          surface_loops[best].push_back(
+            gmsh::model::geo::addCurveLoop(h.curves));
+        }
+      std::vector<int> surfaces;
+      for (const auto &s : surface_loops)
+        surfaces.push_back(gmsh::model::geo::addPlaneSurface(s));
+      return surfaces;
+    }
+
+
+
+    // `paired`: every Gmsh line spans two facets of a chain (one where a
+    // chain has an odd count); the mesh is made at that size, recombined
+    // and subdivided into quads, and the midpoint Gmsh puts on each line
+    // is moved to the vertex between its two facets.
+    std::string
+    mesh_2d(const RegionBoundaries<2> &b, const bool quads, const bool paired)
+    {
+      std::vector<Line> lines = boundary_lines(b, paired);
+      add_lines(b, lines);
+      std::map<unsigned int, std::vector<int>> physical_surfaces;
+      for (const auto m : regions_of(b))
+        physical_surfaces[m] = add_region_surfaces(b, lines, m);
       gmsh::model::geo::synchronize();
 
       add_physical_groups(2, lines, physical_surfaces);
@@ -296,6 +328,8 @@ namespace forma
           }
       return internal::gmsh_written_mesh();
     }
+
+
 
     // ------------------------------------------------------------- 3D
 

@@ -285,6 +285,19 @@ namespace forma
 
 
 
+      /// The moduli misfit J = (E/E* - 1)^2 + (nu - nu*)^2 (E absolute).
+      double
+      moduli_misfit(const InverseSettings &s,
+                    const Setup           &setup,
+                    const double           E,
+                    const double           nu)
+      {
+        return std::pow(E / (s.target_E * setup.base.E) - 1, 2) +
+               std::pow(nu - s.target_nu, 2);
+      }
+
+
+
       /// What a candidate's refinement reaches.
       struct Refined
       {
@@ -323,7 +336,7 @@ namespace forma
         double
         misfit(const double E, const double nu) const
         {
-          return std::pow(E / E_star - 1, 2) + std::pow(nu - s.target_nu, 2);
+          return moduli_misfit(s, setup, E, nu);
         }
 
         /// The optimized J.
@@ -540,14 +553,14 @@ namespace forma
         starting_table(s, grid, setup, context);
 
       // The table's samples of the Sweep section's families, nearest first.
-      Refinement refinement(s, setup, context);
       std::vector<std::pair<double, unsigned int>> ranked;
       for (unsigned int k = 0; k < table.size(); ++k)
         if (std::count(grid.families.begin(),
                        grid.families.end(),
                        table[k].structure.family) > 0 &&
             table[k].structure.limit == grid.limit)
-          ranked.push_back({refinement.misfit(table[k].E, table[k].nu), k});
+          ranked.push_back(
+            {moduli_misfit(s, setup, table[k].E, table[k].nu), k});
       AssertThrow(!ranked.empty(),
                   ExcMessage("Inverse: the table has no sample of the "
                              "families (and Limit structures setting) of the "
@@ -555,6 +568,7 @@ namespace forma
       std::sort(ranked.begin(), ranked.end());
       ranked.resize(std::min<std::size_t>(ranked.size(), s.n_candidates));
 
+      Refinement     refinement(s, setup, context);
       nlohmann::json shape_rows = nlohmann::json::array();
       nlohmann::json candidates = nlohmann::json::array();
       Refined        best;
