@@ -197,6 +197,9 @@ namespace forma
       void
       check_target(const InverseSettings &s, const Setup &setup)
       {
+        AssertThrow(s.target_E > 0,
+                    ExcMessage("Inverse/Target Young's modulus: must be "
+                               "positive (no structure has E = 0)"));
         const auto hs = hashin_shtrikman(setup.base, setup.weak, 1);
         AssertThrow(
           s.target_E * setup.base.E <= hs.max_young_modulus(s.target_nu) &&
