@@ -3,14 +3,34 @@
 #include <forma/base/on_root.h>
 #include <forma/base/run_context.h>
 
-#include <unistd.h>
-
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 
 namespace forma
 {
   namespace fs = std::filesystem;
+
+  namespace
+  {
+    /// Whether `directory` takes another block: a probe written, closed
+    /// and removed (a space query would misjudge blocks reserved for root,
+    /// quotas and network file systems).
+    bool
+    room_left(const fs::path &directory)
+    {
+      const fs::path probe = directory / ".forma-space-probe";
+      std::ofstream  out(probe, std::ios::binary);
+      out << std::string(4096, '\0');
+      out.close();
+      const bool      written = !out.fail();
+      std::error_code ignored;
+      fs::remove(probe, ignored);
+      return written;
+    }
+  } // namespace
+
+
 
   RunContext::RunContext(const MPI_Comm comm, const std::string &dir)
     : comm(comm)
@@ -129,9 +149,7 @@ namespace forma
         // Most writers do not check their streams, so a full disk would
         // pass unseen: results written onto one may be cut short, and do
         // not replace earlier ones.
-        // (Root may write into the blocks reserved for it.)
-        const auto space = fs::space(staging_directory);
-        AssertThrow((geteuid() == 0 ? space.free : space.available) > 0,
+        AssertThrow(room_left(staging_directory),
                     dealii::ExcMessage(
                       "the disk is full, so the results may be incomplete; "
                       "earlier results are kept"));
