@@ -4,8 +4,10 @@
 
 #include <forma/adjoint/registry.h>
 #include <forma/base/application.h>
+#include <forma/base/on_root.h>
 #include <forma/base/parameter_override.h>
 #include <forma/base/parameter_reference.h>
+#include <forma/base/rank_failure.h>
 #include <forma/base/safe_text.h>
 
 #include <dlfcn.h>
@@ -162,6 +164,12 @@ namespace forma
 
   namespace
   {
+    // How long a failing rank waits for the others to fail as well (the same
+    // error, reached a little later) before it stops the job alone.
+    constexpr double rank_failure_wait_seconds = 10;
+
+
+
     int
     run_checked(int argc, char **argv, const ApplicationDescription &app)
     {
@@ -291,6 +299,24 @@ namespace forma
                                     parameters;
       context->summary["application"] = app.name;
 
+      // A rank that fails alone stops the job instead of leaving the others
+      // waiting for it (rank_failure.h).
+      RankFailure rank_failure(comm);
+      auto        failed = [&](const std::string &msg) {
+        if (!rank_failure.every_rank_failed(rank_failure_wait_seconds))
+          {
+            if (root)
+              context->fail(msg);
+            std::cerr << app.name << ": error: " << msg << " (rank " << rank
+                      << " of " << dealii::Utilities::MPI::n_mpi_processes(comm)
+                      << "; the other ranks went on, so the job is stopped)"
+                      << std::endl;
+            MPI_Abort(comm, 1);
+          }
+        report(msg);
+        context->fail(msg);
+        return 1;
+      };
       try
         {
           const std::string dir =
@@ -303,21 +329,20 @@ namespace forma
           // The pattern of Mode admits only these names.
           AssertThrow(it != app.modes.end(), dealii::ExcInternalError());
           it->run(prm, dir.empty() ? std::string(".") : dir, *context);
+          // No rank commits while another may still fail: a rank that does
+          // stops the job in this barrier.
+          if (internal::several_ranks(comm))
+            MPI_Barrier(comm);
           context->commit();
           return 0;
         }
       catch (const std::exception &exc)
         {
-          const std::string msg = error_message(exc);
-          report(msg);
-          context->fail(msg);
-          return 1;
+          return failed(error_message(exc));
         }
       catch (...) // e.g. an int thrown by a solver library
         {
-          report("unknown internal failure");
-          context->fail("unknown internal failure");
-          return 1;
+          return failed("unknown internal failure");
         }
     }
   } // namespace
