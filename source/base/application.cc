@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <regex>
 #include <sstream>
 
@@ -170,25 +171,31 @@ namespace forma
 
 
 
-    int
-    run_checked(int argc, char **argv, const ApplicationDescription &app)
+    /// An error on rank 0 (every rank meets the same one here).
+    void
+    report(const ApplicationDescription &app, const std::string &msg)
     {
-      const MPI_Comm comm = MPI_COMM_WORLD;
-      const bool     root = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
+      if (dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
+        std::cerr << app.name << ": error: " << msg << std::endl;
+    }
 
-      auto report = [&](const std::string &msg) {
-        if (root)
-          std::cerr << app.name << ": error: " << msg << std::endl;
-      };
 
-      dealii::ParameterHandler prm;
+
+    /// Usage, --help, --parameter-reference and --print-parameters: the exit
+    /// code if argv asks for one of them (or is malformed), else nothing.
+    std::optional<int>
+    informational(int argc, char **argv, const ApplicationDescription &app)
+    {
+      const bool root =
+        dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
       if (argc < 2 || argc % 2 != 0)
         {
           if (root)
             print_usage(app);
           return 1;
         }
-      const std::string arg = argv[1];
+      const std::string        arg = argv[1];
+      dealii::ParameterHandler prm;
       if (arg == "--help" || arg == "-h")
         {
           if (root)
@@ -215,57 +222,73 @@ namespace forma
                 dealii::ParameterHandler::PRM);
           return 0;
         }
+      return std::nullopt;
+    }
 
-      if (!std::filesystem::exists(arg))
-        {
-          report("parameter file '" + arg + "' does not exist.");
-          return 1;
-        }
-      // Collective: a rank that cannot load a plugin stops every rank (the
-      // first such rank says why).
-      std::string load_error;
+
+
+    /// Load the file's plugins and declare every parameter. Collective: a
+    /// rank that cannot load a plugin stops every rank (the first such rank
+    /// says why).
+    bool
+    declared(dealii::ParameterHandler     &prm,
+             const std::string            &file,
+             const ApplicationDescription &app)
+    {
+      const MPI_Comm comm = MPI_COMM_WORLD;
+      std::string    load_error;
       try
         {
-          load_shared_libraries(arg);
+          load_shared_libraries(file);
           declare_common(prm, app);
         }
       catch (const std::exception &exc)
         {
           load_error = error_message(exc);
         }
-      const unsigned int rank = dealii::Utilities::MPI::this_mpi_process(comm);
-      const unsigned int first_failed = dealii::Utilities::MPI::min(
-        load_error.empty() ? dealii::Utilities::MPI::n_mpi_processes(comm) :
-                             rank,
-        comm);
-      if (first_failed < dealii::Utilities::MPI::n_mpi_processes(comm))
-        {
-          if (rank == first_failed)
-            std::cerr << app.name << ": error: " << load_error << std::endl;
-          return 1;
-        }
+      const unsigned int rank  = dealii::Utilities::MPI::this_mpi_process(comm);
+      const unsigned int ranks = dealii::Utilities::MPI::n_mpi_processes(comm);
+      const unsigned int first_failed =
+        dealii::Utilities::MPI::min(load_error.empty() ? ranks : rank, comm);
+      if (rank == first_failed)
+        std::cerr << app.name << ": error: " << load_error << std::endl;
+      return first_failed == ranks;
+    }
+
+
+
+    /// The parameter file, then the command line's --set overrides
+    /// ('Section/Sub/Entry=value'); false after reporting an error.
+    bool
+    read_parameters(dealii::ParameterHandler     &prm,
+                    int                           argc,
+                    char                        **argv,
+                    const ApplicationDescription &app)
+    {
+      const std::string file = argv[1];
       try
         {
-          prm.parse_input(arg,
+          prm.parse_input(file,
                           "",
                           /*skip_undefined=*/false,
                           /*assert_mandatory=*/true);
         }
       catch (const std::exception &exc)
         {
-          report("in parameter file '" + arg + "': " + error_message(exc));
-          return 1;
+          report(app,
+                 "in parameter file '" + file + "': " + error_message(exc));
+          return false;
         }
-      // Command-line overrides: --set 'Section/Sub/Entry=value'.
       for (int k = 2; k + 1 < argc; k += 2)
         {
           const std::string flag = argv[k], assignment = argv[k + 1];
           if (flag != "--set" || assignment.find('=') == std::string::npos)
             {
-              report("expected --set 'Section/Entry=value' after the "
+              report(app,
+                     "expected --set 'Section/Entry=value' after the "
                      "parameter file, got '" +
-                     flag + " " + assignment + "'.");
-              return 1;
+                       flag + " " + assignment + "'.");
+              return false;
             }
           try
             {
@@ -273,23 +296,109 @@ namespace forma
             }
           catch (const std::exception &exc)
             {
-              report("--set " + error_message(exc));
-              return 1;
+              report(app, "--set " + error_message(exc));
+              return false;
             }
         }
+      return true;
+    }
+
+
+
+    /// A failed mode: reported together if every rank failed, else the
+    /// failing rank stops the job (rank_failure.h).
+    int
+    fail(const ApplicationDescription &app,
+         RankFailure                  &rank_failure,
+         RunContext                   &context,
+         const std::string            &msg)
+    {
+      if (!rank_failure.every_rank_failed(rank_failure_wait_seconds))
+        {
+          const MPI_Comm comm = MPI_COMM_WORLD;
+          if (context.is_root())
+            context.fail(msg);
+          std::cerr << app.name << ": error: " << msg << " (rank "
+                    << dealii::Utilities::MPI::this_mpi_process(comm) << " of "
+                    << dealii::Utilities::MPI::n_mpi_processes(comm)
+                    << "; the other ranks went on, so the job is stopped)"
+                    << std::endl;
+          MPI_Abort(comm, 1);
+        }
+      report(app, msg);
+      context.fail(msg);
+      return 1;
+    }
+
+
+
+    /// Run the selected mode and commit its results; the exit code.
+    int
+    run_mode(dealii::ParameterHandler     &prm,
+             const std::string            &file,
+             const ApplicationDescription &app,
+             RunContext                   &context)
+    {
+      // A rank that fails alone stops the job instead of leaving the others
+      // waiting for it.
+      RankFailure rank_failure(MPI_COMM_WORLD);
+      try
+        {
+          const std::string dir =
+            std::filesystem::path(file).parent_path().string();
+          const std::string mode = prm.get("Mode");
+          const auto        it =
+            std::find_if(app.modes.begin(),
+                         app.modes.end(),
+                         [&](const auto &m) { return m.name == mode; });
+          // The pattern of Mode admits only these names.
+          AssertThrow(it != app.modes.end(), dealii::ExcInternalError());
+          it->run(prm, dir.empty() ? std::string(".") : dir, context);
+          // No rank commits while another may still fail: a rank that does
+          // stops the job in this barrier.
+          if (internal::several_ranks(MPI_COMM_WORLD))
+            MPI_Barrier(MPI_COMM_WORLD);
+          context.commit();
+          return 0;
+        }
+      catch (const std::exception &exc)
+        {
+          return fail(app, rank_failure, context, error_message(exc));
+        }
+      catch (...) // e.g. an int thrown by a solver library
+        {
+          return fail(app, rank_failure, context, "unknown internal failure");
+        }
+    }
+
+
+
+    int
+    run_checked(int argc, char **argv, const ApplicationDescription &app)
+    {
+      if (const auto code = informational(argc, argv, app))
+        return *code;
+      const std::string file = argv[1];
+      if (!std::filesystem::exists(file))
+        {
+          report(app, "parameter file '" + file + "' does not exist.");
+          return 1;
+        }
+      dealii::ParameterHandler prm;
+      if (!declared(prm, file, app) || !read_parameters(prm, argc, argv, app))
+        return 1;
 
       std::unique_ptr<RunContext> context;
       try
         {
-          context =
-            std::make_unique<RunContext>(comm, prm.get("Output directory"));
+          context = std::make_unique<RunContext>(MPI_COMM_WORLD,
+                                                 prm.get("Output directory"));
         }
       catch (const std::exception &exc)
         {
-          report(error_message(exc));
+          report(app, error_message(exc));
           return 1;
         }
-
       // Values are the user's bytes: kept as text if they are not UTF-8.
       std::ostringstream echoed;
       prm.print_parameters(echoed, dealii::ParameterHandler::JSON);
@@ -298,52 +407,7 @@ namespace forma
         parameters.is_discarded() ? nlohmann::json(safe_text(echoed.str())) :
                                     parameters;
       context->summary["application"] = app.name;
-
-      // A rank that fails alone stops the job instead of leaving the others
-      // waiting for it (rank_failure.h).
-      RankFailure rank_failure(comm);
-      auto        failed = [&](const std::string &msg) {
-        if (!rank_failure.every_rank_failed(rank_failure_wait_seconds))
-          {
-            if (root)
-              context->fail(msg);
-            std::cerr << app.name << ": error: " << msg << " (rank " << rank
-                      << " of " << dealii::Utilities::MPI::n_mpi_processes(comm)
-                      << "; the other ranks went on, so the job is stopped)"
-                      << std::endl;
-            MPI_Abort(comm, 1);
-          }
-        report(msg);
-        context->fail(msg);
-        return 1;
-      };
-      try
-        {
-          const std::string dir =
-            std::filesystem::path(arg).parent_path().string();
-          const std::string mode = prm.get("Mode");
-          const auto        it =
-            std::find_if(app.modes.begin(),
-                         app.modes.end(),
-                         [&](const auto &m) { return m.name == mode; });
-          // The pattern of Mode admits only these names.
-          AssertThrow(it != app.modes.end(), dealii::ExcInternalError());
-          it->run(prm, dir.empty() ? std::string(".") : dir, *context);
-          // No rank commits while another may still fail: a rank that does
-          // stops the job in this barrier.
-          if (internal::several_ranks(comm))
-            MPI_Barrier(comm);
-          context->commit();
-          return 0;
-        }
-      catch (const std::exception &exc)
-        {
-          return failed(error_message(exc));
-        }
-      catch (...) // e.g. an int thrown by a solver library
-        {
-          return failed("unknown internal failure");
-        }
+      return run_mode(prm, file, app, *context);
     }
   } // namespace
 

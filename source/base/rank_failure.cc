@@ -18,8 +18,8 @@ namespace forma
 
   RankFailure::~RankFailure()
   {
-    // Freeing a communicator with a barrier still open would wait for ranks
-    // that never come; that rank is about to stop the job anyway.
+    // A barrier still open (the others went on) is left with its
+    // communicator: that rank is about to stop the job anyway.
     if (comm != MPI_COMM_NULL && (!started || agreed))
       MPI_Comm_free(&comm);
   }

@@ -99,8 +99,9 @@ namespace forma
           simulator.load_remeshed(directory + "/" + mesh);
           simulator.commit_remesh();
         }
-      stage_terms = place.stage_terms;
-      stage_start = place.stage_start;
+      stage_terms         = place.stage_terms;
+      stage_start         = place.stage_start;
+      first_gradient_norm = place.first_gradient_norm;
       // A resumed run does not retry a remesh that failed.
       outer_possible = place.outer_possible;
       remesh_allowed &= outer_possible;
@@ -384,11 +385,12 @@ namespace forma
         inner_iterations() > 0 ?
           std::min(iteration_cap, outer_start + inner_iterations()) :
           iteration_cap;
-      stage_settings.outer_iteration = n_outer;
-      stage_settings.outer_possible  = outer_possible;
-      stage_settings.outer_start     = outer_start;
-      model.initial                  = simulator.design();
-      model.scale                    = simulator.design_scales(model.initial);
+      stage_settings.outer_iteration     = n_outer;
+      stage_settings.outer_possible      = outer_possible;
+      stage_settings.outer_start         = outer_start;
+      stage_settings.first_gradient_norm = first_gradient_norm;
+      model.initial                      = simulator.design();
+      model.scale = simulator.design_scales(model.initial);
       simulator.design_bounds(model.initial,
                               parameters.design.shape_bound > 0 ?
                                 parameters.design.shape_bound :

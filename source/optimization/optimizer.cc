@@ -6,10 +6,13 @@
 #include <forma/base/run_context.h>
 #include <forma/optimization/optimizer.h>
 
+#include "secant_memory.h"
+#include <ROL_Algorithm.hpp>
 #include <ROL_Bounds.hpp>
+#include <ROL_CombinedStatusTest.hpp>
+#include <ROL_LineSearchStep.hpp>
 #include <ROL_Objective.hpp>
-#include <ROL_OptimizationProblem.hpp>
-#include <ROL_OptimizationSolver.hpp>
+#include <ROL_SecantFactory.hpp>
 #include <ROL_StatusTest.hpp>
 #include <ROL_StdVector.hpp>
 #include <nlohmann/json.hpp>
@@ -272,6 +275,14 @@ namespace forma
     // State shared by the ROL objective and the status test.
     struct Run
     {
+      Run(const DesignModel            &model,
+          const OptimizationParameters &parameters,
+          RunContext                   &context)
+        : model(model)
+        , parameters(parameters)
+        , context(context)
+      {}
+
       const DesignModel            &model;
       const OptimizationParameters &parameters;
       RunContext                   &context;
@@ -284,6 +295,14 @@ namespace forma
       /// The decrease window's first iteration (parameters', or a resumed
       /// run's checkpoint's).
       unsigned int window_start = 0;
+      /// Optimization/Normalize objective: ROL sees J / J_scale, |J(q0)|.
+      double J_scale = 0;
+      /// ROL's L-BFGS memory, kept in the checkpoint.
+      ROL::Ptr<ROL::Secant<double>> secant;
+      /// The last step's norm before the checkpoint a run resumed from (-1:
+      /// none), for the first stopping test, which stands for the
+      /// interrupted run's.
+      double resumed_step_norm = -1;
 
       std::vector<double>
       design(const std::vector<double> &z) const
@@ -365,36 +384,6 @@ namespace forma
           run.context.print(line);
         else
           run.context.log(line);
-        // Resume point: the last accepted design.
-        if (run.context.is_root() && run.parameters.checkpoint)
-          {
-            nlohmann::json c;
-            c["iteration"]             = k;
-            c["design"]                = run.design(z);
-            c["mesh"]                  = run.model.mesh;
-            c["history"]               = run.history;
-            c["decrease_window_start"] = run.window_start;
-            c["outer_iteration"]       = run.parameters.outer_iteration;
-            c["outer_start"]           = run.parameters.outer_start;
-            if (!run.parameters.outer_possible)
-              c["outer_possible"] = false;
-            if (!run.parameters.stage_terms.empty())
-              {
-                c["stage_terms"] = run.parameters.stage_terms;
-                c["stage_start"] = run.parameters.stage_start;
-              }
-            // A failed write (a full disk) costs only the resumability:
-            // the last checkpoint stays whole. Logged, not thrown (on root
-            // alone it would leave the other ranks waiting).
-            try
-              {
-                replace_file_text(run.checkpoint, c.dump());
-              }
-            catch (const std::exception &e)
-              {
-                run.context.log("checkpoint not written: " + error_message(e));
-              }
-          }
         if (k < run.parameters.max_iterations && run.model.remesh_needed &&
             run.model.remesh_needed())
           run.stop_reason = remesh_stop;
@@ -411,18 +400,65 @@ namespace forma
       Run                &run;
       std::vector<double> last_z;
       double              last_J = 0, dummy = 0;
-      /// Optimization/Normalize objective: ROL sees J / |J(q0)|.
-      double J_scale = 0;
 
       double
       scale_of(const double J)
       {
-        if (J_scale == 0)
-          J_scale =
+        if (run.J_scale == 0)
+          run.J_scale =
             run.parameters.normalize && std::abs(J) > 0 ? std::abs(J) : 1.;
-        return J_scale;
+        return run.J_scale;
       }
     };
+
+
+
+    // Resume point: the last accepted design, with what the steps after it
+    // depend on (the L-BFGS memory, the objective's scale), so a resumed run
+    // goes on as the uninterrupted one would. Written by the status test,
+    // after ROL has updated its memory with the accepted step.
+    void
+    write_checkpoint(const Run &run, const double step_norm)
+    {
+      if (!run.context.is_root() || !run.parameters.checkpoint ||
+          run.history.empty())
+        return;
+      nlohmann::json c;
+      c["iteration"]             = run.history.size() - 1;
+      c["design"]                = run.design(run.z_accepted);
+      c["z"]                     = run.z_accepted;
+      c["mesh"]                  = run.model.mesh;
+      c["history"]               = run.history;
+      c["gradient_norms"]        = run.gradient_norms;
+      c["objective_scale"]       = run.J_scale;
+      c["normalized"]            = run.parameters.normalize;
+      c["lbfgs"]                 = internal::secant_to_json(*run.secant);
+      c["step_norm"]             = step_norm;
+      c["decrease_window_start"] = run.window_start;
+      c["outer_iteration"]       = run.parameters.outer_iteration;
+      c["outer_start"]           = run.parameters.outer_start;
+      if (!run.parameters.outer_possible)
+        c["outer_possible"] = false;
+      c["job_first_gradient_norm"] = run.parameters.first_gradient_norm > 0 ?
+                                       run.parameters.first_gradient_norm :
+                                       run.gnorm0;
+      if (!run.parameters.stage_terms.empty())
+        {
+          c["stage_terms"] = run.parameters.stage_terms;
+          c["stage_start"] = run.parameters.stage_start;
+        }
+      // A failed write (a full disk) costs only the resumability: the last
+      // checkpoint stays whole. Logged, not thrown (on root alone it would
+      // leave the other ranks waiting).
+      try
+        {
+          replace_file_text(run.checkpoint, c.dump());
+        }
+      catch (const std::exception &e)
+        {
+          run.context.log("checkpoint not written: " + error_message(e));
+        }
+    }
 
     // The stopping rule of thesis ch. 2.5 and the iteration limit.
     class StatusTest : public ROL::StatusTest<double>
@@ -441,6 +477,12 @@ namespace forma
         if (run.gnorm0 == 0)
           run.gnorm0 = state.gnorm;
         run.gradient_norms.push_back(state.gnorm);
+        // A resumed run's first test stands for the interrupted run's.
+        const bool resumed =
+          state.iter == 0 && run.resumed_step_norm >= 0 && k > 0;
+        const double step_norm =
+          resumed ? run.resumed_step_norm : (state.iter > 0 ? state.snorm : -1);
+        write_checkpoint(run, step_norm);
         if (!run.stop_reason.empty())
           ; // decided in Objective::update (a remesh)
         else if (!h.empty() && h.back() <= run.parameters.value_target)
@@ -449,7 +491,7 @@ namespace forma
           run.stop_reason = "maximum number of iterations";
         else if (state.gnorm <= run.parameters.gradient_tolerance * run.gnorm0)
           run.stop_reason = "gradient tolerance";
-        else if (state.iter > 0 && state.snorm <= 1e-12)
+        else if (step_norm >= 0 && step_norm <= 1e-12)
           run.stop_reason = step_vanished;
         else if (h.size() > run.window_start + run.parameters.decrease_window &&
                  h[h.size() - 1 - run.parameters.decrease_window] - h.back() <
@@ -499,7 +541,8 @@ namespace forma
         {
           in >> c;
           c.at("design").get<std::vector<double>>();
-          c.at("history").get<std::vector<double>>();
+          AssertThrow(!c.at("history").get<std::vector<double>>().empty(),
+                      ExcMessage("its history is empty"));
           c.at("mesh").get<std::string>();
         }
       catch (const std::exception &e)
@@ -510,6 +553,119 @@ namespace forma
         }
       return c;
     }
+
+
+
+    // Projected L-BFGS with a backtracking line search; forma's status test
+    // decides when to stop.
+    ROL::ParameterList
+    rol_parameters(const OptimizationParameters &parameters)
+    {
+      ROL::ParameterList list;
+      list.sublist("General").set("Output Level", 1);
+      list.sublist("General").sublist("Secant").set("Type",
+                                                    "Limited-Memory BFGS");
+      list.sublist("General").sublist("Secant").set(
+        "Maximum Storage", static_cast<int>(parameters.memory));
+      list.sublist("Step").set("Type", "Line Search");
+      list.sublist("Step")
+        .sublist("Line Search")
+        .sublist("Descent Method")
+        .set("Type", "Quasi-Newton Method");
+      list.sublist("Step")
+        .sublist("Line Search")
+        .sublist("Line-Search Method")
+        .set("Type", "Backtracking");
+      list.sublist("Step")
+        .sublist("Line Search")
+        .set("Function Evaluation Limit", 30);
+      // The forma status test decides; ROL's own tests are switched off.
+      list.sublist("Status Test").set("Gradient Tolerance", 1e-300);
+      list.sublist("Status Test").set("Step Tolerance", 1e-300);
+      list.sublist("Status Test").set("Iteration Limit", 1000000);
+      return list;
+    }
+
+
+
+    // What makes the resumed steps the uninterrupted run's: the scaled
+    // variables themselves, the objective's scale, the gradient norms and
+    // the L-BFGS memory. Only if the checkpoint was written from this run's
+    // start design, scales and normalization; a later stage starts from
+    // another design, and there the memory restarts (false).
+    bool
+    restore_memory(Run &run, const nlohmann::json &c, std::vector<double> &z)
+    {
+      if (!c.contains("lbfgs") ||
+          c.value("normalized", !run.parameters.normalize) !=
+            run.parameters.normalize)
+        return false;
+      const auto zc = c.at("z").get<std::vector<double>>();
+      const auto q  = c.at("design").get<std::vector<double>>();
+      AssertThrow(zc.size() == z.size(), ExcMessage("z has another size"));
+      const auto from_z = run.design(zc);
+      for (unsigned int i = 0; i < q.size(); ++i)
+        if (!(std::abs(from_z[i] - q[i]) <= 1e-12 * (1 + std::abs(q[i]))))
+          return false;
+      const double scale = c.at("objective_scale").get<double>();
+      auto         norms = c.at("gradient_norms").get<std::vector<double>>();
+      AssertThrow(std::isfinite(scale) && scale > 0 && !norms.empty() &&
+                    std::all_of(norms.begin(),
+                                norms.end(),
+                                [](const double g) {
+                                  return std::isfinite(g);
+                                }),
+                  ExcMessage("a bad objective scale or gradient norm"));
+      internal::secant_from_json(c.at("lbfgs"), z.size(), *run.secant);
+      z                  = zc;
+      run.J_scale        = scale;
+      run.gnorm0         = norms.front();
+      run.gradient_norms = std::move(norms);
+      run.gradient_norms.pop_back(); // this run's first, again
+      const double step_norm = c.value("step_norm", -1.);
+      run.resumed_step_norm  = std::isfinite(step_norm) ? step_norm : -1.;
+      return true;
+    }
+
+
+
+    // Continue from the checkpoint: the design and the history before it
+    // (that iterate is recorded again as this run's first), and where it
+    // can, the L-BFGS memory with it (restore_memory()).
+    void
+    resume(Run &run, std::vector<double> &z)
+    {
+      const auto         c = read_checkpoint(run.context);
+      const unsigned int n = z.size();
+      const auto         q = c.at("design").get<std::vector<double>>();
+      AssertThrow(q.size() == n && c.at("mesh") == run.model.mesh,
+                  ExcMessage("Optimization/Resume: the checkpoint holds a "
+                             "design of another design space."));
+      for (unsigned int i = 0; i < n; ++i)
+        z[i] = (q[i] - run.model.initial[i]) / run.model.scale[i];
+      bool exact = false;
+      try
+        {
+          exact = restore_memory(run, c, z);
+        }
+      catch (const std::exception &e)
+        {
+          AssertThrow(false,
+                      ExcMessage("Optimization/Resume: the checkpoint '" +
+                                 run.checkpoint +
+                                 "' is unreadable: " + error_message(e)));
+        }
+      if (!exact)
+        run.context.log("resumed with the L-BFGS memory restarted (the "
+                        "checkpoint has none, or another start design)");
+      run.history = c.at("history").get<std::vector<double>>();
+      run.history.pop_back();
+      // A window restarted by a remesh before the stop stays restarted.
+      run.window_start =
+        std::max(run.window_start, c.value("decrease_window_start", 0u));
+      run.context.print("resuming from iteration " +
+                        std::to_string(run.history.size()));
+    }
   } // namespace
 
 
@@ -517,13 +673,26 @@ namespace forma
   CheckpointPlace
   checkpoint_place(const RunContext &context)
   {
-    const auto c = read_checkpoint(context);
-    return {c.at("mesh").get<std::string>(),
-            c.value("outer_iteration", 1u),
-            c.value("outer_start", 0u),
-            c.value("stage_terms", std::string()),
-            c.value("stage_start", 0u),
-            c.value("outer_possible", true)};
+    const auto      c = read_checkpoint(context);
+    CheckpointPlace place;
+    try
+      {
+        place = {c.at("mesh").get<std::string>(),
+                 c.value("outer_iteration", 1u),
+                 c.value("outer_start", 0u),
+                 c.value("stage_terms", std::string()),
+                 c.value("stage_start", 0u),
+                 c.value("outer_possible", true),
+                 c.value("job_first_gradient_norm", 0.)};
+      }
+    catch (const std::exception &e)
+      {
+        AssertThrow(false,
+                    ExcMessage("Optimization/Resume: the checkpoint '" +
+                               checkpoint_file(context) +
+                               "' is unreadable: " + error_message(e)));
+      }
+    return place;
   }
 
 
@@ -538,7 +707,7 @@ namespace forma
     AssertThrow(model.scale.size() == n && model.lower.size() == n &&
                   model.upper.size() == n,
                 ExcInternalError());
-    Run run{model, parameters, context, {}, {}, {}, 0, {}, {}};
+    Run run(model, parameters, context);
     run.checkpoint   = checkpoint_file(context);
     run.window_start = parameters.decrease_window_start;
     // The previous run's last design is this run's first: its value on
@@ -547,26 +716,11 @@ namespace forma
     if (!run.history.empty())
       run.history.pop_back();
 
-    auto z = ROL::makePtr<std::vector<double>>(n, 0.);
+    ROL::ParameterList list = rol_parameters(parameters);
+    run.secant              = ROL::SecantFactory<double>(list);
+    auto z                  = ROL::makePtr<std::vector<double>>(n, 0.);
     if (parameters.resume)
-      {
-        const auto c = read_checkpoint(context);
-        const auto q = c.at("design").get<std::vector<double>>();
-        AssertThrow(q.size() == n && c.at("mesh") == model.mesh,
-                    ExcMessage("Optimization/Resume: the checkpoint holds a "
-                               "design of another design space."));
-        for (unsigned int i = 0; i < n; ++i)
-          (*z)[i] = (q[i] - model.initial[i]) / model.scale[i];
-        // The history before the resumed iterate; that one is recorded
-        // again as the first iterate of this run.
-        run.history = c.at("history").get<std::vector<double>>();
-        run.history.pop_back();
-        // A window restarted by a remesh before the stop stays restarted.
-        run.window_start =
-          std::max(run.window_start, c.value("decrease_window_start", 0u));
-        context.print("resuming from iteration " +
-                      std::to_string(run.history.size()));
-      }
+      resume(run, *z);
 
     // Bounds in z.
     auto lo = ROL::makePtr<std::vector<double>>(n),
@@ -582,38 +736,27 @@ namespace forma
                            ROL::ROL_INF<double>();
       }
 
-    ROL::ParameterList list;
-    list.sublist("General").set("Output Level", 1);
-    list.sublist("General").sublist("Secant").set("Type",
-                                                  "Limited-Memory BFGS");
-    list.sublist("General").sublist("Secant").set(
-      "Maximum Storage", static_cast<int>(parameters.memory));
-    list.sublist("Step").set("Type", "Line Search");
-    list.sublist("Step")
-      .sublist("Line Search")
-      .sublist("Descent Method")
-      .set("Type", "Quasi-Newton Method");
-    list.sublist("Step")
-      .sublist("Line Search")
-      .sublist("Line-Search Method")
-      .set("Type", "Backtracking");
-    list.sublist("Step")
-      .sublist("Line Search")
-      .set("Function Evaluation Limit", 30);
-    // The forma status test decides; ROL's own tests are switched off.
-    list.sublist("Status Test").set("Gradient Tolerance", 1e-300);
-    list.sublist("Status Test").set("Step Tolerance", 1e-300);
-    list.sublist("Status Test").set("Iteration Limit", 1000000);
-
     auto objective = ROL::makePtr<Objective>(run);
     auto x         = ROL::makePtr<ROL::StdVector<double>>(z);
     auto bounds    = ROL::makePtr<ROL::Bounds<double>>(
       ROL::makePtr<ROL::StdVector<double>>(lo),
       ROL::makePtr<ROL::StdVector<double>>(hi));
-    ROL::OptimizationProblem<double> problem(objective, x, bounds);
-    ROL::OptimizationSolver<double>  solver(problem, list);
-    std::ostringstream               rol_output;
-    solver.solve(rol_output, ROL::makePtr<StatusTest>(run), true);
+    // ROL's projected L-BFGS line search, as OptimizationSolver would set
+    // it up for a bound-constrained problem, but with the secant memory in
+    // hand (the checkpoint keeps it). (ROL leaves the step's secant name
+    // unset when it is given a secant: log.txt may name it wrongly.) ROL's own
+    // status test comes first.
+    auto step =
+      ROL::makePtr<ROL::LineSearchStep<double>>(list, ROL::nullPtr, run.secant);
+    // forma's status test first: ROL's combined test stops at the first
+    // that says stop, and forma's writes the checkpoint.
+    auto status = ROL::makePtr<ROL::CombinedStatusTest<double>>();
+    status->add(ROL::makePtr<StatusTest>(run));
+    status->add(ROL::makePtr<ROL::StatusTest<double>>(list));
+    ROL::Algorithm<double> algorithm(step, status);
+    std::ostringstream     rol_output;
+    algorithm.run(
+      *x, *x->dual().clone(), *objective, *bounds, true, rol_output);
     context.log(rol_output.str());
 
     OptimizationResult result;

@@ -62,7 +62,8 @@ main()
         read_file("connector_stress.stdout")
               .find("resuming from iteration 9") != std::string::npos &&
           ro["iterations"] == 12);
-  // (L-BFGS restarts its memory on resume: close, not identical.)
+  // (The stage starts from the stress stage's design, which a resumed job
+  // does not rebuild, so the L-BFGS memory restarts: close, not identical.)
   check("resumed: the volume falls by more than 2% in the stage",
         volume(ro["final_state"]) < 0.98 * V1);
 }

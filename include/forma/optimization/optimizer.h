@@ -40,6 +40,10 @@ namespace forma
     /// False once a remesh failed or a refinement was refused: the run goes
     /// on on its mesh without outer iterations (also in the checkpoint).
     bool outer_possible = true;
+    /// The first gradient norm of the whole job (its first run's), so that
+    /// a resumed job reports the same relative gradient norm; 0: this run
+    /// is the first (recorded in the checkpoint).
+    double first_gradient_norm = 0;
     /// Shape optimization: hold the vertices where the mesh-quality guard
     /// blocks the line search and go on (see the parameter's text).
     bool hold_blocked_vertices = false;
@@ -138,7 +142,8 @@ namespace forma
    * `gradient_tolerance` relative to the first one, the step vanished, or
    * after `max_iterations`. After every accepted iterate the design is
    * written to `<output directory>/optimization.checkpoint.json`; with
-   * `resume` the run continues from that file (the L-BFGS memory restarts).
+   * `resume` the run continues from that file as the uninterrupted run
+   * would have (the checkpoint keeps the L-BFGS memory).
    *
    * A run continued after a remesh passes the history so far as
    * `previous_history`: its last entry (the design before the remesh) is
@@ -165,6 +170,8 @@ namespace forma
     std::string  stage_terms;
     unsigned int stage_start    = 0;
     bool         outer_possible = true;
+    /// See OptimizationParameters::first_gradient_norm (0: not recorded).
+    double first_gradient_norm = 0;
   };
 
   CheckpointPlace
