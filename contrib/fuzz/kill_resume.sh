@@ -13,7 +13,7 @@
 # checkpoint yet (killed before the first) starts afresh. Compared:
 #   optimize: J at every iteration both summaries hold, the final stresses,
 #     volume and relative gradient norm (relative 1e-10);
-#   sweep: samples.csv, byte for byte;
+#   sweep (forma-rhombic, forma-laminate): samples.csv, byte for byte;
 #   build map: every sample of map.json (1e-10).
 set -uo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
@@ -82,12 +82,18 @@ scenario() {
       sleep "$(printf '%d.%03d' $((at_ms / 1000)) $((at_ms % 1000)))"
       if kill -9 $pid 2> /dev/null; then
         echo "$name: killed after $at_ms ms of about $duration_ms"
+        wait $pid 2> /dev/null
       else
-        echo "$name: finished before the kill at $at_ms ms"
+        wait $pid 2> /dev/null
+        echo "$name: ended (exit $?) before the kill at $at_ms ms"
       fi
-      wait $pid 2> /dev/null
       n=$((n + 1))
-      first=0
+      # Killed before its first checkpoint: the next run starts afresh.
+      if grep -q "there is no checkpoint" "$work/$name.run$((n - 1)).log"; then
+        first=1
+      else
+        first=0
+      fi
       continue
     fi
     "${run[@]}" > "$work/$name.final.log" 2>&1
@@ -158,6 +164,23 @@ end
 EOF
 scenario build_map map 'Map/Resume=true' \
   "$bin/forma-rhombic" "$work/map.prm" --set 'Output directory=OUT'
+
+cat > "$work/laminate.prm" << 'EOF'
+set Mode = sweep
+subsection Grid
+  set Cells along height = 100
+end
+subsection Sweep
+  set Families        = hexagon, triangle
+  set p1              = 0.7, 0.8, 0.9
+  set p2              = 0, 0.3, 0.6
+  set Beams per joint = 3
+  set p4              = 0.6, 0.75, 0.9
+  set Resume          = true
+end
+EOF
+scenario laminate_sweep sweep 'Sweep/Resume=true' \
+  "$bin/forma-laminate" "$work/laminate.prm" --set 'Output directory=OUT'
 
 if [ $failures -gt 0 ]; then
   echo "kill_resume: $failures scenario(s) FAILED"

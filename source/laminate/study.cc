@@ -7,6 +7,7 @@
 #include <forma/base/rank_strided.h>
 #include <forma/base/run_context.h>
 #include <forma/laminate/study.h>
+#include <forma/laminate/sweep_progress.h>
 
 #include <boost/serialization/array.hpp>
 
@@ -225,40 +226,25 @@ namespace forma
      * (each with its own serial solver), with a progress line per batch.
      * Returns n_fields values per structure on every rank.
      */
-    std::vector<double>
-    homogenize_all(const std::vector<HexagonalLaminate> &structures,
-                   const Setup                          &setup,
-                   const unsigned int                    ny,
-                   RunContext                           &context)
+    namespace
     {
-      const unsigned int nx = grid_nx(ny);
-      const unsigned int n_ranks =
-        Utilities::MPI::n_mpi_processes(context.communicator());
-      const auto cell = family_grid(MPI_COMM_SELF, setup, ny);
-      context.print(
-        "sweep: " + std::to_string(structures.size()) + " structures on a " +
-        std::to_string(nx) + " x " + std::to_string(ny) + " grid" +
-        (cell->n_cells() < nx * ny ? " (the primitive half cell)" : ""));
-      std::vector<double> table(structures.size() * n_fields, 0.);
-      const unsigned int  batch =
-        progress_batch_size(structures.size(), 10, n_ranks);
-      for (unsigned int start = 0; start < structures.size(); start += batch)
-        {
-          const unsigned int end =
-            std::min<unsigned int>(structures.size(), start + batch);
-          // A failed structure stops the sweep on every rank (rank_strided
-          // rethrows the first failure).
-          const auto results = rank_strided<std::array<double, n_fields>>(
-            context.communicator(), end - start, [&](const unsigned int i) {
-              const unsigned int k = start + i;
-              try
-                {
-                  const auto material = pixel_material(
-                    structures[k], setup.base, setup.weak, setup.gray, nx, ny);
-                  const Sample      r = evaluate(*cell, material, setup);
-                  const VoigtMatrix V = to_voigt(r.C);
-                  return std::array<double, n_fields>{
-                    {structures[k].volume_fraction_formula(),
+      // One structure's sample fields (see Field); structure k of the
+      // sweep, for the error message.
+      std::array<double, n_fields>
+      homogenize_one(const std::vector<HexagonalLaminate> &structures,
+                     const unsigned int                    k,
+                     const Setup                          &setup,
+                     PeriodicHomogenization<2>            &cell,
+                     const unsigned int                    nx,
+                     const unsigned int                    ny)
+      {
+        try
+          {
+            const auto material = pixel_material(
+              structures[k], setup.base, setup.weak, setup.gray, nx, ny);
+            const Sample      r = evaluate(cell, material, setup);
+            const VoigtMatrix V = to_voigt(r.C);
+            return {{structures[k].volume_fraction_formula(),
                      r.phi,
                      r.fit.E,
                      r.fit.nu,
@@ -274,22 +260,75 @@ namespace forma
                      V[2][2],
                      structures[k].min_feature_size() * ny /
                        HexagonalLaminate::height}};
-                }
-              catch (const std::exception &e)
-                {
-                  AssertThrow(false,
-                              ExcMessage("sweep: structure " +
-                                         std::to_string(k + 1) + " (" +
-                                         structures[k].family_name() +
-                                         ", p1 = " + sig(structures[k].p1) +
-                                         "): " + error_message(e)));
-                  return std::array<double, n_fields>{};
-                }
+          }
+        catch (const std::exception &e)
+          {
+            AssertThrow(false,
+                        ExcMessage("sweep: structure " + std::to_string(k + 1) +
+                                   " (" + structures[k].family_name() +
+                                   ", p1 = " + sig(structures[k].p1) +
+                                   "): " + error_message(e)));
+            return {};
+          }
+      }
+    } // namespace
+
+
+
+    std::vector<double>
+    homogenize_all(const std::vector<HexagonalLaminate> &structures,
+                   const Setup                          &setup,
+                   const unsigned int                    ny,
+                   RunContext                           &context,
+                   const SweepProgress                  *progress)
+    {
+      const unsigned int nx = grid_nx(ny);
+      const unsigned int n_ranks =
+        Utilities::MPI::n_mpi_processes(context.communicator());
+      const auto cell = family_grid(MPI_COMM_SELF, setup, ny);
+      context.print(
+        "sweep: " + std::to_string(structures.size()) + " structures on a " +
+        std::to_string(nx) + " x " + std::to_string(ny) + " grid" +
+        (cell->n_cells() < nx * ny ? " (the primitive half cell)" : ""));
+      std::vector<double> table(structures.size() * n_fields, 0.);
+      // Structures an interrupted sweep finished.
+      std::vector<bool> taken(structures.size(), false);
+      if (progress != nullptr && progress->n_done() > 0)
+        {
+          unsigned int n_taken = 0;
+          for (unsigned int k = 0; k < structures.size(); ++k)
+            if (const auto *v = progress->done(k); v && v->size() == n_fields)
+              {
+                std::copy(v->begin(), v->end(), table.begin() + k * n_fields);
+                taken[k] = true;
+                ++n_taken;
+              }
+          context.print("sweep: " + std::to_string(n_taken) +
+                        " structures taken from sweep_progress.csv");
+        }
+      const unsigned int batch =
+        progress_batch_size(structures.size(), 10, n_ranks);
+      for (unsigned int start = 0; start < structures.size(); start += batch)
+        {
+          const unsigned int end =
+            std::min<unsigned int>(structures.size(), start + batch);
+          std::vector<unsigned int> pending;
+          for (unsigned int k = start; k < end; ++k)
+            if (!taken[k])
+              pending.push_back(k);
+          // A failed structure stops the sweep on every rank (rank_strided
+          // rethrows the first failure).
+          const auto results = rank_strided<std::array<double, n_fields>>(
+            context.communicator(), pending.size(), [&](const unsigned int i) {
+              return homogenize_one(
+                structures, pending[i], setup, *cell, nx, ny);
             });
           for (unsigned int i = 0; i < results.size(); ++i)
             std::copy(results[i].begin(),
                       results[i].end(),
-                      table.begin() + (start + i) * n_fields);
+                      table.begin() + pending[i] * n_fields);
+          if (progress != nullptr)
+            progress->append(pending, table, n_fields);
           context.print("sweep: " + std::to_string(end) + "/" +
                         std::to_string(structures.size()) + " structures");
         }
@@ -520,6 +559,15 @@ namespace forma
           "0.02",
           Patterns::Double(0, 1),
           "Samples with |E/Eb - level| <= band count for Delta.");
+        prm.declare_entry(
+          "Resume",
+          "false",
+          Patterns::Bool(),
+          "Continue a killed sweep from <Output directory>/"
+          "sweep_progress.csv: the structures it finished are taken over, "
+          "the rest computed, and the samples are the uninterrupted sweep's. "
+          "The file records the Base material, Grid and Sweep settings (but "
+          "Coverage level and band); a sweep with others is refused.");
         prm.leave_subsection();
       }
 

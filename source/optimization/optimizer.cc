@@ -202,7 +202,10 @@ namespace forma
                       "false",
                       Patterns::Bool(),
                       "Continue a killed run from "
-                      "<Output directory>/optimization.checkpoint.json.");
+                      "<Output directory>/optimization.checkpoint.json as "
+                      "the uninterrupted run would have gone on (the "
+                      "checkpoint keeps the L-BFGS memory; a later stage, "
+                      "e.g. Volume minimization, restarts it).");
     prm.leave_subsection();
   }
 

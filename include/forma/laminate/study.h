@@ -168,17 +168,21 @@ namespace forma
     };
 
 
+    class SweepProgress;
+
     /**
      * Homogenize `structures` on the family grid with ny cells along the
      * height, round-robin over the ranks of `context` (each with its own
      * serial solver), with a progress line per batch. Returns n_fields
-     * values per structure on every rank.
+     * values per structure on every rank. With a `progress` file, the
+     * structures it holds are taken over and every batch is appended to it.
      */
     std::vector<double>
     homogenize_all(const std::vector<HexagonalLaminate> &structures,
                    const Setup                          &setup,
                    const unsigned int                    ny,
-                   RunContext                           &context);
+                   RunContext                           &context,
+                   const SweepProgress                  *progress = nullptr);
 
     /// Every section and entry of the application's parameter file.
     void

@@ -7,8 +7,10 @@
 #include <forma/base/plot.h>
 #include <forma/base/run_context.h>
 #include <forma/homogenization/coverage.h>
+#include <forma/laminate/sweep_progress.h>
 
 #include "modes.h"
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -319,6 +321,29 @@ namespace forma
                       {{-1, 1}},
                       {{0, 1.05}});
       }
+
+
+
+      /// The settings a sweep's samples depend on (SweepProgress): the
+      /// Base material, Grid and Sweep sections, but the coverage's level
+      /// and band and Resume itself.
+      std::map<std::string, std::string>
+      sample_settings(ParameterHandler &prm)
+      {
+        std::ostringstream text;
+        prm.print_parameters(text, ParameterHandler::JSON);
+        const auto all = nlohmann::json::parse(text.str(), nullptr, false);
+        std::map<std::string, std::string> settings;
+        if (all.is_discarded()) // not UTF-8: the whole text stands for them
+          return {{"parameters", text.str()}};
+        for (const std::string section : {"Base material", "Grid", "Sweep"})
+          for (const auto &[name, entry] : all.at(section).items())
+            if (entry.is_object() && entry.contains("value") &&
+                name != "Coverage level" && name != "Coverage band" &&
+                name != "Resume")
+              settings[section + "/" + name] = entry["value"];
+        return settings;
+      }
     } // namespace
 
 
@@ -326,9 +351,16 @@ namespace forma
     void
     sweep_mode(ParameterHandler &prm, const Setup &setup, RunContext &context)
     {
-      const SweepGrid           grid   = read_sweep_grid(prm);
+      const SweepGrid           grid = read_sweep_grid(prm);
+      const SweepProgress       progress(context.persistent_path(
+                                     "sweep_progress.csv"),
+                                   sample_settings(prm),
+                                   prm.get_bool({"Sweep"}, "Resume"),
+                                   context);
       const std::vector<double> values = homogenize_all(
-        grid.structures, setup, setup.cells_along_height, context);
+        grid.structures, setup, setup.cells_along_height, context, &progress);
+      // Complete: a later run with Resume starts afresh.
+      context.remove_on_commit("sweep_progress.csv");
       const SampleTable t{grid.structures, values, setup};
       if (context.is_root())
         write_samples_csv(context.path("samples.csv"), t);
