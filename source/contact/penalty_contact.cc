@@ -489,11 +489,9 @@ namespace forma
 
   template <int dim>
   void
-  PenaltyContact<dim>::evaluate(const Face                       &f,
-                                const hp::MappingCollection<dim> &mapping,
-                                const Vector_t                   &u,
-                                GaussValues                      &gauss,
-                                FaceData                         &d) const
+  PenaltyContact<dim>::gather_dofs(const Face     &f,
+                                   const Vector_t &u,
+                                   FaceData       &d) const
   {
     const auto        &fe1 = f.cell->get_fe();
     const unsigned int n1  = fe1.n_dofs_per_cell();
@@ -518,136 +516,180 @@ namespace forma
     for (unsigned int i = 0; i < n1 + n2; ++i)
       d.values[i] = u(d.dofs[i]);
     d.valid = true;
+  }
 
-    const unsigned int fe_index = f.cell->active_fe_index();
+
+
+  template <int dim>
+  void
+  PenaltyContact<dim>::gauss_values(const Face  &f,
+                                    GaussValues &gauss,
+                                    FaceData    &d) const
+  {
+    const unsigned int n1 = f.cell->get_fe().n_dofs_per_cell();
+    const unsigned int n2 = d.dofs.size() - n1;
+    d.quadrature          = quadrature[f.cell->active_fe_index()];
+    gauss.minus.reinit(f.cell, f.face);
+    const auto        &fv = gauss.minus.get_present_fe_values();
+    const unsigned int nq = fv.n_quadrature_points;
+    d.phi.reinit(n1 + n2, nq);
+    for (unsigned int i = 0; i < n1; ++i)
+      for (unsigned int k = 0; k < nq; ++k)
+        d.phi[i][k] = fv.shape_value(i, k);
+    d.normal = fv.get_normal_vectors();
+    d.JxW    = fv.get_JxW_values();
+    d.gap0.resize(nq);
+    for (unsigned int k = 0; k < nq; ++k)
+      d.gap0[k] = f.deformable ? 0. : initial_gap(f.id, fv.quadrature_point(k));
+    if (f.deformable)
+      {
+        gauss.partner.reinit(f.partner, f.partner_face);
+        const auto &pv = gauss.partner.get_present_fe_values();
+        for (unsigned int i = 0; i < n2; ++i)
+          for (unsigned int k = 0; k < nq; ++k)
+            d.phi[n1 + i][k] = -pv.shape_value(i, f.permutation[k]);
+      }
+  }
+
+
+
+  template <int dim>
+  void
+  PenaltyContact<dim>::values_at(const Face                       &f,
+                                 const hp::MappingCollection<dim> &mapping,
+                                 const Quadrature<dim - 1>        &q,
+                                 FaceData                         &d) const
+  {
+    // Mapped into the cell by the face's corners: an FEFaceValues would be
+    // built for every face and orientation.
+    const auto        &fe1 = f.cell->get_fe();
+    const unsigned int n1  = fe1.n_dofs_per_cell();
+    FEValues<dim>      fv(mapping[0],
+                     fe1,
+                     cell_points(f.corners, q),
+                     update_values | update_quadrature_points |
+                       update_jacobians);
+    fv.reinit(f.cell);
+    const unsigned int nq = q.size();
+    d.phi.reinit(d.dofs.size(), nq);
+    for (unsigned int i = 0; i < n1; ++i)
+      for (unsigned int k = 0; k < nq; ++k)
+        d.phi[i][k] = fv.shape_value(i, k);
+    d.normal.resize(nq);
+    d.JxW.resize(nq);
+    d.gap0.resize(nq);
+    for (unsigned int k = 0; k < nq; ++k)
+      {
+        d.gap0[k] =
+          f.deformable ? 0. : initial_gap(f.id, fv.quadrature_point(k));
+        const Tensor<1, dim> a =
+          f.orientation * area_normal(fv.jacobian(k), f.corners);
+        d.normal[k] = a / a.norm();
+        d.JxW[k]    = q.weight(k) * a.norm();
+      }
+    if (f.deformable)
+      partner_values_at(f, mapping, q, fv.get_quadrature_points(), d);
+  }
+
+
+
+  template <int dim>
+  void
+  PenaltyContact<dim>::partner_values_at(
+    const Face                       &f,
+    const hp::MappingCollection<dim> &mapping,
+    const Quadrature<dim - 1>        &q,
+    const std::vector<Point<dim>>    &x,
+    FaceData                         &d) const
+  {
+    const unsigned int nq = q.size();
+    const unsigned int n1 = f.cell->get_fe().n_dofs_per_cell();
+    const unsigned int n2 = d.dofs.size() - n1;
+    // Affine in the face coordinates where the faces' corners coincide
+    // (checked on the physical points, since the two copies' shape could
+    // differ), else by inverse mapping.
+    const auto                    &c = f.partner_corners;
+    std::unique_ptr<FEValues<dim>> pv;
+    bool                           paired = !c.empty();
+    if (paired)
+      {
+        pv = std::make_unique<FEValues<dim>>(mapping[0],
+                                             f.partner->get_fe(),
+                                             cell_points(c, q),
+                                             update_values |
+                                               update_quadrature_points);
+        pv->reinit(f.partner);
+        const double tol = 1e-8 * f.cell->face(f.face)->diameter();
+        for (unsigned int k = 0; k < nq && paired; ++k)
+          paired = pv->quadrature_point(k).distance(x[k]) <= tol;
+      }
+    if (!paired)
+      {
+        std::vector<Point<dim>> unit(nq);
+        mapping[0].transform_points_real_to_unit_cell(f.partner, x, unit);
+        // A point the inverse mapping did not find (+inf) or outside the
+        // partner: the interface is too distorted to pair points.
+        for (auto &xi : unit)
+          if (!std::isfinite(xi[0]) ||
+              !f.partner->reference_cell().contains_point(xi, 1e-6))
+            {
+              d.valid = false;
+              xi      = f.partner->reference_cell().template vertex<dim>(0);
+            }
+        pv = std::make_unique<FEValues<dim>>(mapping[0],
+                                             f.partner->get_fe(),
+                                             Quadrature<dim>(unit),
+                                             update_values);
+        pv->reinit(f.partner);
+      }
+    for (unsigned int i = 0; i < n2; ++i)
+      for (unsigned int k = 0; k < nq; ++k)
+        d.phi[n1 + i][k] = -pv->shape_value(i, k);
+  }
+
+
+
+  template <int dim>
+  void
+  PenaltyContact<dim>::evaluate(const Face                       &f,
+                                const hp::MappingCollection<dim> &mapping,
+                                const Vector_t                   &u,
+                                GaussValues                      &gauss,
+                                FaceData                         &d) const
+  {
+    gather_dofs(f, u, d);
     if (parameters.quadrature == "gauss")
       {
         // The elements' rule, with FE values made once per pass.
-        d.quadrature = quadrature[fe_index];
-        gauss.minus.reinit(f.cell, f.face);
-        const auto        &fv = gauss.minus.get_present_fe_values();
-        const unsigned int nq = fv.n_quadrature_points;
-        d.phi.reinit(n1 + n2, nq);
-        for (unsigned int i = 0; i < n1; ++i)
-          for (unsigned int k = 0; k < nq; ++k)
-            d.phi[i][k] = fv.shape_value(i, k);
-        d.normal = fv.get_normal_vectors();
-        d.JxW    = fv.get_JxW_values();
-        d.gap0.resize(nq);
-        for (unsigned int k = 0; k < nq; ++k)
-          d.gap0[k] =
-            f.deformable ? 0. : initial_gap(f.id, fv.quadrature_point(k));
-        if (f.deformable)
-          {
-            gauss.partner.reinit(f.partner, f.partner_face);
-            const auto &pv = gauss.partner.get_present_fe_values();
-            for (unsigned int i = 0; i < n2; ++i)
-              for (unsigned int k = 0; k < nq; ++k)
-                d.phi[n1 + i][k] = -pv.shape_value(i, f.permutation[k]);
-          }
+        gauss_values(f, gauss, d);
         return;
       }
-    // Adaptive rule: values of the "-" side at the points of `q` (reference
-    // face coordinates, mapped into the cell by the face's corners: an
-    // FEFaceValues would be built for every face and orientation) and of the
-    // partner at the same physical points.
-    auto at = [&](const Quadrature<dim - 1> &q) {
-      FEValues<dim> fv(mapping[0],
-                       fe1,
-                       cell_points(f.corners, q),
-                       update_values | update_quadrature_points |
-                         update_jacobians);
-      fv.reinit(f.cell);
-      const unsigned int nq = q.size();
-      d.phi.reinit(n1 + n2, nq);
-      for (unsigned int i = 0; i < n1; ++i)
-        for (unsigned int k = 0; k < nq; ++k)
-          d.phi[i][k] = fv.shape_value(i, k);
-      d.normal.resize(nq);
-      d.JxW.resize(nq);
-      d.gap0.resize(nq);
-      for (unsigned int k = 0; k < nq; ++k)
+    // Adaptive rule: refined where the state's contact regime changes.
+    const ContactLaw &cl       = law(f);
+    const bool        friction = cl.mu > 0;
+    auto              regime   = [&](const std::vector<Point<dim - 1>> &x) {
+      values_at(f, mapping, Quadrature<dim - 1>(x), d);
+      std::vector<int> codes(x.size());
+      for (unsigned int k = 0; k < x.size(); ++k)
         {
-          d.gap0[k] =
-            f.deformable ? 0. : initial_gap(f.id, fv.quadrature_point(k));
-          const Tensor<1, dim> a =
-            f.orientation * area_normal(fv.jacobian(k), f.corners);
-          d.normal[k] = a / a.norm();
-          d.JxW[k]    = q.weight(k) * a.norm();
+          const Tensor<1, dim> j     = d.jump(k);
+          const double         jn    = j * d.normal[k];
+          const double         gap   = jn - d.gap0[k];
+          const double         slip2 = j * j - jn * jn;
+          codes[k]                   = contact::contact_regime(
+            gap, std::sqrt(std::max(slip2, 0.)), cl.eta, cl.eta_n, friction);
         }
-      if (!f.deformable)
-        return;
-      // The partner's points: affine in the face coordinates where the
-      // faces' corners coincide (checked on the physical points, since the
-      // two copies' shape could differ), else by inverse mapping.
-      const auto                    &c = f.partner_corners;
-      std::unique_ptr<FEValues<dim>> pv;
-      bool                           paired = !c.empty();
-      if (paired)
-        {
-          pv = std::make_unique<FEValues<dim>>(mapping[0],
-                                               f.partner->get_fe(),
-                                               cell_points(c, q),
-                                               update_values |
-                                                 update_quadrature_points);
-          pv->reinit(f.partner);
-          const double tol = 1e-8 * f.cell->face(f.face)->diameter();
-          for (unsigned int k = 0; k < nq && paired; ++k)
-            paired =
-              pv->quadrature_point(k).distance(fv.quadrature_point(k)) <= tol;
-        }
-      if (!paired)
-        {
-          std::vector<Point<dim>> unit(nq);
-          mapping[0].transform_points_real_to_unit_cell(
-            f.partner, fv.get_quadrature_points(), unit);
-          // A point the inverse mapping did not find (+inf) or outside
-          // the partner: the interface is too distorted to pair points.
-          for (auto &x : unit)
-            if (!std::isfinite(x[0]) ||
-                !f.partner->reference_cell().contains_point(x, 1e-6))
-              {
-                d.valid = false;
-                x       = f.partner->reference_cell().template vertex<dim>(0);
-              }
-          pv = std::make_unique<FEValues<dim>>(mapping[0],
-                                               f.partner->get_fe(),
-                                               Quadrature<dim>(unit),
-                                               update_values);
-          pv->reinit(f.partner);
-        }
-      for (unsigned int i = 0; i < n2; ++i)
-        for (unsigned int k = 0; k < nq; ++k)
-          d.phi[n1 + i][k] = -pv->shape_value(i, k);
+      return codes;
     };
-
-    {
-      const ContactLaw &cl       = law(f);
-      const bool        friction = cl.mu > 0;
-      auto              regime   = [&](const std::vector<Point<dim - 1>> &x) {
-        at(Quadrature<dim - 1>(x));
-        std::vector<int> codes(x.size());
-        for (unsigned int k = 0; k < x.size(); ++k)
-          {
-            const Tensor<1, dim> j     = d.jump(k);
-            const double         jn    = j * d.normal[k];
-            const double         gap   = jn - d.gap0[k];
-            const double         slip2 = j * j - jn * jn;
-            codes[k]                   = contact::contact_regime(
-              gap, std::sqrt(std::max(slip2, 0.)), cl.eta, cl.eta_n, friction);
-          }
-        return codes;
-      };
-      const bool simplex =
-        f.cell->face(f.face)->reference_cell().is_simplex() && dim == 3;
-      d.quadrature =
-        contact::adaptive_quadrature<dim - 1>(simplex,
-                                              regime,
-                                              parameters.gauss_points,
-                                              parameters.adaptive_depth,
-                                              parameters.samples);
-    }
-    at(d.quadrature);
+    const bool simplex =
+      f.cell->face(f.face)->reference_cell().is_simplex() && dim == 3;
+    d.quadrature =
+      contact::adaptive_quadrature<dim - 1>(simplex,
+                                            regime,
+                                            parameters.gauss_points,
+                                            parameters.adaptive_depth,
+                                            parameters.samples);
+    values_at(f, mapping, d.quadrature, d);
   }
 
 

@@ -223,6 +223,34 @@ namespace forma
              GaussValues                              &gauss,
              FaceData                                 &d) const;
 
+    /// evaluate(): the dofs of both sides, their components and values.
+    void
+    gather_dofs(const Face &f, const Vector_t &u, FaceData &d) const;
+
+    /// evaluate() with the element's Gauss rule: FE face values of both
+    /// sides (the partner's points by the face permutation).
+    void
+    gauss_values(const Face &f, GaussValues &gauss, FaceData &d) const;
+
+    /// evaluate() at the reference face points `q` (the adaptive rule):
+    /// the "-" side's values, normals and weights by the face's corners,
+    /// the partner's at the same physical points.
+    void
+    values_at(const Face                               &f,
+              const dealii::hp::MappingCollection<dim> &mapping,
+              const dealii::Quadrature<dim - 1>        &q,
+              FaceData                                 &d) const;
+
+    /// values_at(): the partner's shape values at the "-" side's points
+    /// `x` (affine where the faces' corners coincide, else by inverse
+    /// mapping; d.valid is false where a point is not found).
+    void
+    partner_values_at(const Face                               &f,
+                      const dealii::hp::MappingCollection<dim> &mapping,
+                      const dealii::Quadrature<dim - 1>        &q,
+                      const std::vector<dealii::Point<dim>>    &x,
+                      FaceData                                 &d) const;
+
     std::map<dealii::types::boundary_id,
              std::unique_ptr<dealii::FunctionParser<dim>>>
                                          gaps;  ///< Contact/Rigid gaps
