@@ -2,6 +2,7 @@
 #include <deal.II/base/utilities.h>
 
 #include <forma/base/on_root.h>
+#include <forma/base/replace_file.h>
 #include <forma/base/run_context.h>
 #include <forma/base/safe_text.h>
 #include <forma/laminate/sweep_progress.h>
@@ -64,27 +65,30 @@ namespace forma
 
 
       // One finished structure's row "k,values...,end", or false for a row
-      // cut short by the interruption.
+      // cut short by the interruption (or of another sweep's size).
       bool
       parse_row(const std::string   &line,
+                const unsigned int   n_structures,
+                const unsigned int   n_values,
                 unsigned int        &k,
                 std::vector<double> &values)
       {
         auto parts = dealii::Utilities::split_string_list(line, ',');
-        if (parts.size() < 3 || parts.back() != row_end)
+        if (parts.size() != n_values + 2 || parts.back() != row_end ||
+            parts[0].empty() || parts[0].size() > 9 ||
+            parts[0].find_first_not_of("0123456789") != std::string::npos)
           return false;
-        parts.pop_back();
+        k = std::stoul(parts[0]);
+        if (k >= n_structures)
+          return false;
+        values.resize(n_values);
         try
           {
-            std::size_t end = 0;
-            k               = std::stoul(parts[0], &end);
-            if (end != parts[0].size())
-              return false;
-            values.clear();
-            for (std::size_t i = 1; i < parts.size(); ++i)
+            for (unsigned int i = 0; i < n_values; ++i)
               {
-                values.push_back(std::stod(parts[i], &end));
-                if (end != parts[i].size())
+                std::size_t end = 0;
+                values[i]       = std::stod(parts[i + 1], &end);
+                if (end != parts[i + 1].size())
                   return false;
               }
           }
@@ -94,6 +98,20 @@ namespace forma
           }
         return true;
       }
+
+
+
+      std::string
+      row_text(const unsigned int k, const double *values, const unsigned int n)
+      {
+        std::ostringstream row;
+        row << std::setprecision(std::numeric_limits<double>::max_digits10)
+            << k;
+        for (unsigned int i = 0; i < n; ++i)
+          row << ',' << values[i];
+        row << ',' << row_end << '\n';
+        return row.str();
+      }
     } // namespace
 
 
@@ -102,16 +120,25 @@ namespace forma
       const std::string                        &file,
       const std::map<std::string, std::string> &settings,
       const bool                                resume,
+      const unsigned int                        n_structures,
+      const unsigned int                        n_values,
       RunContext                               &context)
       : file(file)
       , context(context)
     {
-      namespace fs = std::filesystem;
-      rows         = on_root_or_throw(
+      // Settings that are not UTF-8 are written replaced (and then never
+      // match: such a sweep does not resume).
+      const std::string header =
+        header_start +
+        nlohmann::json(settings).dump(
+          -1, ' ', false, nlohmann::json::error_handler_t::replace) +
+        '\n';
+      rows = on_root_or_throw(
         context.communicator(),
         [&]() {
           std::map<unsigned int, std::vector<double>> taken;
-          if (resume && fs::exists(file))
+          std::string                                 text = header;
+          if (resume && std::filesystem::exists(file))
             {
               std::ifstream in(file);
               std::string   line;
@@ -120,18 +147,15 @@ namespace forma
               unsigned int        k;
               std::vector<double> values;
               while (std::getline(in, line))
-                if (parse_row(line, k, values))
+                if (parse_row(line, n_structures, n_values, k, values))
                   taken[k] = values;
-              return taken;
+              for (const auto &[k, v] : taken)
+                text += row_text(k, v.data(), n_values);
             }
-          std::ofstream out(file);
-          // Settings that are not UTF-8 are written replaced (and then
-          // never match: such a sweep does not resume).
-          out << header_start
-              << nlohmann::json(settings).dump(
-                   -1, ' ', false, nlohmann::json::error_handler_t::replace)
-              << '\n';
-          AssertThrow(out, dealii::ExcMessage("cannot write '" + file + "'"));
+          // Written whole (the rows kept, without a line the kill cut
+          // short), so that the rows appended next start on a line of
+          // their own.
+          replace_file_text(file, text);
           return taken;
         },
         "Sweep/Resume");
@@ -163,17 +187,11 @@ namespace forma
     {
       if (!context.is_root() || finished.empty())
         return;
-      std::ostringstream lines;
-      lines << std::setprecision(std::numeric_limits<double>::max_digits10);
+      std::string lines;
       for (const unsigned int k : finished)
-        {
-          lines << k;
-          for (unsigned int i = 0; i < n_values; ++i)
-            lines << ',' << table[k * n_values + i];
-          lines << ',' << row_end << '\n';
-        }
+        lines += row_text(k, &table[k * n_values], n_values);
       std::ofstream out(file, std::ios::app);
-      out << lines.str() << std::flush;
+      out << lines << std::flush;
       if (!out)
         context.log("sweep: progress not written to '" + file + "'");
     }

@@ -427,16 +427,21 @@ namespace forma
           run.history.empty())
         return;
       nlohmann::json c;
-      c["iteration"]             = run.history.size() - 1;
-      c["design"]                = run.design(run.z_accepted);
-      c["z"]                     = run.z_accepted;
-      c["mesh"]                  = run.model.mesh;
-      c["history"]               = run.history;
-      c["gradient_norms"]        = run.gradient_norms;
-      c["objective_scale"]       = run.J_scale;
-      c["normalized"]            = run.parameters.normalize;
-      c["lbfgs"]                 = internal::secant_to_json(*run.secant);
-      c["step_norm"]             = step_norm;
+      c["iteration"]       = run.history.size() - 1;
+      c["design"]          = run.design(run.z_accepted);
+      c["z"]               = run.z_accepted;
+      c["mesh"]            = run.model.mesh;
+      c["history"]         = run.history;
+      c["gradient_norms"]  = run.gradient_norms;
+      c["objective_scale"] = run.J_scale;
+      c["normalized"]      = run.parameters.normalize;
+      c["step_norm"]       = std::isfinite(step_norm) ? step_norm : -1.;
+      // JSON has no NaN: a broken run's memory is not kept (a resume then
+      // restarts it).
+      if (std::all_of(run.gradient_norms.begin(),
+                      run.gradient_norms.end(),
+                      [](const double g) { return std::isfinite(g); }))
+        c["lbfgs"] = internal::secant_to_json(*run.secant);
       c["decrease_window_start"] = run.window_start;
       c["outer_iteration"]       = run.parameters.outer_iteration;
       c["outer_start"]           = run.parameters.outer_start;

@@ -49,7 +49,12 @@ main(int argc, char **argv)
     {"Grid/Cells along height", "37"}, {"Sweep/p1", "0.7, 0.9"}};
   const std::string file  = "sweep_progress.csv";
   const auto        sweep = [&](const bool resume) {
-    const laminate::SweepProgress progress(file, settings, resume, context);
+    const laminate::SweepProgress progress(file,
+                                           settings,
+                                           resume,
+                                           grid.structures.size(),
+                                           laminate::n_fields,
+                                           context);
     deallog << "  taken from the file: " << progress.n_done() << std::endl;
     return laminate::homogenize_all(
       grid.structures, setup, 37, context, &progress);
@@ -83,7 +88,8 @@ main(int argc, char **argv)
   other["Grid/Cells along height"] = "48";
   try
     {
-      laminate::SweepProgress p(file, other, true, context);
+      laminate::SweepProgress p(
+        file, other, true, grid.structures.size(), laminate::n_fields, context);
       deallog << "other settings: taken over, WRONG" << std::endl;
     }
   catch (const std::exception &e)

@@ -23,12 +23,16 @@ namespace forma
     {
     public:
       /// Start the file afresh, or with `resume` take over what an earlier
-      /// run with the same `settings` (entry -> value) finished; a file of
-      /// other settings is refused, naming the first that differs.
+      /// run with the same `settings` (entry -> value) finished: rows of
+      /// `n_values` values for structures below `n_structures` (a row the
+      /// kill cut short is left out, and the file rewritten without it). A
+      /// file of other settings is refused, naming the first that differs.
       /// Collective over the context's ranks.
       SweepProgress(const std::string                        &file,
                     const std::map<std::string, std::string> &settings,
                     const bool                                resume,
+                    const unsigned int                        n_structures,
+                    const unsigned int                        n_values,
                     RunContext                               &context);
 
       /// The values of structure k taken over from the file, or nullptr.

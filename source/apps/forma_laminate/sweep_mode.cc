@@ -356,6 +356,8 @@ namespace forma
                                      "sweep_progress.csv"),
                                    sample_settings(prm),
                                    prm.get_bool({"Sweep"}, "Resume"),
+                                   grid.structures.size(),
+                                   n_fields,
                                    context);
       const std::vector<double> values = homogenize_all(
         grid.structures, setup, setup.cells_along_height, context, &progress);
