@@ -51,6 +51,94 @@ namespace forma
         return piece(E_lo, E_hi);
       }
 
+      // Per row of an (E, nu) grid, the longest run of covered nodes: [lo,
+      // hi] node indices ({-1, -2}: none).
+      std::vector<std::array<int, 2>>
+      longest_runs(const std::vector<bool> &covered,
+                   const unsigned int       nE,
+                   const unsigned int       nn)
+      {
+        std::vector<std::array<int, 2>> run(nE, {{-1, -2}});
+        for (unsigned int i = 0; i < nE; ++i)
+          for (unsigned int j = 0; j < nn;)
+            {
+              if (!covered[i * nn + j])
+                {
+                  ++j;
+                  continue;
+                }
+              unsigned int k = j;
+              while (k + 1 < nn && covered[i * nn + k + 1])
+                ++k;
+              if (static_cast<int>(k - j) > run[i][1] - run[i][0])
+                run[i] = {{static_cast<int>(j), static_cast<int>(k)}};
+              j = k + 1;
+            }
+        return run;
+      }
+
+
+
+      // A side of a polygon over [E_a, E_b]: sign +1, the left, the line at
+      // or right of `points` (nu, E) with the least integral of max(bound,
+      // line); -1, the right, mirrored. The objective is convex in the line
+      // and the constraints are linear: the optimum is on a line through a
+      // point, at the best slope among those that keep the others (golden
+      // section), slopes within +-steep. Nothing if no line keeps them.
+      std::optional<Line>
+      best_side_line(const std::vector<std::array<double, 2>> &points,
+                     const double                              bound,
+                     const double                              sign,
+                     const double                              E_a,
+                     const double                              E_b,
+                     const double                              steep)
+      {
+        if (points.empty())
+          return Line{bound, 0};
+        const auto value_of_line = [&](const Line &l) {
+          return sign * clipped_integral(l, bound, E_a, E_b, sign);
+        };
+        std::optional<Line> chosen;
+        double              value = std::numeric_limits<double>::infinity();
+        for (const auto &P : points)
+          {
+            double b_lo = -steep, b_hi = steep;
+            for (const auto &Q : points)
+              {
+                const double dE = Q[1] - P[1];
+                if (dE == 0)
+                  continue;
+                // sign (nu_P + s dE - nu_Q) >= 0
+                const double s = (Q[0] - P[0]) / dE;
+                if (sign * dE > 0)
+                  b_lo = std::max(b_lo, s);
+                else
+                  b_hi = std::min(b_hi, s);
+              }
+            if (b_lo > b_hi + 1e-12)
+              continue;
+            const auto line = [&](const double slope) {
+              return Line{P[0] - slope * P[1], slope};
+            };
+            double       lo = b_lo, hi = b_hi;
+            const double g = 0.5 * (std::sqrt(5.) - 1);
+            for (unsigned int k = 0; k < 200 && hi - lo > 1e-12; ++k)
+              {
+                const double m1 = hi - g * (hi - lo), m2 = lo + g * (hi - lo);
+                if (value_of_line(line(m1)) <= value_of_line(line(m2)))
+                  hi = m2;
+                else
+                  lo = m1;
+              }
+            for (const double slope : {b_lo, b_hi, 0.5 * (lo + hi)})
+              {
+                const double v = value_of_line(line(slope));
+                if (v < value - 1e-14)
+                  value = v, chosen = line(slope);
+              }
+          }
+        return chosen;
+      }
     } // namespace
 
 
@@ -211,23 +299,11 @@ namespace forma
       best.E_min = 1, best.E_max = 0; // empty
       const double nu_extent = nu.back() - nu.front();
 
-      // Per row, the longest run of covered nodes: [lo, hi] node indices.
-      std::vector<std::array<int, 2>> run(nE, {{-1, -2}});
-      for (unsigned int i = 0; i < nE; ++i)
-        for (unsigned int j = 0; j < nn;)
-          {
-            if (!covered[i * nn + j])
-              {
-                ++j;
-                continue;
-              }
-            unsigned int k = j;
-            while (k + 1 < nn && covered[i * nn + k + 1])
-              ++k;
-            if (static_cast<int>(k - j) > run[i][1] - run[i][0])
-              run[i] = {{static_cast<int>(j), static_cast<int>(k)}};
-            j = k + 1;
-          }
+      const auto run = longest_runs(covered, nE, nn);
+      // Lines at most twice as steep as the grid's diagonal: a steeper one
+      // would cut a corner as E_min or E_max does, with coefficients that
+      // do not spline.
+      const double steep = 2 * nu_extent / (E.back() - E.front());
 
       double best_value = -std::numeric_limits<double>::infinity();
       for (unsigned int a = 0; a < nE; ++a)
@@ -268,72 +344,10 @@ namespace forma
                       row_ok && nu[run[i][0]] < nmax && nu[run[i][1]] > nmin;
                   if (!row_ok)
                     continue;
-                  const auto best_line = [&](const std::vector<
-                                               std::array<double, 2>> &points,
-                                             const double              bound,
-                                             const double              sign) {
-                    // sign +1: left, the line at or right of the points
-                    // with the least integral of max(bound, line); -1:
-                    // right, mirrored. The objective is convex in the
-                    // line and the constraints are linear: the optimum
-                    // is on a line through a point, at the best slope
-                    // among those that keep the others (golden section).
-                    std::optional<Line> chosen;
-                    if (points.empty())
-                      return std::optional<Line>(Line{bound, 0});
-                    const auto value_of_line = [&](const Line &l) {
-                      return sign *
-                             clipped_integral(l, bound, E[a], E[b], sign);
-                    };
-                    double value = std::numeric_limits<double>::infinity();
-                    // Lines at most twice as steep as the grid's diagonal:
-                    // a steeper one would cut a corner as E_min or E_max
-                    // does, with coefficients that do not spline.
-                    const double steep = 2 * nu_extent / (E.back() - E.front());
-                    for (const auto &P : points)
-                      {
-                        double b_lo = -steep, b_hi = steep;
-                        for (const auto &Q : points)
-                          {
-                            const double dE = Q[1] - P[1];
-                            if (dE == 0)
-                              continue;
-                            // sign (nu_P + s dE - nu_Q) >= 0
-                            const double s = (Q[0] - P[0]) / dE;
-                            if (sign * dE > 0)
-                              b_lo = std::max(b_lo, s);
-                            else
-                              b_hi = std::min(b_hi, s);
-                          }
-                        if (b_lo > b_hi + 1e-12)
-                          continue;
-                        const auto line = [&](const double slope) {
-                          return Line{P[0] - slope * P[1], slope};
-                        };
-                        double       lo = b_lo, hi = b_hi;
-                        const double g = 0.5 * (std::sqrt(5.) - 1);
-                        for (unsigned int k = 0; k < 200 && hi - lo > 1e-12;
-                             ++k)
-                          {
-                            const double m1 = hi - g * (hi - lo),
-                                         m2 = lo + g * (hi - lo);
-                            if (value_of_line(line(m1)) <=
-                                value_of_line(line(m2)))
-                              hi = m2;
-                            else
-                              lo = m1;
-                          }
-                        for (const double slope : {b_lo, b_hi, 0.5 * (lo + hi)})
-                          {
-                            const double v = value_of_line(line(slope));
-                            if (v < value - 1e-14)
-                              value = v, chosen = line(slope);
-                          }
-                      }
-                    return chosen;
-                  };
-                  const auto left  = best_line(pl, nmin, 1),
-                             right = best_line(pr, nmax, -1);
+                  const auto left =
+                               best_side_line(pl, nmin, 1, E[a], E[b], steep),
+                             right =
+                               best_side_line(pr, nmax, -1, E[a], E[b], steep);
                   if (!left || !right)
                     continue; // no line keeps the points
                   const Line     &l = *left, &r = *right;
