@@ -359,20 +359,24 @@ namespace forma
       return c;
     }
 
-    std::string
-    mesh_3d(const RegionBoundaries<3> &b)
+    // A connected patch of boundary facets with one key (the regions on its
+    // two sides): a discrete Gmsh surface.
+    struct Surface
     {
-      // Surface entities: connected patches of facets with one key.
+      Key                       key;
+      std::vector<unsigned int> facets;
+      std::set<unsigned int>    vertices;
+      int                       tag = 0;
+    };
+
+
+
+    std::vector<Surface>
+    surface_patches(const RegionBoundaries<3> &b)
+    {
       std::map<Key, std::vector<unsigned int>> by_key;
       for (unsigned int i = 0; i < b.facets.size(); ++i)
         by_key[key_of<3>(b.facets[i])].push_back(i);
-      struct Surface
-      {
-        Key                       key;
-        std::vector<unsigned int> facets;
-        std::set<unsigned int>    vertices;
-        int                       tag;
-      };
       std::vector<Surface> surfaces;
       for (const auto &[key, facets] : by_key)
         {
@@ -392,6 +396,17 @@ namespace forma
               s.vertices.insert(items[k].begin(), items[k].end());
             }
         }
+      return surfaces;
+    }
+
+
+
+    // The patches as discrete Gmsh surfaces on the boundary's vertices (their
+    // tags set).
+    void
+    add_discrete_surfaces(const RegionBoundaries<3> &b,
+                          std::vector<Surface>      &surfaces)
+    {
       std::vector<std::size_t> node_tags(b.vertices.size());
       std::vector<double>      coordinates;
       for (unsigned int v = 0; v < b.vertices.size(); ++v)
@@ -412,100 +427,127 @@ namespace forma
               nodes.push_back(v + 1);
           gmsh::model::mesh::addElementsByType(s.tag, 2, {}, nodes);
         }
+    }
 
-      // Per region: closed shells of its surfaces; negative enclosed
-      // volume (normals into the region) marks a cavity.
-      const auto                               regions = regions_of(b);
-      std::map<unsigned int, std::vector<int>> physical_volumes;
-      for (const auto m : regions)
-        {
-          std::vector<unsigned int>              mine;
-          std::vector<std::vector<unsigned int>> items;
-          for (unsigned int k = 0; k < surfaces.size(); ++k)
-            if (surfaces[k].key[0] == m || surfaces[k].key[1] == m)
-              {
-                mine.push_back(k);
-                items.emplace_back(surfaces[k].vertices.begin(),
-                                   surfaces[k].vertices.end());
-              }
-          unsigned int n;
-          const auto   c = components(items, n);
-          struct Shell
+
+
+    // A closed shell of a region's surfaces: its enclosed volume (negative,
+    // normals into the region: a cavity) and bounding box.
+    struct Shell
+    {
+      std::vector<int> surfaces;
+      double           volume = 0;
+      Point<3>         low, high;
+    };
+
+
+
+    std::vector<Shell>
+    region_shells(const RegionBoundaries<3>  &b,
+                  const std::vector<Surface> &surfaces,
+                  const unsigned int          m)
+    {
+      std::vector<unsigned int>              mine;
+      std::vector<std::vector<unsigned int>> items;
+      for (unsigned int k = 0; k < surfaces.size(); ++k)
+        if (surfaces[k].key[0] == m || surfaces[k].key[1] == m)
           {
-            std::vector<int> surfaces;
-            double           volume = 0;
-            Point<3>         low, high; ///< bounding box
-          };
-          std::vector<Shell> shells(n);
-          for (auto &s : shells)
-            for (unsigned int d = 0; d < 3; ++d)
-              {
-                s.low[d]  = std::numeric_limits<double>::max();
-                s.high[d] = -std::numeric_limits<double>::max();
-              }
-          for (unsigned int k = 0; k < mine.size(); ++k)
+            mine.push_back(k);
+            items.emplace_back(surfaces[k].vertices.begin(),
+                               surfaces[k].vertices.end());
+          }
+      unsigned int       n;
+      const auto         c = components(items, n);
+      std::vector<Shell> shells(n);
+      for (auto &s : shells)
+        for (unsigned int d = 0; d < 3; ++d)
+          {
+            s.low[d]  = std::numeric_limits<double>::max();
+            s.high[d] = -std::numeric_limits<double>::max();
+          }
+      for (unsigned int k = 0; k < mine.size(); ++k)
+        {
+          const auto &surface = surfaces[mine[k]];
+          auto       &shell   = shells[c[k]];
+          shell.surfaces.push_back(surface.tag);
+          const double sign = surface.key[0] == m ? 1. : -1.;
+          for (const auto i : surface.facets)
             {
-              const auto &surface = surfaces[mine[k]];
-              auto       &shell   = shells[c[k]];
-              shell.surfaces.push_back(surface.tag);
-              const double sign = surface.key[0] == m ? 1. : -1.;
-              for (const auto i : surface.facets)
-                {
-                  const auto &v  = b.facets[i].vertices;
-                  const auto &x0 = b.vertices[v[0]], &x1 = b.vertices[v[1]],
-                             &x2 = b.vertices[v[2]];
-                  shell.volume += sign *
-                                  (x0[0] * (x1[1] * x2[2] - x1[2] * x2[1]) -
-                                   x0[1] * (x1[0] * x2[2] - x1[2] * x2[0]) +
-                                   x0[2] * (x1[0] * x2[1] - x1[1] * x2[0])) /
-                                  6.;
-                  for (const auto j : v)
-                    for (unsigned int d = 0; d < 3; ++d)
-                      {
-                        shell.low[d] = std::min(shell.low[d], b.vertices[j][d]);
-                        shell.high[d] =
-                          std::max(shell.high[d], b.vertices[j][d]);
-                      }
-                }
-            }
-          std::vector<std::vector<int>> loops;
-          std::vector<unsigned int>     outer;
-          for (unsigned int k = 0; k < n; ++k)
-            if (shells[k].volume > 0)
-              {
-                outer.push_back(k);
-                loops.push_back(
-                  {gmsh::model::geo::addSurfaceLoop(shells[k].surfaces)});
-              }
-          AssertThrow(!outer.empty(),
-                      ExcMessage("remeshing: material " + std::to_string(m) +
-                                 " has no closed outer boundary."));
-          for (unsigned int k = 0; k < n; ++k)
-            if (shells[k].volume <= 0)
-              {
-                // The smallest outer shell whose box holds the cavity.
-                int best = -1;
-                for (unsigned int o = 0; o < outer.size(); ++o)
+              const auto &v  = b.facets[i].vertices;
+              const auto &x0 = b.vertices[v[0]], &x1 = b.vertices[v[1]],
+                         &x2 = b.vertices[v[2]];
+              shell.volume += sign *
+                              (x0[0] * (x1[1] * x2[2] - x1[2] * x2[1]) -
+                               x0[1] * (x1[0] * x2[2] - x1[2] * x2[0]) +
+                               x0[2] * (x1[0] * x2[1] - x1[1] * x2[0])) /
+                              6.;
+              for (const auto j : v)
+                for (unsigned int d = 0; d < 3; ++d)
                   {
-                    const auto &s  = shells[outer[o]];
-                    bool        in = true;
-                    for (unsigned int d = 0; d < 3; ++d)
-                      in = in && s.low[d] <= shells[k].low[d] &&
-                           shells[k].high[d] <= s.high[d];
-                    if (in &&
-                        (best < 0 || s.volume < shells[outer[best]].volume))
-                      best = o;
+                    shell.low[d]  = std::min(shell.low[d], b.vertices[j][d]);
+                    shell.high[d] = std::max(shell.high[d], b.vertices[j][d]);
                   }
-                AssertThrow(best >= 0,
-                            ExcMessage("remeshing: a cavity of material " +
-                                       std::to_string(m) +
-                                       " lies outside all its boundaries."));
-                loops[best].push_back(
-                  gmsh::model::geo::addSurfaceLoop(shells[k].surfaces));
-              }
-          for (const auto &l : loops)
-            physical_volumes[m].push_back(gmsh::model::geo::addVolume(l));
+            }
         }
+      return shells;
+    }
+
+
+
+    // Gmsh volumes of region m: one per outer shell, each with the cavities
+    // its box holds (the smallest such outer shell's).
+    std::vector<int>
+    region_volumes(const std::vector<Shell> &shells, const unsigned int m)
+    {
+      std::vector<std::vector<int>> loops;
+      std::vector<unsigned int>     outer;
+      for (unsigned int k = 0; k < shells.size(); ++k)
+        if (shells[k].volume > 0)
+          {
+            outer.push_back(k);
+            loops.push_back(
+              {gmsh::model::geo::addSurfaceLoop(shells[k].surfaces)});
+          }
+      AssertThrow(!outer.empty(),
+                  ExcMessage("remeshing: material " + std::to_string(m) +
+                             " has no closed outer boundary."));
+      for (unsigned int k = 0; k < shells.size(); ++k)
+        if (shells[k].volume <= 0)
+          {
+            int best = -1;
+            for (unsigned int o = 0; o < outer.size(); ++o)
+              {
+                const auto &s  = shells[outer[o]];
+                bool        in = true;
+                for (unsigned int d = 0; d < 3; ++d)
+                  in = in && s.low[d] <= shells[k].low[d] &&
+                       shells[k].high[d] <= s.high[d];
+                if (in && (best < 0 || s.volume < shells[outer[best]].volume))
+                  best = o;
+              }
+            AssertThrow(best >= 0,
+                        ExcMessage("remeshing: a cavity of material " +
+                                   std::to_string(m) +
+                                   " lies outside all its boundaries."));
+            loops[best].push_back(
+              gmsh::model::geo::addSurfaceLoop(shells[k].surfaces));
+          }
+      std::vector<int> volumes;
+      for (const auto &l : loops)
+        volumes.push_back(gmsh::model::geo::addVolume(l));
+      return volumes;
+    }
+
+
+
+    std::string
+    mesh_3d(const RegionBoundaries<3> &b)
+    {
+      auto surfaces = surface_patches(b);
+      add_discrete_surfaces(b, surfaces);
+      std::map<unsigned int, std::vector<int>> physical_volumes;
+      for (const auto m : regions_of(b))
+        physical_volumes[m] = region_volumes(region_shells(b, surfaces, m), m);
       gmsh::model::geo::synchronize();
 
       add_physical_groups(3, surfaces, physical_volumes);
