@@ -328,7 +328,7 @@ namespace forma
                       results[i].end(),
                       table.begin() + pending[i] * n_fields);
           if (progress != nullptr)
-            progress->append(pending, table, n_fields);
+            progress->append(pending, table);
           context.print("sweep: " + std::to_string(end) + "/" +
                         std::to_string(structures.size()) + " structures");
         }

@@ -124,6 +124,7 @@ namespace forma
       const unsigned int                        n_values,
       RunContext                               &context)
       : file(file)
+      , n_values(n_values)
       , context(context)
     {
       // Settings that are not UTF-8 are written replaced (and then never
@@ -182,8 +183,7 @@ namespace forma
 
     void
     SweepProgress::append(const std::vector<unsigned int> &finished,
-                          const std::vector<double>       &table,
-                          const unsigned int               n_values) const
+                          const std::vector<double>       &table) const
     {
       if (!context.is_root() || finished.empty())
         return;

@@ -604,9 +604,8 @@ namespace forma
     bool
     restore_memory(Run &run, const nlohmann::json &c, std::vector<double> &z)
     {
-      if (!c.contains("lbfgs") ||
-          c.value("normalized", !run.parameters.normalize) !=
-            run.parameters.normalize)
+      if (!c.contains("lbfgs") || !c.contains("normalized") ||
+          c.at("normalized") != run.parameters.normalize)
         return false;
       const auto zc = c.at("z").get<std::vector<double>>();
       const auto q  = c.at("design").get<std::vector<double>>();

@@ -48,11 +48,11 @@ namespace forma
       /// (logged).
       void
       append(const std::vector<unsigned int> &finished,
-             const std::vector<double>       &table,
-             const unsigned int               n_values) const;
+             const std::vector<double>       &table) const;
 
     private:
       std::string                                 file;
+      unsigned int                                n_values;
       RunContext                                 &context;
       std::map<unsigned int, std::vector<double>> rows;
     };
