@@ -385,6 +385,295 @@ namespace forma
 
 
 
+  namespace
+  {
+    /// Reads the `Finite element` section.
+    void
+    read_finite_element(ParameterHandler &prm, ElasticityParameters &p)
+    {
+      prm.enter_subsection("Finite element");
+      p.degree          = prm.get_integer("Degree");
+      p.adaptivity      = prm.get("Adaptivity");
+      p.error_indicator = prm.get("Error indicator");
+      p.goal_estimate =
+        prm.get_bool("Goal estimate") || p.error_indicator == "goal";
+      p.contact_residual     = prm.get_bool("Contact residual");
+      p.max_degree           = prm.get_integer("Max degree");
+      p.adaptive_cycles      = prm.get_integer("Adaptive cycles");
+      p.refine_fraction      = prm.get_double("Refine fraction");
+      p.coarsen_fraction     = prm.get_double("Coarsen fraction");
+      p.marking              = prm.get("Marking");
+      p.adapt_every          = prm.get_integer("Adapt every");
+      p.max_refinement_level = prm.get_integer("Max refinement level");
+      prm.leave_subsection();
+    }
+
+
+
+    /// Reads the `Material` section.
+    void
+    read_material(ParameterHandler &prm, ElasticityParameters &p)
+    {
+      prm.enter_subsection("Material");
+      p.model            = constitutive_model_from_string(prm.get("Model"));
+      p.plane_stress     = prm.get("Plane") == "stress";
+      p.bdf_damping_rate = prm.get("Damping rate") == "bdf";
+      p.bodies           = prm.get("Bodies");
+      prm.leave_subsection();
+    }
+
+
+
+    /// Reads the `Boundary conditions` section.
+    void
+    read_boundary_conditions(ParameterHandler &prm, ElasticityParameters &p)
+    {
+      prm.enter_subsection("Boundary conditions");
+      p.dirichlet  = prm.get("Dirichlet");
+      p.traction   = prm.get("Traction");
+      p.load_cases = prm.get("Load cases");
+      p.pressure   = prm.get("Pressure");
+      p.constants  = prm.get("Constants");
+      prm.leave_subsection();
+    }
+
+
+
+    /// Reads the `Loads` section.
+    void
+    read_loads(ParameterHandler &prm, ElasticityParameters &p)
+    {
+      prm.enter_subsection("Loads");
+      p.gravity          = prm.get("Gravity");
+      p.body_force       = prm.get("Body force");
+      p.additional_forms = prm.get("Additional forms");
+      prm.leave_subsection();
+    }
+
+
+
+    /// Reads the `Time` section.
+    void
+    read_time(ParameterHandler &prm, ElasticityParameters &p)
+    {
+      prm.enter_subsection("Time");
+      p.problem                 = prm.get("Problem");
+      p.end_time                = prm.get_double("End time");
+      p.time_step               = prm.get_double("Time step");
+      p.bdf_order               = prm.get_integer("BDF order");
+      p.load_steps              = prm.get_integer("Load steps");
+      p.time_integrator         = prm.get("Integrator");
+      p.variable_order          = prm.get_bool("Variable order");
+      p.time_tolerance          = prm.get_double("Tolerance");
+      p.absolute_time_tolerance = prm.get_double("Absolute tolerance");
+      p.minimum_time_step       = prm.get_double("Minimum time step");
+      p.maximum_time_step       = prm.get_double("Maximum time step");
+      prm.leave_subsection();
+    }
+
+
+
+    /// Reads the `Initial conditions` section.
+    void
+    read_initial_conditions(ParameterHandler &prm, ElasticityParameters &p)
+    {
+      prm.enter_subsection("Initial conditions");
+      p.initial_displacement = prm.get("Displacement");
+      p.initial_velocity     = prm.get("Velocity");
+      prm.leave_subsection();
+    }
+
+
+
+    /// Reads the `Solver` section.
+    void
+    read_solver(ParameterHandler &prm, ElasticityParameters &p)
+    {
+      prm.enter_subsection("Solver");
+      p.linear_solver.parse(prm);
+      p.newton_relative_tolerance = prm.get_double("Newton relative tolerance");
+      p.newton_absolute_tolerance = prm.get_double("Newton absolute tolerance");
+      p.max_newton_iterations     = prm.get_integer("Max Newton iterations");
+      p.max_line_search_halvings  = prm.get_integer("Max line search halvings");
+      prm.leave_subsection();
+    }
+
+
+
+    /// Reads the `Output` section.
+    void
+    read_output(ParameterHandler &prm, ElasticityParameters &p)
+    {
+      prm.enter_subsection("Output");
+      p.write_vtu    = prm.get_bool("Write vtu");
+      p.output_every = prm.get_integer("Output every");
+      p.points       = prm.get("Points");
+      prm.leave_subsection();
+    }
+
+
+
+    /// The `Time` section's settings agree with each other.
+    void
+    check_time(const ElasticityParameters &p)
+    {
+      AssertThrow(p.problem == "static" || p.time_step > 0,
+                  ExcMessage(
+                    "Time/Time step must be positive for transient runs."));
+      AssertThrow(p.time_integrator == "fixed" || p.problem == "transient",
+                  ExcMessage("Time/Integrator = adaptive is for transient "
+                             "problems (Time/Problem = transient)."));
+      AssertThrow(p.time_integrator == "fixed" ||
+                    p.bdf_order <= TimeGrid::max_variable_order,
+                  ExcMessage("Time/Integrator = adaptive steps with BDF orders "
+                             "1 to " +
+                             std::to_string(TimeGrid::max_variable_order) +
+                             "; set Time/BDF order to at most that (got " +
+                             std::to_string(p.bdf_order) + ")."));
+      AssertThrow(!p.variable_order || p.time_integrator == "adaptive",
+                  ExcMessage("Time/Variable order needs Time/Integrator = "
+                             "adaptive."));
+      AssertThrow(p.time_integrator == "fixed" || p.time_tolerance > 0,
+                  ExcMessage("Time/Integrator = adaptive needs a positive "
+                             "Time/Tolerance."));
+      AssertThrow(p.time_integrator == "fixed" ||
+                    p.minimum_time_step < p.end_time,
+                  ExcMessage("Time/Minimum time step must be below Time/End "
+                             "time."));
+      AssertThrow(p.maximum_time_step == 0 ||
+                    p.minimum_time_step <= p.maximum_time_step,
+                  ExcMessage("Time/Minimum time step exceeds Time/Maximum time "
+                             "step."));
+      AssertThrow(p.problem == "static" || p.end_time > 0,
+                  ExcMessage(
+                    "Time/End time must be positive for transient runs."));
+    }
+
+
+
+    /// Adaptive refinement agrees with the problem and the mesh.
+    void
+    check_adaptivity(const ElasticityParameters &p)
+    {
+      AssertThrow(p.adaptivity != "hp" || p.problem == "static",
+                  ExcMessage("Finite element/Adaptivity = hp is for static "
+                             "problems; transient problems adapt with h."));
+      AssertThrow(!p.goal_estimate || p.problem == "static",
+                  ExcMessage("Finite element/Error indicator = goal (or Goal "
+                             "estimate) estimates static problems; the "
+                             "transient (backward in time) estimate is not "
+                             "available yet: use Error indicator = kelly."));
+      AssertThrow(p.refine_fraction + p.coarsen_fraction <= 1,
+                  ExcMessage("Finite element: Refine fraction + Coarsen "
+                             "fraction must not exceed 1."));
+      AssertThrow(p.mesh.separate_interfaces.empty() || p.adaptivity == "none",
+                  ExcMessage("Mesh/Separate interfaces: adaptive refinement "
+                             "is not available on meshes cut open at "
+                             "interfaces; set Finite element/Adaptivity = "
+                             "none."));
+    }
+
+
+
+    /// Contact, IPC, load cases and the linear solver combine.
+    void
+    check_models(const ElasticityParameters &p)
+    {
+      AssertThrow(p.load_cases.empty() || p.problem == "static",
+                  ExcMessage("Boundary conditions/Load cases: several load "
+                             "cases are for static problems."));
+      AssertThrow(p.contact.empty() || p.problem == "static",
+                  ExcMessage("Contact: smoothed penalty contact is a static "
+                             "model (thesis ch. 2); set Time/Problem = "
+                             "static."));
+      AssertThrow(p.contact.deformable.empty() ||
+                    !p.mesh.separate_interfaces.empty(),
+                  ExcMessage(
+                    "Contact/Deformable-deformable: the interfaces come "
+                    "from Mesh/Separate interfaces (which cuts them "
+                    "open and keeps their two sides together in shape "
+                    "designs); set it, e.g. '1-2 : 10'."));
+      AssertThrow(p.contact.empty() ||
+                    p.model == ConstitutiveModel::linear_elastic,
+                  ExcMessage(
+                    "Contact: the smoothed penalty model is linearized "
+                    "(gaps along the undeformed normal, thesis ch. 2): "
+                    "set Material/Model = linear elastic."));
+      AssertThrow(p.linear_solver.type != "cg-mg" ||
+                    (p.contact.empty() && !p.ipc.enabled &&
+                     p.adaptivity != "hp"),
+                  ExcMessage("Solver/Linear solver = cg-mg (matrix-free) "
+                             "handles elasticity, inertia and damping on one "
+                             "polynomial degree; with contact, IPC or hp "
+                             "adaptivity use cg-amg, gmres-amg or direct."));
+      AssertThrow(p.linear_solver.type != "cg-mg" || p.degree >= 2,
+                  ExcMessage(
+                    "Solver/Linear solver = cg-mg smooths on Q_p and "
+                    "solves on Q1: it needs Finite element/Degree 2, 3 "
+                    "or 4 (got 1); for Q1 use cg-amg."));
+      AssertThrow(!p.contact.has_friction() || p.linear_solver.type != "cg-amg",
+                  ExcMessage(
+                    "Contact: friction makes the Jacobian "
+                    "unsymmetric; use Solver/Linear solver = direct or "
+                    "gmres-amg, not cg-amg."));
+      AssertThrow(!p.goal_estimate || p.contact.empty(),
+                  ExcMessage(
+                    "Finite element/Error indicator = goal (or Goal "
+                    "estimate) is not available with contact (the "
+                    "dual-weighted residual does not cover the "
+                    "penalty's changing active set); use Error "
+                    "indicator = kelly, whose Contact residual refines "
+                    "the contact zone."));
+      AssertThrow(p.contact.rigid_gaps.empty() || !p.design.has("shape"),
+                  ExcMessage("Contact/Rigid gaps: shape designs are not "
+                             "available with a gap (its shape derivative is "
+                             "not implemented); remove shape from Design/"
+                             "Parameters or the gap."));
+      AssertThrow(!p.ipc.enabled || p.adaptivity == "none",
+                  ExcMessage("IPC: adaptive refinement is not available with "
+                             "IPC contact yet; set Finite element/Adaptivity = "
+                             "none."));
+      AssertThrow(!p.ipc.enabled || p.contact.empty(),
+                  ExcMessage("IPC and smoothed penalty contact exclude each "
+                             "other."));
+      AssertThrow(!p.ipc.enabled || p.load_cases.empty(),
+                  ExcMessage("IPC: several load cases are not available with "
+                             "IPC contact."));
+    }
+
+
+
+    /// The goal estimate and hp refinement have what they act on.
+    void
+    check_adaptive_cycles(const ElasticityParameters &p)
+    {
+      AssertThrow(!p.goal_estimate || p.adaptivity != "none",
+                  ExcMessage("Finite element/Error indicator = goal and Goal "
+                             "estimate act on adaptive cycles: set Finite "
+                             "element/Adaptivity = h or hp."));
+      AssertThrow(!p.goal_estimate ||
+                    !Utilities::trim(p.objective.terms).empty(),
+                  ExcMessage("Finite element/Error indicator = goal (or Goal "
+                             "estimate) estimates the error of the objective: "
+                             "set Objective/Terms (e.g. 'stress : p=4')."));
+      AssertThrow(!p.goal_estimate || p.load_cases.empty(),
+                  ExcMessage("Finite element/Error indicator = goal (or Goal "
+                             "estimate) is for one load case: clear Boundary "
+                             "conditions/Load cases."));
+      AssertThrow(
+        !p.goal_estimate || p.linear_solver.type != "cg-mg",
+        ExcMessage(
+          "Finite element/Error indicator = goal (or Goal "
+          "estimate) solves the adjoint one degree higher, which cg-mg "
+          "(one degree) does not: use direct, cg-amg or "
+          "gmres-amg."));
+      AssertThrow(p.max_degree >= p.degree || p.adaptivity != "hp",
+                  ExcMessage("Finite element/Max degree is below Degree."));
+    }
+  } // namespace
+
+
+
   void
   ElasticityParameters::parse(ParameterHandler  &prm,
                               const std::string &prm_dir,
@@ -397,195 +686,20 @@ namespace forma
       contact.parse(prm);
     if (with_ipc)
       ipc.parse(prm, dim, prm_dir);
-
-    prm.enter_subsection("Finite element");
-    degree          = prm.get_integer("Degree");
-    adaptivity      = prm.get("Adaptivity");
-    error_indicator = prm.get("Error indicator");
-    goal_estimate = prm.get_bool("Goal estimate") || error_indicator == "goal";
-    contact_residual     = prm.get_bool("Contact residual");
-    max_degree           = prm.get_integer("Max degree");
-    adaptive_cycles      = prm.get_integer("Adaptive cycles");
-    refine_fraction      = prm.get_double("Refine fraction");
-    coarsen_fraction     = prm.get_double("Coarsen fraction");
-    marking              = prm.get("Marking");
-    adapt_every          = prm.get_integer("Adapt every");
-    max_refinement_level = prm.get_integer("Max refinement level");
-    prm.leave_subsection();
-
-    prm.enter_subsection("Material");
-    model            = constitutive_model_from_string(prm.get("Model"));
-    plane_stress     = prm.get("Plane") == "stress";
-    bdf_damping_rate = prm.get("Damping rate") == "bdf";
-    bodies           = prm.get("Bodies");
-    prm.leave_subsection();
-
-    prm.enter_subsection("Boundary conditions");
-    dirichlet  = prm.get("Dirichlet");
-    traction   = prm.get("Traction");
-    load_cases = prm.get("Load cases");
-    pressure   = prm.get("Pressure");
-    constants  = prm.get("Constants");
-    prm.leave_subsection();
-
-    prm.enter_subsection("Loads");
-    gravity          = prm.get("Gravity");
-    body_force       = prm.get("Body force");
-    additional_forms = prm.get("Additional forms");
-    prm.leave_subsection();
-
-    prm.enter_subsection("Time");
-    problem                 = prm.get("Problem");
-    end_time                = prm.get_double("End time");
-    time_step               = prm.get_double("Time step");
-    bdf_order               = prm.get_integer("BDF order");
-    load_steps              = prm.get_integer("Load steps");
-    time_integrator         = prm.get("Integrator");
-    variable_order          = prm.get_bool("Variable order");
-    time_tolerance          = prm.get_double("Tolerance");
-    absolute_time_tolerance = prm.get_double("Absolute tolerance");
-    minimum_time_step       = prm.get_double("Minimum time step");
-    maximum_time_step       = prm.get_double("Maximum time step");
-    prm.leave_subsection();
-
-    prm.enter_subsection("Initial conditions");
-    initial_displacement = prm.get("Displacement");
-    initial_velocity     = prm.get("Velocity");
-    prm.leave_subsection();
-
-    prm.enter_subsection("Solver");
-    linear_solver.parse(prm);
-    newton_relative_tolerance = prm.get_double("Newton relative tolerance");
-    newton_absolute_tolerance = prm.get_double("Newton absolute tolerance");
-    max_newton_iterations     = prm.get_integer("Max Newton iterations");
-    max_line_search_halvings  = prm.get_integer("Max line search halvings");
-    prm.leave_subsection();
-
-    prm.enter_subsection("Output");
-    write_vtu    = prm.get_bool("Write vtu");
-    output_every = prm.get_integer("Output every");
-    points       = prm.get("Points");
-    prm.leave_subsection();
-
+    read_finite_element(prm, *this);
+    read_material(prm, *this);
+    read_boundary_conditions(prm, *this);
+    read_loads(prm, *this);
+    read_time(prm, *this);
+    read_initial_conditions(prm, *this);
+    read_solver(prm, *this);
+    read_output(prm, *this);
     design.parse(prm);
     objective.parse(prm);
 
-    AssertThrow(problem == "static" || time_step > 0,
-                ExcMessage(
-                  "Time/Time step must be positive for transient runs."));
-    AssertThrow(time_integrator == "fixed" || problem == "transient",
-                ExcMessage("Time/Integrator = adaptive is for transient "
-                           "problems (Time/Problem = transient)."));
-    AssertThrow(time_integrator == "fixed" ||
-                  bdf_order <= TimeGrid::max_variable_order,
-                ExcMessage("Time/Integrator = adaptive steps with BDF orders "
-                           "1 to " +
-                           std::to_string(TimeGrid::max_variable_order) +
-                           "; set Time/BDF order to at most that (got " +
-                           std::to_string(bdf_order) + ")."));
-    AssertThrow(!variable_order || time_integrator == "adaptive",
-                ExcMessage("Time/Variable order needs Time/Integrator = "
-                           "adaptive."));
-    AssertThrow(time_integrator == "fixed" || time_tolerance > 0,
-                ExcMessage("Time/Integrator = adaptive needs a positive "
-                           "Time/Tolerance."));
-    AssertThrow(time_integrator == "fixed" || minimum_time_step < end_time,
-                ExcMessage("Time/Minimum time step must be below Time/End "
-                           "time."));
-    AssertThrow(maximum_time_step == 0 ||
-                  minimum_time_step <= maximum_time_step,
-                ExcMessage("Time/Minimum time step exceeds Time/Maximum time "
-                           "step."));
-    AssertThrow(problem == "static" || end_time > 0,
-                ExcMessage(
-                  "Time/End time must be positive for transient runs."));
-    AssertThrow(adaptivity != "hp" || problem == "static",
-                ExcMessage("Finite element/Adaptivity = hp is for static "
-                           "problems; transient problems adapt with h."));
-    AssertThrow(!goal_estimate || problem == "static",
-                ExcMessage("Finite element/Error indicator = goal (or Goal "
-                           "estimate) estimates static problems; the "
-                           "transient (backward in time) estimate is not "
-                           "available yet: use Error indicator = kelly."));
-    AssertThrow(refine_fraction + coarsen_fraction <= 1,
-                ExcMessage("Finite element: Refine fraction + Coarsen "
-                           "fraction must not exceed 1."));
-    AssertThrow(mesh.separate_interfaces.empty() || adaptivity == "none",
-                ExcMessage("Mesh/Separate interfaces: adaptive refinement "
-                           "is not available on meshes cut open at "
-                           "interfaces; set Finite element/Adaptivity = "
-                           "none."));
-    AssertThrow(load_cases.empty() || problem == "static",
-                ExcMessage("Boundary conditions/Load cases: several load "
-                           "cases are for static problems."));
-    AssertThrow(contact.empty() || problem == "static",
-                ExcMessage("Contact: smoothed penalty contact is a static "
-                           "model (thesis ch. 2); set Time/Problem = "
-                           "static."));
-    AssertThrow(contact.deformable.empty() || !mesh.separate_interfaces.empty(),
-                ExcMessage("Contact/Deformable-deformable: the interfaces come "
-                           "from Mesh/Separate interfaces (which cuts them "
-                           "open and keeps their two sides together in shape "
-                           "designs); set it, e.g. '1-2 : 10'."));
-    AssertThrow(contact.empty() || model == ConstitutiveModel::linear_elastic,
-                ExcMessage("Contact: the smoothed penalty model is linearized "
-                           "(gaps along the undeformed normal, thesis ch. 2): "
-                           "set Material/Model = linear elastic."));
-    AssertThrow(linear_solver.type != "cg-mg" ||
-                  (contact.empty() && !ipc.enabled && adaptivity != "hp"),
-                ExcMessage("Solver/Linear solver = cg-mg (matrix-free) "
-                           "handles elasticity, inertia and damping on one "
-                           "polynomial degree; with contact, IPC or hp "
-                           "adaptivity use cg-amg, gmres-amg or direct."));
-    AssertThrow(linear_solver.type != "cg-mg" || degree >= 2,
-                ExcMessage("Solver/Linear solver = cg-mg smooths on Q_p and "
-                           "solves on Q1: it needs Finite element/Degree 2, 3 "
-                           "or 4 (got 1); for Q1 use cg-amg."));
-    AssertThrow(!contact.has_friction() || linear_solver.type != "cg-amg",
-                ExcMessage("Contact: friction makes the Jacobian "
-                           "unsymmetric; use Solver/Linear solver = direct or "
-                           "gmres-amg, not cg-amg."));
-    AssertThrow(!goal_estimate || contact.empty(),
-                ExcMessage("Finite element/Error indicator = goal (or Goal "
-                           "estimate) is not available with contact (the "
-                           "dual-weighted residual does not cover the "
-                           "penalty's changing active set); use Error "
-                           "indicator = kelly, whose Contact residual refines "
-                           "the contact zone."));
-    AssertThrow(contact.rigid_gaps.empty() || !design.has("shape"),
-                ExcMessage("Contact/Rigid gaps: shape designs are not "
-                           "available with a gap (its shape derivative is "
-                           "not implemented); remove shape from Design/"
-                           "Parameters or the gap."));
-    AssertThrow(!ipc.enabled || adaptivity == "none",
-                ExcMessage("IPC: adaptive refinement is not available with "
-                           "IPC contact yet; set Finite element/Adaptivity = "
-                           "none."));
-    AssertThrow(!ipc.enabled || contact.empty(),
-                ExcMessage("IPC and smoothed penalty contact exclude each "
-                           "other."));
-    AssertThrow(!ipc.enabled || load_cases.empty(),
-                ExcMessage("IPC: several load cases are not available with "
-                           "IPC contact."));
-    AssertThrow(!goal_estimate || adaptivity != "none",
-                ExcMessage("Finite element/Error indicator = goal and Goal "
-                           "estimate act on adaptive cycles: set Finite "
-                           "element/Adaptivity = h or hp."));
-    AssertThrow(!goal_estimate || !Utilities::trim(objective.terms).empty(),
-                ExcMessage("Finite element/Error indicator = goal (or Goal "
-                           "estimate) estimates the error of the objective: "
-                           "set Objective/Terms (e.g. 'stress : p=4')."));
-    AssertThrow(!goal_estimate || load_cases.empty(),
-                ExcMessage("Finite element/Error indicator = goal (or Goal "
-                           "estimate) is for one load case: clear Boundary "
-                           "conditions/Load cases."));
-    AssertThrow(!goal_estimate || linear_solver.type != "cg-mg",
-                ExcMessage(
-                  "Finite element/Error indicator = goal (or Goal "
-                  "estimate) solves the adjoint one degree higher, which cg-mg "
-                  "(one degree) does not: use direct, cg-amg or "
-                  "gmres-amg."));
-    AssertThrow(max_degree >= degree || adaptivity != "hp",
-                ExcMessage("Finite element/Max degree is below Degree."));
+    check_time(*this);
+    check_adaptivity(*this);
+    check_models(*this);
+    check_adaptive_cycles(*this);
   }
 } // namespace forma

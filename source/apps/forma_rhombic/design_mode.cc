@@ -742,6 +742,228 @@ namespace forma
           }
         return json;
       }
+
+
+      /// The map's grid as bounds on the cell materials: E/E_b lo, hi and
+      /// nu lo, hi (nu sheared by the base material's, as the map is).
+      std::array<double, 4>
+      map_box(const MaterialMap &map, const Setup &setup)
+      {
+        return {{map.E.front(),
+                 map.E.back(),
+                 map.nu.front() + setup.base.nu * map.E.front(),
+                 map.nu.back() + setup.base.nu * map.E.back()}};
+      }
+
+
+
+      /// Step 2's outcome: the materials in the simulator's cell order,
+      /// that order's quads, the design and what the projection moved.
+      struct MacroMaterials
+      {
+        std::vector<std::array<double, 2>> materials;
+        std::vector<unsigned int>          quad_of;
+        std::vector<double>                q;
+        Projection                         projection;
+      };
+
+
+
+      /// Per-cell materials for the macro problem (ch. 4.8), optimized or
+      /// constant, inside each quad's D(alpha).
+      MacroMaterials
+      macro_materials(const TwoScaleSettings      &settings,
+                      const ElasticityParameters  &parameters,
+                      ParameterHandler            &macro,
+                      const MapCells              &cells,
+                      const double                 cell_measure,
+                      const std::array<double, 4> &box,
+                      const Setup                 &setup,
+                      RunContext                  &context)
+      {
+        MacroMaterials     m;
+        const unsigned int n_cells = cells.centers.size();
+        CoverageConstraint coverage{
+          "cell material",
+          setup.base.E,
+          settings.coverage_weight,
+          box,
+          [&](const std::vector<Point<2>> &simulator_centers) {
+            m.quad_of = match_quads(cells.centers,
+                                    simulator_centers,
+                                    1e-10 * cell_measure);
+            std::vector<const Region *> regions;
+            for (const unsigned int c : m.quad_of)
+              regions.push_back(&cells.region[c]);
+            return regions;
+          },
+          0,
+          {}};
+        if (settings.constant_material.empty())
+          context.print("material optimization on the rhombic mesh (" +
+                        std::to_string(n_cells) + " cells)");
+        m.materials = design_materials(coverage,
+                                       parameters,
+                                       macro,
+                                       context,
+                                       settings.constant_material,
+                                       m.q,
+                                       m.projection);
+        if (!settings.constant_material.empty())
+          {
+            const auto e =
+              Utilities::split_string_list(settings.constant_material);
+            context.print("constant material E/E_b = " + e[0] +
+                          ", nu = " + e[1] + " in all " +
+                          std::to_string(n_cells) + " cells");
+          }
+        return m;
+      }
+
+
+
+      /// The materials' range and what the projection moved.
+      void
+      print_materials(const CellDesign     &design,
+                      const MacroMaterials &m,
+                      const MapCells       &cells,
+                      RunContext           &context)
+      {
+        const auto &E = design.E, &nu = design.nu;
+        context.print("materials: E/E_b " +
+                      sig(*std::min_element(E.begin(), E.end()), 3) + "-" +
+                      sig(*std::max_element(E.begin(), E.end()), 3) + ", nu " +
+                      sig(*std::min_element(nu.begin(), nu.end()), 3) + "-" +
+                      sig(*std::max_element(nu.begin(), nu.end()), 3) + "; " +
+                      m.projection.describe("cells", [&](const unsigned int g) {
+                        return "cell " + std::to_string(m.quad_of[g]) + " (" +
+                               sig(cells.alpha[m.quad_of[g]], 3) + " degrees)";
+                      }));
+      }
+
+
+
+      /// Runs one baseline; one that cannot be built, meshed or solved is
+      /// reported, not fatal: the design is the family's.
+      void
+      run_baseline(const std::string           &name,
+                   const std::function<void()> &run,
+                   RunContext                  &context)
+      {
+        try
+          {
+            run();
+          }
+        catch (const std::exception &e)
+          {
+            const std::string message = error_message(e);
+            context.print("baseline " + name + " failed: " + message);
+            context.summary["fine_scale"][name] = {{"error", message}};
+          }
+      }
+
+
+
+      /// What the fine-scale checks need besides the family's design.
+      struct FineScaleInputs
+      {
+        const Triangulation<2, 2>  &tria;
+        const PolygonDomain        &domain;
+        const ElasticityParameters &parameters;
+        ParameterHandler           &macro;
+        const MaterialMap          &map;
+        const PointwiseTable       &table;
+        const std::array<double, 4> box;
+      };
+
+
+
+      /// Step 4 (ch. 4.8): the tiled geometry meshed and simulated in the
+      /// base material with the same supports and loads, against the
+      /// homogenized solution (per-cell materials) on the compared
+      /// boundary; then the baselines of ch. 4.8, each against its own
+      /// homogenized solution. Returns the family's tiling.
+      TiledObject
+      fine_scale_checks(const FineScaleInputs     &in,
+                        const CellDesign          &design,
+                        const std::vector<double> &q,
+                        const TwoScaleSettings    &settings,
+                        const Setup               &setup,
+                        RunContext                &context,
+                        const std::function<void(const std::string &)> &lap)
+      {
+        const unsigned int n_cells = in.tria.n_active_cells();
+        double             h       = 0; // the quads' mean size
+        for (const auto &cell : in.tria.active_cell_iterators())
+          h += std::sqrt(cell->measure()) / n_cells;
+        // Tilings, optionally of subdivided cells (Fig. 4.21).
+        const unsigned int      n_sub = 1u << settings.refinement;
+        const Tiler             tile{n_sub, settings.merge};
+        const FineScaleCheck    fine_scale(settings,
+                                        in.domain,
+                                        in.parameters,
+                                        setup,
+                                        context,
+                                        h,
+                                        h / n_sub,
+                                        lap);
+        const std::vector<Quad> quads = quads_of(in.tria);
+        const TiledObject       tiled = tile(quads, design.structures);
+        if (!settings.fine_check)
+          return tiled;
+        const auto homogenized =
+          solved(in.parameters, q, context.communicator());
+        fine_scale([&tiled](const Point<2> &x) { return tiled(x); },
+                   tiled.lo,
+                   tiled.hi,
+                   "family",
+                   *homogenized);
+        const auto wanted = [&](const std::string &name) {
+          return settings.baselines.count(name) > 0;
+        };
+        if (wanted("remapped square"))
+          run_baseline(
+            "remapped_square",
+            [&]() {
+              remapped_square_baseline(
+                quads, design, in.map, setup, tile, fine_scale, *homogenized);
+            },
+            context);
+        if (wanted("pointwise table"))
+          run_baseline(
+            "pointwise_table",
+            [&]() {
+              pointwise_table_baseline(quads,
+                                       design,
+                                       in.table,
+                                       tiled,
+                                       settings,
+                                       tile,
+                                       fine_scale,
+                                       *homogenized,
+                                       context);
+            },
+            context);
+        if (wanted("cut grid"))
+          run_baseline(
+            "cut_grid",
+            [&]() {
+              cut_grid_baseline(in.tria,
+                                in.domain,
+                                in.parameters,
+                                in.map,
+                                setup,
+                                settings,
+                                in.box,
+                                in.macro,
+                                context,
+                                lap,
+                                tile,
+                                fine_scale);
+            },
+            context);
+        return tiled;
+      }
     } // namespace
 
 
@@ -773,158 +995,61 @@ namespace forma
       const std::string   mesh_file = context.path("rhombic_mesh.msh");
       const PolygonDomain domain    = PolygonDomain::boundary_of(tria);
       MPI_Barrier(context.communicator()); // the root wrote it
-      const MapCells     cells   = map_cells(tria, shape, map, setup, context);
-      const unsigned int n_cells = tria.n_active_cells();
+      const MapCells cells = map_cells(tria, shape, map, setup, context);
       lap("rhombic mesh");
 
       // 2. Per-cell materials for the macro problem (ch. 4.8).
-      ParameterHandler     macro;
-      ElasticityParameters parameters =
+      ParameterHandler           macro;
+      const ElasticityParameters parameters =
         macro_problem(settings, mesh_file, macro);
-      std::vector<unsigned int>   quad_of;
-      const std::array<double, 4> box = {
-        {map.E.front(),
-         map.E.back(),
-         map.nu.front() + setup.base.nu * map.E.front(),
-         map.nu.back() + setup.base.nu * map.E.back()}};
-      CoverageConstraint coverage{
-        "cell material",
-        setup.base.E,
-        settings.coverage_weight,
-        box,
-        [&](const std::vector<Point<2>> &simulator_centers) {
-          quad_of = match_quads(cells.centers,
-                                simulator_centers,
-                                1e-10 * tria.begin_active()->measure());
-          std::vector<const Region *> regions;
-          for (const unsigned int c : quad_of)
-            regions.push_back(&cells.region[c]);
-          return regions;
-        },
-        0,
-        {}};
-      if (settings.constant_material.empty())
-        context.print("material optimization on the rhombic mesh (" +
-                      std::to_string(n_cells) + " cells)");
-      std::vector<double> q;
-      Projection          projection;
-      const auto          materials = design_materials(coverage,
-                                              parameters,
-                                              macro,
-                                              context,
-                                              settings.constant_material,
-                                              q,
-                                              projection);
-      if (!settings.constant_material.empty())
-        {
-          const auto m =
-            Utilities::split_string_list(settings.constant_material);
-          context.print("constant material E/E_b = " + m[0] + ", nu = " + m[1] +
-                        " in all " + std::to_string(n_cells) + " cells");
-        }
+      const std::array<double, 4> box = map_box(map, setup);
+      const MacroMaterials        m   = macro_materials(settings,
+                                               parameters,
+                                               macro,
+                                               cells,
+                                               tria.begin_active()->measure(),
+                                               box,
+                                               setup,
+                                               context);
       lap("materials");
 
       // 3. Each cell's structure from the map (ch. 4.6), inside D(alpha).
       const CellDesign design =
-        structures_from_map(materials, quad_of, cells, map, setup);
-      const auto &E = design.E, &nu = design.nu;
-      context.print("materials: E/E_b " +
-                    sig(*std::min_element(E.begin(), E.end()), 3) + "-" +
-                    sig(*std::max_element(E.begin(), E.end()), 3) + ", nu " +
-                    sig(*std::min_element(nu.begin(), nu.end()), 3) + "-" +
-                    sig(*std::max_element(nu.begin(), nu.end()), 3) + "; " +
-                    projection.describe("cells", [&](const unsigned int g) {
-                      return "cell " + std::to_string(quad_of[g]) + " (" +
-                             sig(cells.alpha[quad_of[g]], 3) + " degrees)";
-                    }));
+        structures_from_map(m.materials, m.quad_of, cells, map, setup);
+      print_materials(design, m, cells, context);
       lap("map");
       if (settings.check_moduli)
         {
-          check_cell_moduli(design.structures, E, nu, setup, context);
+          check_cell_moduli(
+            design.structures, design.E, design.nu, setup, context);
           lap("cell moduli");
         }
 
-      // 4. Fine-scale check (ch. 4.8): the tiled geometry meshed and
-      // simulated in the base material with the same supports and loads,
-      // against the homogenized solution (per-cell materials) on the
-      // compared boundary; then the baselines of ch. 4.8, each against its
-      // own homogenized solution. A baseline that cannot be built, meshed
-      // or solved is reported, not fatal: the design is the family's.
-      const auto baseline = [&](const std::string           &name,
-                                const std::function<void()> &run) {
-        try
-          {
-            run();
-          }
-        catch (const std::exception &e)
-          {
-            const std::string message = error_message(e);
-            context.print("baseline " + name + " failed: " + message);
-            context.summary["fine_scale"][name] = {{"error", message}};
-          }
-      };
-      double h = 0; // the quads' mean size
-      for (const auto &cell : tria.active_cell_iterators())
-        h += std::sqrt(cell->measure()) / n_cells;
-      // Tilings, optionally of subdivided cells (Fig. 4.21).
-      const unsigned int   n_sub  = 1u << settings.refinement;
-      const double         h_tile = h / n_sub;
-      const Tiler          tile{n_sub, settings.merge};
-      const FineScaleCheck fine_scale(
-        settings, domain, parameters, setup, context, h, h_tile, lap);
-      const std::vector<Quad> quads = quads_of(tria);
-      const TiledObject       tiled = tile(quads, design.structures);
-      if (settings.fine_check)
-        {
-          const auto homogenized =
-            solved(parameters, q, context.communicator());
-          fine_scale([&tiled](const Point<2> &x) { return tiled(x); },
-                     tiled.lo,
-                     tiled.hi,
-                     "family",
-                     *homogenized);
-          if (settings.baselines.count("remapped square"))
-            baseline("remapped_square", [&]() {
-              remapped_square_baseline(
-                quads, design, map, setup, tile, fine_scale, *homogenized);
-            });
-          if (settings.baselines.count("pointwise table"))
-            baseline("pointwise_table", [&]() {
-              pointwise_table_baseline(quads,
-                                       design,
-                                       table,
-                                       tiled,
-                                       settings,
-                                       tile,
-                                       fine_scale,
-                                       *homogenized,
-                                       context);
-            });
-        }
-      if (settings.fine_check && settings.baselines.count("cut grid"))
-        baseline("cut_grid", [&]() {
-          cut_grid_baseline(tria,
-                            domain,
-                            parameters,
-                            map,
-                            setup,
-                            settings,
-                            box,
-                            macro,
-                            context,
-                            lap,
-                            tile,
-                            fine_scale);
-        });
+      // 4. The fine-scale checks of the family and the baselines.
+      const TiledObject tiled =
+        fine_scale_checks({tria, domain, parameters, macro, map, table, box},
+                          design,
+                          m.q,
+                          settings,
+                          setup,
+                          context,
+                          lap);
       context.summary["seconds"]   = seconds;
       context.summary["cells"]     = cells_summary(cells, design);
-      context.summary["two_scale"] = {{"cells", n_cells},
+      context.summary["two_scale"] = {{"cells", tria.n_active_cells()},
                                       {"clamped_angles", cells.clamped},
-                                      {"projected_cells", projection.outside},
+                                      {"projected_cells", m.projection.outside},
                                       {"largest_coverage_violation",
-                                       projection.worst}};
-      write_design_outputs(
-        tria, E, nu, cells.alpha, design.structures, map, box, tiled, context);
+                                       m.projection.worst}};
+      write_design_outputs(tria,
+                           design.E,
+                           design.nu,
+                           cells.alpha,
+                           design.structures,
+                           map,
+                           box,
+                           tiled,
+                           context);
     }
   } // namespace rhombic
 } // namespace forma
