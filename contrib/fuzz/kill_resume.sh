@@ -11,8 +11,9 @@
 # its mode's Resume setting; that one may be killed too (up to KILLS times
 # per scenario), and then one runs to the end. A resume that finds no
 # checkpoint yet (killed before the first) starts afresh. Compared:
-#   optimize: J at every iteration both summaries hold, the final stresses,
-#     volume and relative gradient norm (relative 1e-10);
+#   optimize: the summaries' histories hold the same iterations (a resumed
+#     job's from 0 on), J at each, the final stresses, volume and relative
+#     gradient norm (relative 1e-10);
 #   sweep (forma-rhombic, forma-laminate): samples.csv, byte for byte;
 #   build map: every sample of map.json (1e-10).
 set -uo pipefail
@@ -37,6 +38,10 @@ def rel(x, y):
 if kind == "optimize":
     s, t = (json.load(open(d + "/summary.json")) for d in (a, b))
     J = {h["iteration"]: h["objective"] for h in s["history"]}
+    if [h["iteration"] for h in s["history"]] != \
+            [h["iteration"] for h in t["history"]]:
+        print("the histories hold other iterations")
+        sys.exit(1)
     worst = max(rel(J[h["iteration"]], h["objective"]) for h in t["history"])
     for key in ("final_max_stress", "final_volume", "final_objective"):
         worst = max(worst, rel(s[key], t[key]))

@@ -10,6 +10,7 @@
 #include <deal.II/base/exceptions.h>
 
 #include <forma/adjoint/objective.h>
+#include <forma/base/application.h>
 #include <forma/base/records.h>
 #include <forma/base/run_context.h>
 #include <forma/elasticity/load_cases.h>
@@ -67,7 +68,8 @@ namespace forma
                       " load cases; VTU frames show the first");
       if (settings.resume)
         resume();
-      outer_starts.push_back(outer_start);
+      if (outer_starts.empty() || outer_starts.back() != outer_start)
+        outer_starts.push_back(outer_start);
       check_settings();
       if (constraint && constraint->penalty)
         {
@@ -105,6 +107,68 @@ namespace forma
       // A resumed run does not retry a remesh that failed.
       outer_possible = place.outer_possible;
       remesh_allowed &= outer_possible;
+      if (!place.records.empty())
+        try
+          {
+            restore_records(nlohmann::json::parse(place.records),
+                            place.iteration);
+          }
+        catch (const std::exception &e)
+          {
+            AssertThrow(false,
+                        dealii::ExcMessage(
+                          "Optimization/Resume: the records in '" + directory +
+                          "/optimization.checkpoint.json' are unreadable: " +
+                          error_message(e)));
+          }
+    }
+
+
+
+    // What the summary reports of the iterations before the checkpoint.
+    template <int dim>
+    std::string
+    OptimizeJob<dim>::records() const
+    {
+      return nlohmann::json{{"history", history},
+                            {"remeshes", remeshes},
+                            {"holds", holds},
+                            {"outer_starts", outer_starts},
+                            {"outer_last_J", outer_last_J},
+                            {"outer_weights", outer_weights}}
+        .dump();
+    }
+
+
+
+    // The current outer iteration's weights are left to start_run(), which
+    // ramps them (and clears the solves made with the old ones) as at the
+    // start of any outer iteration. An element removal before the
+    // checkpoint is not done again, and the stage after it keeps its own
+    // iteration budget.
+    template <int dim>
+    void
+    OptimizeJob<dim>::restore_records(const nlohmann::json &r,
+                                      const unsigned int    iteration)
+    {
+      for (const auto &entry : r.at("history"))
+        if (entry.at("iteration").get<unsigned int>() <= iteration)
+          history.push_back(entry);
+      remeshes      = r.at("remeshes");
+      holds         = r.at("holds");
+      outer_starts  = r.at("outer_starts").get<std::vector<unsigned int>>();
+      outer_last_J  = r.at("outer_last_J").get<std::vector<double>>();
+      outer_weights = r.at("outer_weights").get<std::vector<nlohmann::json>>();
+      if (!outer_weights.empty() && outer_weights.size() == outer_starts.size())
+        outer_weights.pop_back();
+      for (const auto &remesh : remeshes)
+        if (remesh.value("element_removal", false))
+          {
+            removal_done  = true;
+            iteration_cap = remesh.at("iteration").get<unsigned int>() +
+                            settings.max_iterations;
+          }
+      resumed_iteration = iteration;
     }
 
 
@@ -197,6 +261,7 @@ namespace forma
                               const std::vector<double> &q,
                               const double J) { accepted(k, q, J); };
       model.remesh_needed = [this]() { return remesh_needed(); };
+      model.records       = [this]() { return records(); };
     }
 
 
@@ -292,8 +357,11 @@ namespace forma
       if (!text.empty())
         context.log("  design: " + text);
       // The first design after a remesh (or a hold) replaces the last one
-      // before.
-      if (!history.empty() && history.back()["iteration"] == k)
+      // before; a resumed job keeps the interrupted run's entry.
+      if (static_cast<int>(k) == resumed_iteration && !history.empty() &&
+          history.back()["iteration"] == k)
+        resumed_iteration = -1;
+      else if (!history.empty() && history.back()["iteration"] == k)
         {
           entry[restart_kind] = true;
           history.back()      = entry;

@@ -60,6 +60,11 @@ namespace forma
       // Set-up.
       void
       resume();
+      std::string
+      records() const;
+      void
+      restore_records(const nlohmann::json &records,
+                      const unsigned int    iteration);
       void
       check_settings();
       void
@@ -162,11 +167,14 @@ namespace forma
       unsigned int n_holds    = 0;
       std::size_t  n_accepted = 0; ///< the last accepted iteration
 
-      nlohmann::json history        = nlohmann::json::array();
-      std::string    restart_kind   = "remeshed";
-      double         remesh_seconds = 0;
-      bool           remesh_allowed = false;
-      bool           removal_done   = false;
+      nlohmann::json history = nlohmann::json::array();
+      /// A resumed job's checkpoint iteration, whose history entry (the
+      /// interrupted run's) stands; -1: none.
+      int         resumed_iteration = -1;
+      std::string restart_kind      = "remeshed";
+      double      remesh_seconds    = 0;
+      bool        remesh_allowed    = false;
+      bool        removal_done      = false;
       /// False once a remesh failed or a refinement was refused.
       bool   outer_possible   = true;
       double remeshed_quality = 1;

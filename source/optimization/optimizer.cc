@@ -460,6 +460,8 @@ namespace forma
       // leave the other ranks waiting).
       try
         {
+          if (run.model.records)
+            c["records"] = nlohmann::json::parse(run.model.records());
           replace_file_text(run.checkpoint, c.dump());
         }
       catch (const std::exception &e)
@@ -690,7 +692,9 @@ namespace forma
                  c.value("stage_terms", std::string()),
                  c.value("stage_start", 0u),
                  c.value("outer_possible", true),
-                 c.value("job_first_gradient_norm", 0.)};
+                 c.value("job_first_gradient_norm", 0.),
+                 static_cast<unsigned int>(c.at("history").size() - 1),
+                 c.contains("records") ? c.at("records").dump() : ""};
       }
     catch (const std::exception &e)
       {

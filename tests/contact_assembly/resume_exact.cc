@@ -3,8 +3,9 @@
 // gradient norm, so the shipped connector stopped after iteration 6 (the
 // third on its mesh after three remeshes) and resumed takes the same steps
 // as the run that went on: iterations 7 and 8, the final stresses, volume
-// and relative gradient norm agree to 1e-12. Resumed from the same
-// checkpoint without the memory (as older checkpoints were), the steps
+// and relative gradient norm agree to 1e-12, and the resumed summary holds
+// the whole history (the checkpoint keeps the job's records). Resumed from the
+// same checkpoint without the memory (as older checkpoints were), the steps
 // differ: the comparison can fail.
 
 #include "../tests.h"
@@ -35,6 +36,37 @@ namespace
                  gb = b["optimization"]["relative_gradient_norm"];
     return std::max(largest, std::abs(ga - gb) / ga);
   }
+
+  // The summary's records of the iterations before the checkpoint: the
+  // history (iterations, their restart marks, objectives), the remeshes
+  // and the outer iterations, as the uninterrupted run reports them.
+  bool
+  same_records(const nlohmann::json &a, const nlohmann::json &b)
+  {
+    const auto &ha = a["history"], &hb = b["history"];
+    if (ha.size() != hb.size())
+      return false;
+    for (unsigned int i = 0; i < ha.size(); ++i)
+      if (ha[i]["iteration"] != hb[i]["iteration"] ||
+          ha[i].contains("remeshed") != hb[i].contains("remeshed") ||
+          std::abs(ha[i]["objective"].get<double>() -
+                   hb[i]["objective"].get<double>()) >
+            1e-12 * std::abs(ha[i]["objective"].get<double>()))
+        return false;
+    const auto &oa = a["optimization"], &ob = b["optimization"];
+    if (oa["remeshes"].size() != ob["remeshes"].size() ||
+        oa["outer"].size() != ob["outer"].size())
+      return false;
+    for (unsigned int i = 0; i < oa["remeshes"].size(); ++i)
+      if (oa["remeshes"][i]["iteration"] != ob["remeshes"][i]["iteration"])
+        return false;
+    for (unsigned int i = 0; i < oa["outer"].size(); ++i)
+      if (oa["outer"][i]["iteration"] != ob["outer"][i]["iteration"] ||
+          std::abs(oa["outer"][i]["reduction_percent"].get<double>() -
+                   ob["outer"][i]["reduction_percent"].get<double>()) > 1e-9)
+        return false;
+    return true;
+  }
 } // namespace
 
 int
@@ -63,6 +95,9 @@ main()
   check("iterations 6-8, stresses, volume, gradient norm as uninterrupted "
         "(1e-12)",
         largest_difference(whole, resumed) < 1e-12);
+  check("its summary's history, remeshes and outer iterations from 0 on are "
+        "the uninterrupted run's",
+        same_records(whole, resumed));
 
   nlohmann::json c;
   std::ifstream("checkpoint_6.json") >> c;

@@ -113,6 +113,10 @@ namespace forma
     /// The mesh the designs live on, recorded in the checkpoint (a file
     /// stem inside checkpoint_directory(); empty: the parameter file's).
     std::string mesh;
+    /// The caller's own records up to the accepted design, as JSON text
+    /// (optional): kept in the checkpoint, so that a resumed job reports
+    /// what the uninterrupted one would (CheckpointPlace::records).
+    std::function<std::string()> records;
   };
 
   /// The stop reason of a run ended by DesignModel::remesh_needed.
@@ -172,6 +176,10 @@ namespace forma
     bool         outer_possible = true;
     /// See OptimizationParameters::first_gradient_norm (0: not recorded).
     double first_gradient_norm = 0;
+    /// The checkpoint's iteration and DesignModel::records there (empty:
+    /// none recorded).
+    unsigned int iteration = 0;
+    std::string  records;
   };
 
   CheckpointPlace
