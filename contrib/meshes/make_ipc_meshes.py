@@ -22,9 +22,10 @@ class Mesh:
         self.nodes, self.cells, self.faces = [], [], []
         self.at = {}  # (body, rounded position) -> node: blocks of a body join
 
-    def block(self, lo, hi, n, body, angle=0.0):
+    def block(self, lo, hi, n, body, angle=0.0, tilt=0.0):
         """A box [lo, hi] with n cells per direction, material id `body`,
-        turned by `angle` (radians, about z through its center)."""
+        turned by `angle` (radians, about z through its center), then in 3D
+        tilted by `tilt` (about x through its center)."""
         d = self.dim
         base = len(self.nodes)
         nz = n[2] if d == 3 else 0
@@ -40,6 +41,11 @@ class Mesh:
                         x, y = p[0] - cx, p[1] - cy
                         p[0] = cx + math.cos(angle) * x - math.sin(angle) * y
                         p[1] = cy + math.sin(angle) * x + math.cos(angle) * y
+                    if tilt:
+                        cy, cz = 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])
+                        y, z = p[1] - cy, p[2] - cz
+                        p[1] = cy + math.cos(tilt) * y - math.sin(tilt) * z
+                        p[2] = cz + math.sin(tilt) * y + math.cos(tilt) * z
                     key = (body,) + tuple(round(c, 9) for c in p)
                     if key not in self.at:
                         self.at[key] = len(self.nodes)
@@ -194,6 +200,22 @@ def main():
             m.block((x, y), (x + 0.8, y + 0.8), (2, 2), 4 * r + c,
                     rng.uniform(-0.6, 0.6))
     m.write("pile_2d.msh")
+    # The same in 3D: 27 turned and tilted cubes of side 0.5 (3 layers of
+    # 3 x 3, 2 x 2 x 2 hexahedra each) above a box. Centers 0.9 apart, more
+    # than a turned cube's diagonal (0.87): no two touch.
+    m = Mesh(3)
+    rng = random.Random(5)
+    for r in range(3):
+        for b in range(3):
+            for c in range(3):
+                shift = 0.1 * (1 if r % 2 else -1)
+                x, y, z = 0.55 + 0.9 * c + shift, 0.55 + 0.9 * b - shift, \
+                    0.6 + 0.9 * r
+                m.block((x - 0.25, y - 0.25, z - 0.25),
+                        (x + 0.25, y + 0.25, z + 0.25), (2, 2, 2),
+                        9 * r + 3 * b + c, rng.uniform(-0.6, 0.6),
+                        rng.uniform(-0.5, 0.5))
+    m.write("pile_3d.msh")
     # A curved ramp (a quarter pipe of radius 2 into a flat floor) for a
     # ball rolling down it, and a second block to hit at the bottom.
     ramp = [(-0.5, 2.5), (0.0, 2.0)]

@@ -9,6 +9,7 @@
 #include <forma/base/records.h>
 #include <forma/ipc/barrier.h>
 #include <forma/ipc/broad_phase.h>
+#include <forma/ipc/exact_predicates.h>
 #include <forma/ipc/ipc_contact.h>
 #include <forma/ipc/obstacle_mesh.h>
 #include <forma/solvers/psd_projection.h>
@@ -116,36 +117,6 @@ namespace forma
           e *=
             edge_edge_mollifier(internal::edge_cross_squared(y.data()), eps_x);
         return e;
-      }
-
-      bool
-      segments_cross_2d(const Vec &a, const Vec &b, const Vec &c, const Vec &d)
-      {
-        const auto orient = [](const Vec &p, const Vec &q, const Vec &r) {
-          return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
-        };
-        const double o1 = orient(a, b, c), o2 = orient(a, b, d);
-        const double o3 = orient(c, d, a), o4 = orient(c, d, b);
-        return o1 * o2 < 0 && o3 * o4 < 0;
-      }
-
-      bool
-      segment_crosses_triangle(const Vec &p,
-                               const Vec &q,
-                               const Vec &a,
-                               const Vec &b,
-                               const Vec &c)
-      {
-        const auto vol =
-          [](const Vec &w, const Vec &x, const Vec &y, const Vec &z) {
-            return cross_product_3d(x - w, y - w) * (z - w);
-          };
-        const double sp = vol(a, b, c, p), sq = vol(a, b, c, q);
-        if (sp * sq >= 0)
-          return false;
-        const double s1 = vol(p, q, a, b), s2 = vol(p, q, b, c),
-                     s3 = vol(p, q, c, a);
-        return (s1 > 0 && s2 > 0 && s3 > 0) || (s1 < 0 && s2 < 0 && s3 < 0);
       }
     } // namespace
 
