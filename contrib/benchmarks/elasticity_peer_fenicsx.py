@@ -29,9 +29,12 @@ def rigid_body_modes(V):
     arrays[3][:n_local, 0], arrays[3][:n_local, 1] = -Y, X
     arrays[4][:n_local, 1], arrays[4][:n_local, 2] = -Z, Y
     arrays[5][:n_local, 0], arrays[5][:n_local, 2] = Z, -X
-    vectors = [m.vector for m in modes]
+    # Copies: a Function's PETSc vector wraps the Function's own memory,
+    # which is freed with `modes` when this returns, while the null space
+    # keeps the vectors (a dangling near null space made GAMG take 84-683
+    # iterations, different from run to run, instead of 33).
+    vectors = [m.vector.copy() for m in modes]
     for i, v in enumerate(vectors):  # Gram-Schmidt: PETSc wants them orthonormal
-        v.assemble()
         for w in vectors[:i]:
             v.axpy(-v.dot(w), w)
         v.normalize()
