@@ -305,6 +305,40 @@ namespace forma
 
 
 
+    /// A rank other than the root that fails alone keeps the run's files
+    /// as RunContext::fail() does on the root: its summary (status failed,
+    /// the error, the rank) and the staging directory renamed failed-run/
+    /// (the root, waiting in a collective, writes nothing meanwhile). Never
+    /// throws: it runs while an error is reported.
+    void
+    keep_failed_run(RunContext &context, const std::string &msg)
+    {
+      namespace fs = std::filesystem;
+      try
+        {
+          context.summary["status"] = "failed";
+          context.summary["error"]  = msg;
+          context.summary["failed_rank"] =
+            dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD);
+          std::ofstream(context.path("summary.json"))
+            << context.summary.dump(2,
+                                    ' ',
+                                    false,
+                                    nlohmann::json::error_handler_t::replace)
+            << std::endl;
+          const fs::path  failed = context.persistent_path("failed-run");
+          std::error_code ignored;
+          fs::remove_all(failed, ignored);
+          fs::rename(context.directory(), failed, ignored);
+        }
+      catch (...)
+        {
+          // The message on stderr is all there is.
+        }
+    }
+
+
+
     /// A failed mode: reported together if every rank failed, else the
     /// failing rank stops the job (rank_failure.h).
     int
@@ -318,6 +352,8 @@ namespace forma
           const MPI_Comm comm = MPI_COMM_WORLD;
           if (context.is_root())
             context.fail(msg);
+          else
+            keep_failed_run(context, msg);
           std::cerr << app.name << ": error: " << msg << " (rank "
                     << dealii::Utilities::MPI::this_mpi_process(comm) << " of "
                     << dealii::Utilities::MPI::n_mpi_processes(comm)

@@ -2,8 +2,10 @@
 // mode throws while rank 0 waits for it in a collective. Without the
 // driver's RankFailure the job would hang (rank 1 in MPI_Finalize, rank 0
 // in the barrier); with it, rank 1 reports the error once and calls
-// MPI_Abort. The test runs itself under mpirun (bounded by `timeout`) and
-// checks the exit code, the error lines and that nothing was committed.
+// MPI_Abort, keeping the run's files in failed-run/ with its error. The
+// test runs itself under mpirun (bounded by `timeout`) and checks the exit
+// code, the error lines, that nothing was committed and what failed-run/
+// holds.
 
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
@@ -11,6 +13,7 @@
 #include <forma/base/application.h>
 
 #include "../tests.h"
+#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -72,5 +75,17 @@ main(int argc, char **argv)
   deallog << "results committed: "
           << (fs::exists("rank_failure_stops_job_output/summary.json") ? "yes" :
                                                                          "no")
+          << std::endl;
+  // The failing rank kept the run's files, as a failure on the root does.
+  nlohmann::json failed;
+  std::ifstream("rank_failure_stops_job_output/failed-run/summary.json") >>
+    failed;
+  deallog << "failed-run/summary.json: status " << failed.value("status", "-")
+          << ", error '" << failed.value("error", "-") << "', rank "
+          << failed.value("failed_rank", -1) << std::endl;
+  deallog << "failed-run/log.txt kept: "
+          << (fs::exists("rank_failure_stops_job_output/failed-run/log.txt") ?
+                "yes" :
+                "no")
           << std::endl;
 }
