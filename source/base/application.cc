@@ -8,6 +8,7 @@
 #include <forma/base/parameter_override.h>
 #include <forma/base/parameter_reference.h>
 #include <forma/base/rank_failure.h>
+#include <forma/base/replace_file.h>
 #include <forma/base/safe_text.h>
 
 #include <dlfcn.h>
@@ -305,31 +306,29 @@ namespace forma
 
 
 
-    /// A rank other than the root that fails alone keeps the run's files
-    /// as RunContext::fail() does on the root: its summary (status failed,
-    /// the error, the rank) and the staging directory renamed failed-run/
-    /// (the root, waiting in a collective, writes nothing meanwhile). Never
-    /// throws: it runs while an error is reported.
+    /// A rank other than the root that fails alone leaves its error in
+    /// `<Output directory>/failed-rank-<rank>.json` (written whole, to a
+    /// name no other rank writes). The staging directory is left alone: the
+    /// root may still be writing into it, or fail a moment later and move
+    /// it to failed-run/ itself; otherwise the next run keeps it as
+    /// interrupted-run/. Never throws: it runs while an error is reported.
     void
-    keep_failed_run(RunContext &context, const std::string &msg)
+    keep_rank_error(RunContext &context, const std::string &msg) noexcept
     {
-      namespace fs = std::filesystem;
       try
         {
-          context.summary["status"] = "failed";
-          context.summary["error"]  = msg;
-          context.summary["failed_rank"] =
+          const unsigned int rank =
             dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD);
-          std::ofstream(context.path("summary.json"))
-            << context.summary.dump(2,
-                                    ' ',
-                                    false,
-                                    nlohmann::json::error_handler_t::replace)
-            << std::endl;
-          const fs::path  failed = context.persistent_path("failed-run");
-          std::error_code ignored;
-          fs::remove_all(failed, ignored);
-          fs::rename(context.directory(), failed, ignored);
+          const nlohmann::json marker = {{"status", "failed"},
+                                         {"error", msg},
+                                         {"failed_rank", rank},
+                                         {"aborted", true}};
+          replace_file_text(
+            context.persistent_path("failed-rank-" + std::to_string(rank) +
+                                    ".json"),
+            marker.dump(
+              2, ' ', false, nlohmann::json::error_handler_t::replace) +
+              "\n");
         }
       catch (...)
         {
@@ -350,15 +349,15 @@ namespace forma
       if (!rank_failure.every_rank_failed(rank_failure_wait_seconds))
         {
           const MPI_Comm comm = MPI_COMM_WORLD;
-          if (context.is_root())
-            context.fail(msg);
-          else
-            keep_failed_run(context, msg);
           std::cerr << app.name << ": error: " << msg << " (rank "
                     << dealii::Utilities::MPI::this_mpi_process(comm) << " of "
                     << dealii::Utilities::MPI::n_mpi_processes(comm)
                     << "; the other ranks went on, so the job is stopped)"
                     << std::endl;
+          if (context.is_root())
+            context.fail(msg);
+          else
+            keep_rank_error(context, msg);
           MPI_Abort(comm, 1);
         }
       report(app, msg);

@@ -155,6 +155,13 @@ namespace forma
                       "earlier results are kept"));
         fs::remove_all(fs::path(output_directory) / "failed-run");
         fs::remove_all(fs::path(output_directory) / "interrupted-run");
+        // The errors of ranks that failed alone in earlier runs.
+        for (const auto &entry : fs::directory_iterator(output_directory))
+          {
+            const std::string name = entry.path().filename().string();
+            if (name.rfind("failed-rank-", 0) == 0)
+              fs::remove(entry.path());
+          }
         for (const auto &entry : fs::directory_iterator(staging_directory))
           {
             const fs::path target =

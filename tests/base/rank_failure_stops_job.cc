@@ -2,10 +2,11 @@
 // mode throws while rank 0 waits for it in a collective. Without the
 // driver's RankFailure the job would hang (rank 1 in MPI_Finalize, rank 0
 // in the barrier); with it, rank 1 reports the error once and calls
-// MPI_Abort, keeping the run's files in failed-run/ with its error. The
-// test runs itself under mpirun (bounded by `timeout`) and checks the exit
-// code, the error lines, that nothing was committed and what failed-run/
-// holds.
+// MPI_Abort, leaving its error in failed-rank-1.json. The test runs
+// itself under mpirun (bounded by `timeout`) and checks the exit code, the
+// error lines, that nothing was committed, the error file and that the
+// run's log is kept; then that a run that succeeds commits and removes the
+// error file.
 
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
@@ -23,13 +24,15 @@ using dealii::deallog;
 
 namespace
 {
+  // Rank 1 fails unless `succeed`.
   int
-  child(char *program)
+  child(char *program, const bool succeed)
   {
     const ApplicationMode work{
       "work",
-      [](dealii::ParameterHandler &, const std::string &, RunContext &) {
-        if (dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 1)
+      [succeed](dealii::ParameterHandler &, const std::string &, RunContext &) {
+        if (!succeed &&
+            dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 1)
           AssertThrow(false, dealii::ExcMessage("rank 1 cannot go on"));
         MPI_Barrier(MPI_COMM_WORLD);
       }};
@@ -47,7 +50,7 @@ int
 main(int argc, char **argv)
 {
   if (argc > 1)
-    return child(argv[0]);
+    return child(argv[0], std::string(argv[1]) == "--succeed");
 
   initlog();
   namespace fs = std::filesystem;
@@ -76,16 +79,42 @@ main(int argc, char **argv)
           << (fs::exists("rank_failure_stops_job_output/summary.json") ? "yes" :
                                                                          "no")
           << std::endl;
-  // The failing rank kept the run's files, as a failure on the root does.
-  nlohmann::json failed;
-  std::ifstream("rank_failure_stops_job_output/failed-run/summary.json") >>
-    failed;
-  deallog << "failed-run/summary.json: status " << failed.value("status", "-")
-          << ", error '" << failed.value("error", "-") << "', rank "
-          << failed.value("failed_rank", -1) << std::endl;
-  deallog << "failed-run/log.txt kept: "
-          << (fs::exists("rank_failure_stops_job_output/failed-run/log.txt") ?
+  // The failing rank left its error beside the results; the run's files
+  // stay in the staging directory, which the next run keeps as
+  // interrupted-run/.
+  const auto marker =
+    nlohmann::json::parse(read_file(
+                            "rank_failure_stops_job_output/failed-rank-1.json"),
+                          nullptr,
+                          false);
+  deallog << "failed-rank-1.json: status "
+          << (marker.is_object() ? marker.value("status", "-") : "unreadable")
+          << ", error '"
+          << (marker.is_object() ? marker.value("error", "-") : "-")
+          << "', rank "
+          << (marker.is_object() ? marker.value("failed_rank", -1) : -1)
+          << std::endl;
+  deallog << "the run's log kept for the next run: "
+          << (fs::exists(
+                "rank_failure_stops_job_output/.forma-staging/log.txt") ?
                 "yes" :
                 "no")
+          << std::endl;
+
+  // A run that succeeds removes the error and keeps the failed run's log.
+  const int again = std::system(
+    (std::string("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+                 "timeout 300 ") +
+     FORMA_MPIEXEC + " -np 2 " + argv[0] + " --succeed > child.out 2>&1")
+      .c_str());
+  deallog << "a run that succeeds: exit code "
+          << (WIFEXITED(again) ? WEXITSTATUS(again) : -1)
+          << ", results committed: "
+          << (fs::exists("rank_failure_stops_job_output/summary.json") ? "yes" :
+                                                                         "no")
+          << ", failed-rank-1.json removed: "
+          << (fs::exists("rank_failure_stops_job_output/failed-rank-1.json") ?
+                "no" :
+                "yes")
           << std::endl;
 }
